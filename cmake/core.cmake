@@ -1,0 +1,43 @@
+# ROS-free core: Eigen, PCL, FLANN and the standard library only.
+add_library(scan_context_loop_core
+  src/core/config.cpp
+  src/core/descriptor.cpp
+  src/core/alignment.cpp
+  src/core/database.cpp
+  src/core/detector.cpp
+  src/core/kitti_io.cpp
+)
+target_include_directories(scan_context_loop_core PUBLIC
+  include ${EIGEN3_INCLUDE_DIRS} ${PCL_INCLUDE_DIRS} ${FLANN_INCLUDE_DIRS})
+# FLANN's C++ index is header-only; it needs lz4 for its serialisation code.
+target_link_libraries(scan_context_loop_core PUBLIC ${PCL_LIBRARIES} lz4)
+target_compile_definitions(scan_context_loop_core PUBLIC ${PCL_DEFINITIONS})
+
+install(TARGETS scan_context_loop_core
+  ARCHIVE DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
+  LIBRARY DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION})
+install(DIRECTORY include/${PROJECT_NAME}/ DESTINATION ${CATKIN_PACKAGE_INCLUDE_DESTINATION})
+
+# Tools built on the core alone.
+add_executable(scan_context_pairs tools/pairs_demo.cpp)
+target_link_libraries(scan_context_pairs scan_context_loop_core)
+add_executable(scan_context_bench tools/bench.cpp)
+target_link_libraries(scan_context_bench scan_context_loop_core)
+
+if(CATKIN_ENABLE_TESTING AND EXISTS "${CMAKE_CURRENT_SOURCE_DIR}/test/core/test_main.cpp")
+  # Real data lives beside the project root; tests read it in place.
+  # (The workspace links to the repository, so resolve the link before stepping up.)
+  get_filename_component(SCL_SOURCE_REAL "${CMAKE_CURRENT_SOURCE_DIR}" REALPATH)
+  set(SCL_SHARED_DATA "${SCL_SOURCE_REAL}/../shared/data")
+  catkin_add_gtest(test_core
+    test/core/test_main.cpp
+    test/core/test_descriptor.cpp
+    test/core/test_alignment.cpp
+    test/core/test_database.cpp
+    test/core/test_bad_input.cpp
+    test/core/test_kitti_io.cpp
+    test/core/test_real_data.cpp
+  )
+  target_link_libraries(test_core scan_context_loop_core)
+  target_compile_definitions(test_core PRIVATE SCL_SHARED_DATA="${SCL_SHARED_DATA}")
+endif()

@@ -1,0 +1,40 @@
+// Column-shift cosine distance between two descriptors and the yaw prior it implies.
+#pragma once
+
+#include "scan_context_loop/config.h"
+#include "scan_context_loop/descriptor.h"
+
+namespace scan_context_loop {
+
+/// Result of aligning a match descriptor to a query descriptor.
+///
+/// Convention: query column j lines up with match column (j - shift) mod num_sectors, so the match's
+/// scene appears rotated by +shift sectors in the query. `yaw` is the yaw of the match keyframe's sensor
+/// frame expressed in the query keyframe's frame, i.e. the z-rotation of T_query<-match, in radians
+/// wrapped to (-pi, pi]: shift * 2 pi / num_sectors plus the sub-sector refinement.
+struct Alignment {
+  /// Mean over shared occupied columns of (1 - cosine similarity), in [0, 2] (typically [0, 1]);
+  /// 1.0 when the descriptors share no occupied column (including empty against anything).
+  double distance = 1.0;
+  int shift = 0;
+  double yaw = 0.0;
+  /// Shared occupied columns at the best shift.
+  int shared_columns = 0;
+};
+
+/// Distance at one given shift (same convention as Alignment::shift).
+double distanceAtShift(const Descriptor& query, const Descriptor& match, int shift,
+                       int* shared_columns = nullptr);
+
+/// Best shift by the sector keys (exhaustive over all shifts, L2 between the keys).
+int coarseShift(const Descriptor& query, const Descriptor& match);
+
+/// Coarse shift from the sector keys, local search of +-Config::searchHalfWidth() columns around it
+/// (every shift when search_ratio >= 1), then a parabola through the distances at the best shift and
+/// its two neighbours for the sub-sector yaw. Descriptors of different grid sizes give distance 1.
+Alignment align(const Descriptor& query, const Descriptor& match, const Config& config);
+
+/// Wraps an angle to (-pi, pi].
+double wrapAngle(double radians);
+
+}  // namespace scan_context_loop

@@ -1,0 +1,98 @@
+// The keyframe database: descriptors, an incremental FLANN kd-tree over ring keys, exclusion rules.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <deque>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Geometry>
+
+#include "scan_context_loop/alignment.h"
+#include "scan_context_loop/config.h"
+#include "scan_context_loop/descriptor.h"
+
+namespace scan_context_loop {
+
+/// What the caller knows about a keyframe besides its cloud.
+struct KeyframeInfo {
+  double stamp = 0.0;                       ///< seconds; must not decrease from one keyframe to the next
+  std::optional<Eigen::Isometry3d> pose;    ///< odometry pose of the sensor, if known
+  std::int64_t tag = -1;                    ///< free for the caller (e.g. a sequence frame index)
+};
+
+/// One scored candidate.
+struct Candidate {
+  std::size_t index = 0;           ///< keyframe number in the database, 0-based in arrival order
+  double ring_key_distance = 0.0;  ///< Euclidean distance between the ring keys
+  Alignment alignment;             ///< full descriptor distance, shift and yaw prior
+};
+
+struct QueryResult {
+  /// Scored candidates, best (lowest distance) first; at most Config::num_candidates.
+  std::vector<Candidate> candidates;
+  /// True when the best candidate's distance is below Config::distance_threshold.
+  bool matched = false;
+  /// Number of keyframes that were eligible (outside every exclusion window).
+  std::size_t eligible = 0;
+
+  const Candidate* best() const { return candidates.empty() ? nullptr : &candidates.front(); }
+};
+
+/// A stored keyframe.
+struct Keyframe {
+  KeyframeInfo info;
+  Descriptor descriptor;
+  double path_length = 0.0;  ///< odometry distance travelled up to this keyframe [m]
+};
+
+/// Not thread-safe: one owner thread (the ROS adapter's worker) calls every member.
+///
+/// Keyframes enter the kd-tree the moment they leave the exclusion windows (all three rules are
+/// monotonic in arrival order, so the eligible keyframes are always a prefix of the database); FLANN's
+/// kd-tree takes them one at a time and rebuilds itself only when its size has doubled, so there is no
+/// window in which recent keyframes are unsearchable. Search is exact (unlimited checks).
+class Database {
+ public:
+  explicit Database(const Config& config);
+  ~Database();
+  Database(const Database&) = delete;
+  Database& operator=(const Database&) = delete;
+
+  /// Appends a keyframe. Returns false and leaves the database unchanged when the stamp is earlier than
+  /// the last keyframe's, the stamp or pose is not finite, or the descriptor's grid size differs from
+  /// the configuration; `error` then says why.
+  bool add(const KeyframeInfo& info, Descriptor descriptor, std::string* error = nullptr);
+
+  /// Scores the nearest ring keys among the eligible keyframes for a query that has not been added yet
+  /// (its stamp and pose decide the time and distance windows). An empty descriptor never matches.
+  QueryResult query(const Descriptor& descriptor, const KeyframeInfo& info);
+
+  /// Checks a new keyframe's info against the last one without changing anything.
+  bool acceptable(const KeyframeInfo& info, std::string* error) const;
+
+  std::size_t size() const { return keyframes_.size(); }
+  const Keyframe& keyframe(std::size_t index) const { return keyframes_.at(index); }
+  const Config& config() const { return config_; }
+  /// Keyframes currently in the kd-tree.
+  std::size_t indexedCount() const { return indexed_; }
+  /// Approximate memory per keyframe: descriptor, keys, bookkeeping and kd-tree share.
+  std::size_t bytesPerKeyframe() const;
+
+ private:
+  /// Number of keyframes (a prefix) eligible for a query with this info.
+  std::size_t eligibleCount(const KeyframeInfo& info) const;
+  double pathLengthAt(const KeyframeInfo& info) const;
+  void indexUpTo(std::size_t count);
+
+  Config config_;
+  std::deque<Keyframe> keyframes_;  // deque: ring-key storage never moves, FLANN keeps raw pointers
+  std::size_t indexed_ = 0;
+  struct Tree;
+  std::unique_ptr<Tree> tree_;
+};
+
+}  // namespace scan_context_loop

@@ -1,0 +1,94 @@
+// The Scan Context descriptor: a rings x sectors polar grid of maximum point heights, its keys, and
+// the compact form the database stores.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include <Eigen/Core>
+#include <pcl/point_cloud.h>
+
+#include "scan_context_loop/config.h"
+
+namespace scan_context_loop {
+
+/// A read-only view of points stored with a fixed stride, x, y and z as float32 at given byte offsets.
+/// Works on PCL clouds, raw sensor_msgs/PointCloud2 data and KITTI .bin buffers without copying.
+struct PointView {
+  const std::uint8_t* data = nullptr;
+  std::size_t count = 0;
+  std::size_t stride = 0;  ///< bytes from one point to the next
+  std::size_t offset_x = 0;
+  std::size_t offset_y = 4;
+  std::size_t offset_z = 8;
+};
+
+/// A view of any PCL cloud whose point type has float x, y, z members.
+template <typename PointT>
+PointView viewOf(const pcl::PointCloud<PointT>& cloud) {
+  PointView view;
+  if (cloud.empty()) return view;
+  const auto* base = reinterpret_cast<const std::uint8_t*>(cloud.points.data());
+  const auto* first = &cloud.points.front();
+  view.data = base;
+  view.count = cloud.size();
+  view.stride = sizeof(PointT);
+  view.offset_x = reinterpret_cast<const std::uint8_t*>(&first->x) - base;
+  view.offset_y = reinterpret_cast<const std::uint8_t*>(&first->y) - base;
+  view.offset_z = reinterpret_cast<const std::uint8_t*>(&first->z) - base;
+  return view;
+}
+
+/// The raw polar grid. heights(r, s) is the maximum of z + lidar_height over the points in ring r,
+/// sector s, or 0 when the bin holds no point; occupied(r, s) says whether it holds any, so a bin whose
+/// maximum height is zero or negative is never mistaken for an empty one.
+///
+/// Geometry: ring r covers horizontal ranges [r, r + 1) * max_radius / num_rings (points below
+/// min_range or beyond max_radius are dropped). Sector s covers azimuths [s, s + 1) * 2 pi / num_sectors,
+/// the azimuth atan2(y, x) being measured counter-clockwise from +x in [0, 2 pi). Rotating the cloud by
+/// +k sectors about z therefore moves column s to column s + k (mod num_sectors).
+struct HeightGrid {
+  Eigen::MatrixXf heights;
+  Eigen::Matrix<std::uint8_t, Eigen::Dynamic, Eigen::Dynamic> occupied;
+  std::size_t points_used = 0;     ///< points that fell into a bin
+  std::size_t points_skipped = 0;  ///< NaN/Inf or out of [min_range, max_radius]
+};
+
+HeightGrid makeHeightGrid(const PointView& points, const Config& config);
+
+template <typename PointT>
+HeightGrid makeHeightGrid(const pcl::PointCloud<PointT>& cloud, const Config& config) {
+  return makeHeightGrid(viewOf(cloud), config);
+}
+
+/// What the distance and the database need, in float, about 5 KB at 20 x 60.
+struct Descriptor {
+  int num_rings = 0;
+  int num_sectors = 0;
+  /// num_sectors columns of num_rings floats each (column-major), every column scaled to unit length;
+  /// an empty column, or one whose heights are all exactly 0, is all zeros.
+  std::vector<float> unit_columns;
+  /// 1 where the column holds at least one point.
+  std::vector<std::uint8_t> column_occupied;
+  /// Rotation-invariant key per ring (Config::ring_key), the kd-tree coordinates.
+  std::vector<float> ring_key;
+  /// Mean max height per sector (empty bins as 0): drives the coarse yaw alignment.
+  std::vector<float> sector_key;
+  int occupied_columns = 0;
+
+  bool empty() const { return occupied_columns == 0; }
+  /// Heap bytes held by this descriptor.
+  std::size_t bytes() const;
+};
+
+Descriptor makeDescriptor(const HeightGrid& grid, const Config& config);
+
+Descriptor makeDescriptor(const PointView& points, const Config& config);
+
+template <typename PointT>
+Descriptor makeDescriptor(const pcl::PointCloud<PointT>& cloud, const Config& config) {
+  return makeDescriptor(viewOf(cloud), config);
+}
+
+}  // namespace scan_context_loop

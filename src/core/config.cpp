@@ -1,0 +1,66 @@
+#include "scan_context_loop/config.h"
+
+#include <cmath>
+#include <sstream>
+
+namespace scan_context_loop {
+
+bool parseRingKeyType(const std::string& text, RingKeyType* out) {
+  if (text == "occupancy") {
+    *out = RingKeyType::kOccupancy;
+    return true;
+  }
+  if (text == "mean_height") {
+    *out = RingKeyType::kMeanHeight;
+    return true;
+  }
+  return false;
+}
+
+const char* ringKeyTypeName(RingKeyType type) {
+  return type == RingKeyType::kOccupancy ? "occupancy" : "mean_height";
+}
+
+namespace {
+
+template <typename T>
+void require(std::vector<std::string>* errors, bool ok, const char* name, T value, const char* rule) {
+  if (ok) return;
+  std::ostringstream msg;
+  msg << name << " = " << value << ": " << rule;
+  errors->push_back(msg.str());
+}
+
+}  // namespace
+
+std::vector<std::string> Config::validate() const {
+  std::vector<std::string> e;
+  require(&e, num_rings >= 1 && num_rings <= 1000, "num_rings", num_rings, "must be in [1, 1000]");
+  require(&e, num_sectors >= 3 && num_sectors <= 3600, "num_sectors", num_sectors,
+          "must be in [3, 3600]");
+  require(&e, std::isfinite(max_radius) && max_radius > 0.0, "max_radius", max_radius,
+          "must be a finite positive range in metres");
+  require(&e, std::isfinite(min_range) && min_range >= 0.0 && min_range < max_radius, "min_range",
+          min_range, "must be finite, >= 0 and below max_radius");
+  require(&e, std::isfinite(lidar_height), "lidar_height", lidar_height, "must be finite");
+  require(&e, num_candidates >= 1 && num_candidates <= 10000, "num_candidates", num_candidates,
+          "must be in [1, 10000]");
+  require(&e, std::isfinite(search_ratio) && search_ratio >= 0.0 && search_ratio <= 1.0,
+          "search_ratio", search_ratio, "must be in [0, 1]");
+  require(&e, std::isfinite(distance_threshold) && distance_threshold > 0.0 && distance_threshold <= 2.0,
+          "distance_threshold", distance_threshold, "must be in (0, 2]");
+  require(&e, exclude_recent_frames >= 0, "exclude_recent_frames", exclude_recent_frames,
+          "must be >= 0 (0 disables)");
+  require(&e, std::isfinite(exclude_recent_seconds) && exclude_recent_seconds >= 0.0,
+          "exclude_recent_seconds", exclude_recent_seconds, "must be finite and >= 0 (0 disables)");
+  require(&e, std::isfinite(exclude_recent_distance) && exclude_recent_distance >= 0.0,
+          "exclude_recent_distance", exclude_recent_distance, "must be finite and >= 0 (0 disables)");
+  return e;
+}
+
+int Config::searchHalfWidth() const {
+  if (search_ratio >= 1.0) return num_sectors / 2;
+  return static_cast<int>(std::lround(search_ratio * 0.5 * num_sectors));
+}
+
+}  // namespace scan_context_loop

@@ -1,0 +1,163 @@
+#include "scan_context_loop/database.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include <flann/flann.hpp>
+
+namespace scan_context_loop {
+
+struct Database::Tree {
+  explicit Tree(int dims) : dims(dims) {}
+  int dims;
+  // One randomised kd-tree; with unlimited checks FLANN searches it exactly. Points are inserted one at
+  // a time and FLANN rebuilds the tree itself whenever its size has doubled since the last build.
+  std::unique_ptr<flann::Index<flann::L2<float>>> index;
+};
+
+Database::Database(const Config& config) : config_(config), tree_(new Tree(config.num_rings)) {}
+
+Database::~Database() = default;
+
+bool Database::acceptable(const KeyframeInfo& info, std::string* error) const {
+  std::ostringstream why;
+  if (!std::isfinite(info.stamp)) {
+    why << "keyframe stamp is not finite";
+  } else if (!keyframes_.empty() && info.stamp < keyframes_.back().info.stamp) {
+    why.precision(17);
+    why << "keyframe stamp " << info.stamp << " is earlier than the previous keyframe's "
+        << keyframes_.back().info.stamp;
+  } else if (info.pose && !info.pose->matrix().allFinite()) {
+    why << "keyframe pose is not finite";
+  }
+  const std::string text = why.str();
+  if (error) *error = text;
+  return text.empty();
+}
+
+bool Database::add(const KeyframeInfo& info, Descriptor descriptor, std::string* error) {
+  if (!acceptable(info, error)) return false;
+  if (descriptor.num_rings != config_.num_rings || descriptor.num_sectors != config_.num_sectors ||
+      static_cast<int>(descriptor.ring_key.size()) != config_.num_rings) {
+    if (error) *error = "descriptor grid size differs from the database configuration";
+    return false;
+  }
+  Keyframe keyframe;
+  keyframe.info = info;
+  keyframe.path_length = pathLengthAt(info);
+  keyframe.descriptor = std::move(descriptor);
+  keyframes_.push_back(std::move(keyframe));
+  return true;
+}
+
+double Database::pathLengthAt(const KeyframeInfo& info) const {
+  if (keyframes_.empty()) return 0.0;
+  double length = keyframes_.back().path_length;
+  // Walk back to the latest keyframe with a pose, so keyframes without one do not break the chain.
+  if (info.pose) {
+    for (auto it = keyframes_.rbegin(); it != keyframes_.rend(); ++it) {
+      if (it->info.pose) {
+        length += (info.pose->translation() - it->info.pose->translation()).norm();
+        break;
+      }
+    }
+  }
+  return length;
+}
+
+std::size_t Database::eligibleCount(const KeyframeInfo& info) const {
+  const std::size_t n = keyframes_.size();
+  std::size_t eligible =
+      n > static_cast<std::size_t>(config_.exclude_recent_frames) ? n - config_.exclude_recent_frames : 0;
+  // Stamps and path lengths never decrease along the database, so each window cuts a suffix.
+  if (config_.exclude_recent_seconds > 0.0) {
+    const double latest = info.stamp - config_.exclude_recent_seconds;
+    auto end = std::upper_bound(keyframes_.begin(), keyframes_.begin() + eligible, latest,
+                                [](double t, const Keyframe& k) { return t < k.info.stamp; });
+    eligible = static_cast<std::size_t>(end - keyframes_.begin());
+  }
+  if (config_.exclude_recent_distance > 0.0) {
+    const double latest = pathLengthAt(info) - config_.exclude_recent_distance;
+    auto end = std::upper_bound(keyframes_.begin(), keyframes_.begin() + eligible, latest,
+                                [](double s, const Keyframe& k) { return s < k.path_length; });
+    eligible = static_cast<std::size_t>(end - keyframes_.begin());
+  }
+  return eligible;
+}
+
+void Database::indexUpTo(std::size_t count) {
+  if (count <= indexed_) return;
+  const int dims = tree_->dims;
+  for (std::size_t i = indexed_; i < count; ++i) {
+    // FLANN keeps a pointer to the row: the ring key lives in a deque element that never moves.
+    float* row = const_cast<float*>(keyframes_[i].descriptor.ring_key.data());
+    flann::Matrix<float> point(row, 1, dims);
+    if (!tree_->index) {
+      tree_->index.reset(new flann::Index<flann::L2<float>>(point, flann::KDTreeIndexParams(1)));
+      tree_->index->buildIndex();
+    } else {
+      tree_->index->addPoints(point, 2.0f);
+    }
+  }
+  indexed_ = count;
+}
+
+QueryResult Database::query(const Descriptor& descriptor, const KeyframeInfo& info) {
+  QueryResult result;
+  if (descriptor.empty() || descriptor.num_rings != config_.num_rings ||
+      descriptor.num_sectors != config_.num_sectors) {
+    return result;
+  }
+  const std::size_t eligible = eligibleCount(info);
+  result.eligible = eligible;
+  if (eligible == 0) return result;
+  // The tree only grows; a query whose windows are wider than an earlier one's (a query-only call
+  // with a later stamp came first) asks for more neighbours and drops the ones past its prefix.
+  indexUpTo(std::max(indexed_, eligible));
+  const std::size_t surplus = indexed_ - eligible;
+  const std::size_t want =
+      std::min(indexed_, static_cast<std::size_t>(config_.num_candidates) + surplus);
+
+  std::vector<float> key(descriptor.ring_key.begin(), descriptor.ring_key.end());
+  flann::Matrix<float> query_row(key.data(), 1, tree_->dims);
+  std::vector<std::vector<std::size_t>> indices;
+  std::vector<std::vector<float>> dists;
+  flann::SearchParams params(flann::FLANN_CHECKS_UNLIMITED);
+  params.sorted = true;
+  tree_->index->knnSearch(query_row, indices, dists, want, params);
+
+  for (std::size_t i = 0; i < indices[0].size(); ++i) {
+    const std::size_t index = indices[0][i];
+    if (index >= eligible) continue;
+    if (result.candidates.size() >= static_cast<std::size_t>(config_.num_candidates)) break;
+    Candidate c;
+    c.index = index;
+    c.ring_key_distance = std::sqrt(std::max(0.0f, dists[0][i]));
+    c.alignment = align(descriptor, keyframes_[index].descriptor, config_);
+    result.candidates.push_back(c);
+  }
+  std::stable_sort(result.candidates.begin(), result.candidates.end(),
+                   [](const Candidate& a, const Candidate& b) {
+                     return a.alignment.distance < b.alignment.distance;
+                   });
+  result.matched = !result.candidates.empty() &&
+                   result.candidates.front().alignment.distance < config_.distance_threshold;
+  return result;
+}
+
+std::size_t Database::bytesPerKeyframe() const {
+  // Descriptor heap storage plus the Keyframe record itself, plus FLANN's per-point share (a row
+  // pointer, a leaf node and the removed-points bitset), about 64 bytes.
+  std::size_t descriptor_bytes = 0;
+  if (!keyframes_.empty()) {
+    descriptor_bytes = keyframes_.back().descriptor.bytes();
+  } else {
+    descriptor_bytes = (static_cast<std::size_t>(config_.num_rings) * config_.num_sectors +
+                        config_.num_rings + config_.num_sectors) * sizeof(float) +
+                       config_.num_sectors;
+  }
+  return descriptor_bytes + sizeof(Keyframe) + 64;
+}
+
+}  // namespace scan_context_loop
