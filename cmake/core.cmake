@@ -10,7 +10,7 @@ add_library(scan_context_loop_core
 target_include_directories(scan_context_loop_core PUBLIC
   include ${EIGEN3_INCLUDE_DIRS} ${PCL_INCLUDE_DIRS} ${FLANN_INCLUDE_DIRS})
 # FLANN's C++ index is header-only; it needs lz4 for its serialisation code.
-target_link_libraries(scan_context_loop_core PUBLIC ${PCL_LIBRARIES} lz4)
+target_link_libraries(scan_context_loop_core PUBLIC ${PCL_COMMON_LIBRARIES} lz4)
 target_compile_definitions(scan_context_loop_core PUBLIC ${PCL_DEFINITIONS})
 
 install(TARGETS scan_context_loop_core
