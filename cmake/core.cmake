@@ -37,6 +37,7 @@ if(CATKIN_ENABLE_TESTING AND EXISTS "${CMAKE_CURRENT_SOURCE_DIR}/test/core/test_
     test/core/test_bad_input.cpp
     test/core/test_kitti_io.cpp
     test/core/test_real_data.cpp
+    test/core/test_scenes.cpp
   )
   target_link_libraries(test_core scan_context_loop_core)
   target_compile_definitions(test_core PRIVATE SCL_SHARED_DATA="${SCL_SHARED_DATA}")

@@ -1,0 +1,177 @@
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <set>
+
+#include <gtest/gtest.h>
+
+#include "scan_context_loop/database.h"
+#include "scan_context_loop/detector.h"
+#include "test_scenes.h"
+
+namespace scan_context_loop {
+namespace {
+
+/// A non-empty descriptor whose ring key is given; its columns are all alike.
+Descriptor descriptorWithKey(const std::vector<float>& key, const Config& config) {
+  Descriptor d;
+  d.num_rings = config.num_rings;
+  d.num_sectors = config.num_sectors;
+  d.ring_key = key;
+  d.sector_key.assign(config.num_sectors, 1.0f);
+  d.column_occupied.assign(config.num_sectors, 1);
+  d.occupied_columns = config.num_sectors;
+  d.unit_columns.assign(static_cast<std::size_t>(config.num_rings) * config.num_sectors,
+                        1.0f / std::sqrt(static_cast<float>(config.num_rings)));
+  return d;
+}
+
+std::vector<float> randomKey(std::mt19937* rng, int dims) {
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  std::vector<float> key(dims);
+  for (float& v : key) v = u(*rng);
+  return key;
+}
+
+KeyframeInfo at(double stamp, double x = 0.0) {
+  KeyframeInfo info;
+  info.stamp = stamp;
+  info.pose = Eigen::Isometry3d(Eigen::Translation3d(x, 0.0, 0.0));
+  return info;
+}
+
+std::set<std::size_t> candidateSet(const QueryResult& result) {
+  std::set<std::size_t> out;
+  for (const auto& c : result.candidates) out.insert(c.index);
+  return out;
+}
+
+TEST(Database, ExcludesTheMostRecentFramesAndSeesEachOneTheMomentItLeaves) {
+  Config config;
+  config.exclude_recent_frames = 3;
+  config.num_candidates = 100;
+  Database db(config);
+  const Descriptor d = descriptorWithKey(std::vector<float>(20, 0.5f), config);
+  for (int n = 0; n < 12; ++n) {
+    const QueryResult r = db.query(d, at(n));
+    // Query n (before being added) may see keyframes 0 .. n - 4, every one of them.
+    const std::size_t expected = n > 3 ? n - 3 : 0;
+    EXPECT_EQ(r.eligible, expected) << "query " << n;
+    ASSERT_EQ(r.candidates.size(), expected) << "query " << n;
+    if (expected > 0) EXPECT_EQ(*candidateSet(r).rbegin(), expected - 1);
+    ASSERT_TRUE(db.add(at(n), d));
+  }
+}
+
+TEST(Database, ExcludesByTimeGap) {
+  Config config;
+  config.exclude_recent_frames = 0;
+  config.exclude_recent_seconds = 2.5;
+  config.num_candidates = 100;
+  Database db(config);
+  const Descriptor d = descriptorWithKey(std::vector<float>(20, 0.5f), config);
+  for (int n = 0; n < 10; ++n) ASSERT_TRUE(db.add(at(0.5 * n), d));  // stamps 0 .. 4.5 s
+  // A query at 5.0 s may see stamps <= 2.5 s: keyframes 0..5.
+  const QueryResult r = db.query(d, at(5.0));
+  EXPECT_EQ(r.eligible, 6u);
+  EXPECT_EQ(candidateSet(r), (std::set<std::size_t>{0, 1, 2, 3, 4, 5}));
+  // An earlier query-only call must not see more, although the tree already holds more.
+  EXPECT_EQ(candidateSet(db.query(d, at(4.0))), (std::set<std::size_t>{0, 1, 2, 3}));
+}
+
+TEST(Database, ExcludesByTravelledDistance) {
+  Config config;
+  config.exclude_recent_frames = 0;
+  config.exclude_recent_distance = 10.0;
+  config.num_candidates = 100;
+  Database db(config);
+  const Descriptor d = descriptorWithKey(std::vector<float>(20, 0.5f), config);
+  // Drive 3 m per keyframe, then turn back: path length keeps growing while the position returns.
+  const double xs[] = {0, 3, 6, 9, 12, 9, 6, 3};
+  for (int n = 0; n < 8; ++n) ASSERT_TRUE(db.add(at(n, xs[n]), d));
+  EXPECT_NEAR(db.keyframe(7).path_length, 21.0, 1e-9);
+  // Query back at x = 0 with path 24: keyframes with path <= 14 (0..4, at 0..12 m) are eligible,
+  // although keyframe 7 is only 3 m away in space.
+  const QueryResult r = db.query(d, at(8, 0.0));
+  EXPECT_EQ(candidateSet(r), (std::set<std::size_t>{0, 1, 2, 3, 4}));
+  // A keyframe without a pose does not advance the path.
+  KeyframeInfo no_pose;
+  no_pose.stamp = 9;
+  ASSERT_TRUE(db.add(no_pose, d));
+  EXPECT_NEAR(db.keyframe(8).path_length, 21.0, 1e-9);
+}
+
+TEST(Database, KdTreeReturnsTheBruteForceNearestRingKeys) {
+  Config config;
+  config.exclude_recent_frames = 0;
+  config.num_candidates = 10;
+  Database db(config);
+  std::mt19937 rng(1234);
+  std::vector<std::vector<float>> keys;
+  // Grow across several of FLANN's rebuild points (sizes 1, 2, 4, ... 512) and check along the way.
+  for (int n = 0; n < 700; ++n) {
+    if (n % 37 == 5) {
+      const auto query_key = randomKey(&rng, config.num_rings);
+      std::vector<std::pair<float, std::size_t>> brute;
+      for (std::size_t i = 0; i < keys.size(); ++i) {
+        float d2 = 0.0f;
+        for (int r = 0; r < config.num_rings; ++r) d2 += (keys[i][r] - query_key[r]) * (keys[i][r] - query_key[r]);
+        brute.emplace_back(d2, i);
+      }
+      std::sort(brute.begin(), brute.end());
+      std::set<std::size_t> expected;
+      for (std::size_t i = 0; i < std::min<std::size_t>(10, brute.size()); ++i) expected.insert(brute[i].second);
+      const QueryResult r = db.query(descriptorWithKey(query_key, config), at(n));
+      EXPECT_EQ(candidateSet(r), expected) << "database size " << n;
+      for (const auto& c : r.candidates) {
+        const auto it = std::find_if(brute.begin(), brute.end(), [&](const auto& b) { return b.second == c.index; });
+        EXPECT_NEAR(c.ring_key_distance, std::sqrt(it->first), 1e-4);
+      }
+    }
+    keys.push_back(randomKey(&rng, config.num_rings));
+    ASSERT_TRUE(db.add(at(n), descriptorWithKey(keys.back(), config)));
+  }
+  EXPECT_EQ(db.size(), 700u);
+}
+
+TEST(Database, RejectsBadKeyframesAndKeepsItsContents) {
+  Config config;
+  Database db(config);
+  const Descriptor d = descriptorWithKey(std::vector<float>(20, 0.5f), config);
+  ASSERT_TRUE(db.add(at(10.0), d));
+  std::string error;
+  EXPECT_FALSE(db.add(at(9.0), d, &error));
+  EXPECT_NE(error.find("earlier"), std::string::npos) << error;
+  EXPECT_FALSE(db.add(at(NAN), d, &error));
+  KeyframeInfo bad_pose = at(11.0);
+  bad_pose.pose->translation().x() = NAN;
+  EXPECT_FALSE(db.add(bad_pose, d, &error));
+  Config other = config;
+  other.num_sectors = 30;
+  EXPECT_FALSE(db.add(at(11.0), descriptorWithKey(std::vector<float>(20, 0.5f), other), &error));
+  EXPECT_EQ(db.size(), 1u);
+  EXPECT_TRUE(db.add(at(10.0), d)) << "equal stamps are allowed";
+  EXPECT_EQ(db.size(), 2u);
+}
+
+TEST(Database, EmptyDescriptorNeverMatchesAndMemoryStaysInBudget) {
+  Config config;
+  config.exclude_recent_frames = 0;
+  LoopDetector detector(config);
+  const auto scene = test::streetScene(9);
+  ASSERT_TRUE(detector.process(scene, at(0)).accepted);
+  const Detection empty = detector.process(pcl::PointCloud<pcl::PointXYZ>(), at(1));
+  EXPECT_TRUE(empty.accepted);
+  EXPECT_FALSE(empty.query.matched);
+  EXPECT_TRUE(empty.query.candidates.empty());
+  // The same scene again matches keyframe 0, never the empty keyframe 1.
+  const Detection again = detector.process(scene, at(2));
+  ASSERT_TRUE(again.query.matched);
+  EXPECT_EQ(again.query.best()->index, 0u);
+  EXPECT_NEAR(again.query.best()->alignment.distance, 0.0, 1e-5);
+  EXPECT_EQ(again.index, 2u);
+  EXPECT_LE(detector.database().bytesPerKeyframe(), 6u * 1024u);
+}
+
+}  // namespace
+}  // namespace scan_context_loop

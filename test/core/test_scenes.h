@@ -1,0 +1,36 @@
+// Synthetic scenes and real-data loading shared by the core tests.
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+#include <pcl/point_cloud.h>
+#include <pcl/point_types.h>
+
+namespace scan_context_loop {
+namespace test {
+
+/// Where ../shared/data is (SCL_SHARED_DATA in the environment wins over the compiled-in path).
+std::string sharedData();
+
+/// A street-like scene in the sensor frame: ground 1.7 m below the sensor, building facades of varied
+/// height on both sides, poles and boxy cars, all sampled as surface points. Different seeds give
+/// different streets.
+pcl::PointCloud<pcl::PointXYZ> streetScene(std::uint32_t seed);
+
+/// Random points whose azimuths sit in the middle third of a sector, so rotating them by whole
+/// sectors never moves a point across a sector border (exact column-shift checks).
+pcl::PointCloud<pcl::PointXYZ> sectorCentredScene(std::uint32_t seed, int sectors, double max_radius);
+
+/// p' = Rz(yaw) * p + (tx, ty, 0): the cloud as seen from a sensor whose frame is T^-1.
+pcl::PointCloud<pcl::PointXYZ> rotateTranslate(const pcl::PointCloud<pcl::PointXYZ>& cloud, double yaw,
+                                               double tx = 0.0, double ty = 0.0);
+
+/// Loads ../shared/data/kitti/<sequence>/velodyne/<frame>.bin; fails the calling test when missing.
+pcl::PointCloud<pcl::PointXYZI> kittiScan(const std::string& sequence, int frame);
+
+/// Yaw of `match` in `query`'s LiDAR frame from the sequence's ground truth.
+double kittiTrueYaw(const std::string& sequence, int query, int match);
+
+}  // namespace test
+}  // namespace scan_context_loop
