@@ -1,5 +1,6 @@
 #include "scan_context_loop/descriptor.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -13,20 +14,22 @@ constexpr float kPi = 3.14159265358979323846f;
 constexpr float kHalfPi = 1.57079632679489661923f;
 
 /// atan2(y, x) mapped to [0, 2 pi), max error about 1e-5 rad (a minimax polynomial for atan on [0, 1]),
-/// several times faster than std::atan2; 1e-5 rad is far below a sector (0.1 rad at 60 sectors).
+/// far below a sector (0.1 rad at 60 sectors). Written with selects, not branches: the quadrant of
+/// consecutive points is unpredictable, and the binning loop vectorises only without branches.
 inline float azimuth(float x, float y) {
   const float ax = std::fabs(x);
   const float ay = std::fabs(y);
-  const float hi = ax > ay ? ax : ay;
-  const float lo = ax > ay ? ay : ax;
-  const float t = hi > 0.0f ? lo / hi : 0.0f;
+  const bool steep = ay > ax;
+  const float hi = steep ? ay : ax;
+  const float lo = steep ? ax : ay;
+  const float t = lo / (hi > 0.0f ? hi : 1.0f);
   const float t2 = t * t;
   float a = t * (0.99997726f +
                  t2 * (-0.33262347f + t2 * (0.19354346f + t2 * (-0.11643287f +
                                                                 t2 * (0.05265332f + t2 * -0.01172120f)))));
-  if (ay > ax) a = kHalfPi - a;
-  if (x < 0.0f) a = kPi - a;
-  if (y < 0.0f) a = kTwoPi - a;
+  a = steep ? kHalfPi - a : a;
+  a = x < 0.0f ? kPi - a : a;
+  a = y < 0.0f ? kTwoPi - a : a;
   return a;
 }
 
@@ -36,39 +39,94 @@ inline float loadFloat(const std::uint8_t* p) {
   return v;
 }
 
+/// What the binning kernel needs, precomputed from the Config.
+struct Binning {
+  int rings, sectors;
+  float min2, max2, ring_scale, sector_scale, h0;
+};
+
+// One portable binary, with an AVX2/FMA clone picked at run time where the CPU has it (about twice as
+// fast on 120k-point scans as the baseline x86-64 clone).
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+#define SCL_CLONES __attribute__((target_clones("arch=x86-64-v3", "default")))
+#else
+#define SCL_CLONES
+#endif
+
+/// Number of interleaved scratch grids: consecutive points of a spinning LiDAR mostly fall into the
+/// same bin, and a single grid would make every max wait for the previous store to the same cell.
+constexpr int kLanes = 4;
+
+/// Fills best (kLanes grids of rings x sectors, row-major, plus one trash cell each, all starting at
+/// -inf) with maxima of z + h0; returns the number of points that fell into a bin.
+SCL_CLONES std::size_t binPoints(const PointView& points, const Binning& b, float* best) {
+  const int rings = b.rings;
+  const int sectors = b.sectors;
+  const float min2 = b.min2, max2 = b.max2, ring_scale = b.ring_scale, sector_scale = b.sector_scale;
+  const float h0 = b.h0;
+  // Three passes per block: gather x, y, z into contiguous arrays; a branch-free pass that turns them
+  // into (bin, height), which the compiler vectorises (the library is built with -fno-math-errno and
+  // -fno-trapping-math for this; NaN semantics are untouched); then the scatter of maxima, spread over
+  // the lanes. A point that falls out goes to the trash cell, so the scatter needs no branch either.
+  const int cells = rings * sectors + 1;
+  const int trash = rings * sectors;
+  constexpr std::size_t kBlock = 512;
+  float xs[kBlock], ys[kBlock], zs[kBlock];
+  int bin[kBlock];
+  std::size_t used = 0;
+  const std::uint8_t* base = points.data;
+  const std::size_t count = base != nullptr ? points.count : 0;
+  for (std::size_t start = 0; start < count; start += kBlock) {
+    const std::size_t n = std::min(kBlock, count - start);
+    const std::uint8_t* block = base + start * points.stride;
+    for (std::size_t i = 0; i < n; ++i) {
+      const std::uint8_t* p = block + i * points.stride;
+      xs[i] = loadFloat(p + points.offset_x);
+      ys[i] = loadFloat(p + points.offset_y);
+      zs[i] = loadFloat(p + points.offset_z) + h0;
+    }
+    for (std::size_t i = 0; i < n; ++i) {
+      const float x = xs[i], y = ys[i], z = zs[i];
+      const float r2 = x * x + y * y;
+      // NaN compares false and Inf exceeds max2, so both fall out here; z - z is 0 only when finite.
+      const bool keep = (r2 >= min2) & (r2 <= max2) & ((z - z) == 0.0f);
+      const float r = std::sqrt(keep ? r2 : 0.0f);
+      int ring = static_cast<int>(r * ring_scale);
+      ring = ring < rings - 1 ? ring : rings - 1;
+      int sector = static_cast<int>(azimuth(keep ? x : 1.0f, keep ? y : 0.0f) * sector_scale);
+      sector = sector < sectors - 1 ? sector : sectors - 1;
+      bin[i] = keep ? ring * sectors + sector : trash;
+      used += keep;
+    }
+    for (std::size_t i = 0; i < n; ++i) {
+      float& cell = best[(i % kLanes) * cells + bin[i]];
+      cell = std::max(cell, zs[i]);
+    }
+  }
+
+  return used;
+}
+
 }  // namespace
 
 HeightGrid makeHeightGrid(const PointView& points, const Config& config) {
   const int rings = config.num_rings;
   const int sectors = config.num_sectors;
-  const float min2 = static_cast<float>(config.min_range * config.min_range);
   const float max_r = static_cast<float>(config.max_radius);
-  const float max2 = max_r * max_r;
-  const float ring_scale = static_cast<float>(rings) / max_r;
-  const float sector_scale = static_cast<float>(sectors) / kTwoPi;
-  const float h0 = static_cast<float>(config.lidar_height);
+  const Binning binning{rings,
+                        sectors,
+                        static_cast<float>(config.min_range * config.min_range),
+                        max_r * max_r,
+                        static_cast<float>(rings) / max_r,
+                        static_cast<float>(sectors) / kTwoPi,
+                        static_cast<float>(config.lidar_height)};
   constexpr float kEmpty = -std::numeric_limits<float>::infinity();
-
   // Row-major scratch (ring, sector) so that one ring's sectors are contiguous while binning.
-  std::vector<float> best(static_cast<std::size_t>(rings) * sectors, kEmpty);
-  std::size_t used = 0;
-  const std::uint8_t* base = points.data;
-  for (std::size_t i = 0; i < points.count && base != nullptr; ++i) {
-    const std::uint8_t* p = base + i * points.stride;
-    const float x = loadFloat(p + points.offset_x);
-    const float y = loadFloat(p + points.offset_y);
-    const float z = loadFloat(p + points.offset_z);
-    const float r2 = x * x + y * y;
-    // NaN compares false, Inf exceeds max2: both fall out here.
-    if (!(r2 >= min2 && r2 <= max2) || !std::isfinite(z)) continue;
-    int ring = static_cast<int>(std::sqrt(r2) * ring_scale);
-    if (ring >= rings) ring = rings - 1;
-    int sector = static_cast<int>(azimuth(x, y) * sector_scale);
-    if (sector >= sectors) sector = sectors - 1;
-    float& cell = best[static_cast<std::size_t>(ring) * sectors + sector];
-    const float h = z + h0;
-    if (h > cell) cell = h;
-    ++used;
+  const std::size_t cells = static_cast<std::size_t>(rings) * sectors + 1;
+  std::vector<float> best(kLanes * cells, kEmpty);
+  const std::size_t used = binPoints(points, binning, best.data());
+  for (int lane = 1; lane < kLanes; ++lane) {
+    for (std::size_t c = 0; c + 1 < cells; ++c) best[c] = std::max(best[c], best[lane * cells + c]);
   }
 
   HeightGrid grid;
