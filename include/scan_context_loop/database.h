@@ -51,10 +51,10 @@ struct Keyframe {
 
 /// Not thread-safe: one owner thread (the ROS adapter's worker) calls every member.
 ///
-/// Keyframes enter the kd-tree the moment they leave the exclusion windows (all three rules are
-/// monotonic in arrival order, so the eligible keyframes are always a prefix of the database); FLANN's
-/// kd-tree takes them one at a time and rebuilds itself only when its size has doubled, so there is no
-/// window in which recent keyframes are unsearchable. Search is exact (unlimited checks).
+/// Keyframes enter the ring-key index the moment they leave the exclusion windows (all three rules are
+/// monotonic in arrival order, so the eligible keyframes are always a prefix of the database). The index
+/// is a FLANN kd-tree plus a brute-force tail of the keys added since its last build (see Tree in
+/// database.cpp), so there is no window in which recent keyframes are unsearchable. Search is exact.
 class Database {
  public:
   explicit Database(const Config& config);

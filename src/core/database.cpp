@@ -8,11 +8,60 @@
 
 namespace scan_context_loop {
 
+/// Exact k-nearest ring keys over a growing prefix of the database: a balanced FLANN kd-tree (single
+/// tree, bounding-box pruning, leaves of up to 10 keys) over the keys it was last built with, plus a
+/// brute-force scan over the keys added since. When that tail reaches max(kMinTail, built / 16) keys
+/// the tree is rebuilt over everything, so a query never scans more than a small tail and a rebuild
+/// happens once every few thousand keyframes at 100k (its cost shows in the benchmark's max column).
 struct Database::Tree {
+  static constexpr std::size_t kMinTail = 1024;
+
   explicit Tree(int dims) : dims(dims) {}
+
+  void add(const float* key) {
+    keys.push_back(key);
+    if (keys.size() - built >= std::max(kMinTail, built / 16)) rebuild();
+  }
+
+  void rebuild() {
+    data.resize(keys.size() * dims);
+    for (std::size_t i = 0; i < keys.size(); ++i) std::copy(keys[i], keys[i] + dims, &data[i * dims]);
+    flann::Matrix<float> matrix(data.data(), keys.size(), dims);
+    index.reset(new flann::Index<flann::L2<float>>(matrix, flann::KDTreeSingleIndexParams(10)));
+    index->buildIndex();
+    built = keys.size();
+  }
+
+  /// The `want` nearest keys as (squared distance, index), nearest first.
+  std::vector<std::pair<float, std::size_t>> nearest(const float* query, std::size_t want) const {
+    std::vector<std::pair<float, std::size_t>> found;
+    if (index && built > 0) {
+      std::vector<std::vector<std::size_t>> indices;
+      std::vector<std::vector<float>> dists;
+      std::vector<float> q(query, query + dims);
+      flann::SearchParams params(flann::FLANN_CHECKS_UNLIMITED);
+      params.sorted = true;
+      index->knnSearch(flann::Matrix<float>(q.data(), 1, dims), indices, dists, std::min(want, built), params);
+      for (std::size_t i = 0; i < indices[0].size(); ++i) found.emplace_back(dists[0][i], indices[0][i]);
+    }
+    for (std::size_t i = built; i < keys.size(); ++i) {
+      float d2 = 0.0f;
+      for (int r = 0; r < dims; ++r) {
+        const float d = keys[i][r] - query[r];
+        d2 += d * d;
+      }
+      found.emplace_back(d2, i);
+    }
+    const std::size_t keep = std::min(want, found.size());
+    std::partial_sort(found.begin(), found.begin() + keep, found.end());
+    found.resize(keep);
+    return found;
+  }
+
   int dims;
-  // One randomised kd-tree; with unlimited checks FLANN searches it exactly. Points are inserted one at
-  // a time and FLANN rebuilds the tree itself whenever its size has doubled since the last build.
+  std::vector<const float*> keys;  // ring keys in database order (owned by the keyframes)
+  std::vector<float> data;         // contiguous copy the kd-tree was built over
+  std::size_t built = 0;
   std::unique_ptr<flann::Index<flann::L2<float>>> index;
 };
 
@@ -87,20 +136,8 @@ std::size_t Database::eligibleCount(const KeyframeInfo& info) const {
 }
 
 void Database::indexUpTo(std::size_t count) {
-  if (count <= indexed_) return;
-  const int dims = tree_->dims;
-  for (std::size_t i = indexed_; i < count; ++i) {
-    // FLANN keeps a pointer to the row: the ring key lives in a deque element that never moves.
-    float* row = const_cast<float*>(keyframes_[i].descriptor.ring_key.data());
-    flann::Matrix<float> point(row, 1, dims);
-    if (!tree_->index) {
-      tree_->index.reset(new flann::Index<flann::L2<float>>(point, flann::KDTreeIndexParams(1)));
-      tree_->index->buildIndex();
-    } else {
-      tree_->index->addPoints(point, 2.0f);
-    }
-  }
-  indexed_ = count;
+  for (std::size_t i = indexed_; i < count; ++i) tree_->add(keyframes_[i].descriptor.ring_key.data());
+  indexed_ = std::max(indexed_, count);
 }
 
 QueryResult Database::query(const Descriptor& descriptor, const KeyframeInfo& info) {
@@ -119,21 +156,12 @@ QueryResult Database::query(const Descriptor& descriptor, const KeyframeInfo& in
   const std::size_t want =
       std::min(indexed_, static_cast<std::size_t>(config_.num_candidates) + surplus);
 
-  std::vector<float> key(descriptor.ring_key.begin(), descriptor.ring_key.end());
-  flann::Matrix<float> query_row(key.data(), 1, tree_->dims);
-  std::vector<std::vector<std::size_t>> indices;
-  std::vector<std::vector<float>> dists;
-  flann::SearchParams params(flann::FLANN_CHECKS_UNLIMITED);
-  params.sorted = true;
-  tree_->index->knnSearch(query_row, indices, dists, want, params);
-
-  for (std::size_t i = 0; i < indices[0].size(); ++i) {
-    const std::size_t index = indices[0][i];
+  for (const auto& [d2, index] : tree_->nearest(descriptor.ring_key.data(), want)) {
     if (index >= eligible) continue;
     if (result.candidates.size() >= static_cast<std::size_t>(config_.num_candidates)) break;
     Candidate c;
     c.index = index;
-    c.ring_key_distance = std::sqrt(std::max(0.0f, dists[0][i]));
+    c.ring_key_distance = std::sqrt(std::max(0.0f, d2));
     c.alignment = align(descriptor, keyframes_[index].descriptor, config_);
     result.candidates.push_back(c);
   }
@@ -147,8 +175,8 @@ QueryResult Database::query(const Descriptor& descriptor, const KeyframeInfo& in
 }
 
 std::size_t Database::bytesPerKeyframe() const {
-  // Descriptor heap storage plus the Keyframe record itself, plus FLANN's per-point share (a row
-  // pointer, a leaf node and the removed-points bitset), about 64 bytes.
+  // Descriptor heap storage plus the Keyframe record itself, plus the tree's share: the key pointer,
+  // the contiguous key copy and FLANN's per-point index and node share.
   std::size_t descriptor_bytes = 0;
   if (!keyframes_.empty()) {
     descriptor_bytes = keyframes_.back().descriptor.bytes();
@@ -157,7 +185,8 @@ std::size_t Database::bytesPerKeyframe() const {
                         config_.num_rings + config_.num_sectors) * sizeof(float) +
                        config_.num_sectors;
   }
-  return descriptor_bytes + sizeof(Keyframe) + 64;
+  return descriptor_bytes + sizeof(Keyframe) + sizeof(float*) +
+         static_cast<std::size_t>(config_.num_rings) * sizeof(float) + 32;
 }
 
 }  // namespace scan_context_loop

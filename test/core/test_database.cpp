@@ -108,9 +108,10 @@ TEST(Database, KdTreeReturnsTheBruteForceNearestRingKeys) {
   Database db(config);
   std::mt19937 rng(1234);
   std::vector<std::vector<float>> keys;
-  // Grow across several of FLANN's rebuild points (sizes 1, 2, 4, ... 512) and check along the way.
-  for (int n = 0; n < 700; ++n) {
-    if (n % 37 == 5) {
+  // Grow past several rebuilds of the kd-tree (the first after 1,024 keys) and check along the way,
+  // so answers come from the tree, its brute-force tail and both together.
+  for (int n = 0; n < 3000; ++n) {
+    if (n % 97 == 5) {
       const auto query_key = randomKey(&rng, config.num_rings);
       std::vector<std::pair<float, std::size_t>> brute;
       for (std::size_t i = 0; i < keys.size(); ++i) {
@@ -131,7 +132,7 @@ TEST(Database, KdTreeReturnsTheBruteForceNearestRingKeys) {
     keys.push_back(randomKey(&rng, config.num_rings));
     ASSERT_TRUE(db.add(at(n), descriptorWithKey(keys.back(), config)));
   }
-  EXPECT_EQ(db.size(), 700u);
+  EXPECT_EQ(db.size(), 3000u);
 }
 
 TEST(Database, RejectsBadKeyframesAndKeepsItsContents) {

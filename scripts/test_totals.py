@@ -1,0 +1,56 @@
+#!/usr/bin/env python3
+"""Sums the JUnit XML files catkin writes under build/test_results and prints one line per test file
+and the totals as `N passed, N failed` (the line CI counts). Exit status 1 when anything failed or no
+test ran at all."""
+import glob
+import os
+import sys
+import xml.etree.ElementTree as ET
+
+
+def count(path):
+    passed = failed = skipped = 0
+    failures = []
+    try:
+        root = ET.parse(path).getroot()
+    except ET.ParseError as error:
+        return 0, 1, 0, ["unreadable result file: %s" % error]
+    for case in root.iter("testcase"):
+        name = "%s.%s" % (case.get("classname", ""), case.get("name", ""))
+        if case.find("failure") is not None or case.find("error") is not None:
+            failed += 1
+            failures.append(name)
+        elif case.find("skipped") is not None or case.get("status") == "notrun":
+            skipped += 1
+        else:
+            passed += 1
+    # A test binary that died writes a file with failures but possibly no testcase entries.
+    if passed + failed + skipped == 0:
+        errors = int(root.get("errors", "0") or 0) + int(root.get("failures", "0") or 0)
+        if errors:
+            failed += errors
+            failures.append(os.path.basename(path))
+    return passed, failed, skipped, failures
+
+
+def main():
+    results = sys.argv[1]
+    total_passed = total_failed = total_skipped = 0
+    for path in sorted(glob.glob(os.path.join(results, "**", "*.xml"), recursive=True)):
+        passed, failed, skipped, failures = count(path)
+        total_passed += passed
+        total_failed += failed
+        total_skipped += skipped
+        label = os.path.relpath(path, results)
+        print("%-70s %4d passed %4d failed" % (label, passed, failed))
+        for name in failures:
+            print("    FAILED: %s" % name)
+    line = "%d passed, %d failed" % (total_passed, total_failed)
+    if total_skipped:
+        line += ", %d skipped" % total_skipped
+    print(line)
+    return 1 if total_failed or total_passed == 0 else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
