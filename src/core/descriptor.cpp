@@ -45,10 +45,10 @@ struct Binning {
   float min2, max2, ring_scale, sector_scale, h0;
 };
 
-// One portable binary, with an AVX2/FMA clone picked at run time where the CPU has it (about twice as
-// fast on 120k-point scans as the baseline x86-64 clone).
+// One portable binary, with AVX-512 and AVX2/FMA clones picked at run time where the CPU has them
+// (on 121k-point KITTI scans: baseline x86-64 0.96 ms, AVX2 0.50 ms, AVX-512 0.37-0.43 ms).
 #if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
-#define SCL_CLONES __attribute__((target_clones("arch=x86-64-v3", "default")))
+#define SCL_CLONES __attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default")))
 #else
 #define SCL_CLONES
 #endif
