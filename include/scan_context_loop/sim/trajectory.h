@@ -1,0 +1,43 @@
+// Drives for the simulator: keyframes along a real KITTI trajectory or a procedural city drive, the
+// sensor poses over the simulated ground, and a drifting odometry.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include <Eigen/Geometry>
+
+#include "scan_context_loop/sim/world.h"
+
+namespace scan_context_loop {
+namespace sim {
+
+/// Planar positions and headings, one per source frame, from LiDAR poses (x forward, z up), frames
+/// [first, last] (last < 0: to the end).
+std::vector<PathPoint> pathFromPoses(const std::vector<Eigen::Isometry3d>& lidar_poses, int first, int last);
+
+/// The procedural drive, about 2.2 km sampled every 0.5 m: a loop around a 250 x 150 m block, the same
+/// loop again one lane (3 m) further out, the first half of the bottom street again in the same lane
+/// (same-direction revisit), a new street through the middle, then the east half of the top street
+/// and the east street driven the other way (reverse-direction revisits).
+std::vector<PathPoint> proceduralPath();
+
+/// Indices of the path points that become keyframes: the first, then each one at least `spacing`
+/// metres of travel after the previous keyframe.
+std::vector<std::size_t> keyframesEvery(const std::vector<PathPoint>& path, double spacing);
+
+/// Sensor pose over the world's ground: at (x, y), mount_height above the ground, yawed by heading.
+Eigen::Isometry3d sensorPose(const World& world, const PathPoint& p, double mount_height);
+
+struct DriftOptions {
+  double translation_per_metre = 0.01;  ///< sigma of the translation error per metre travelled [m/m]
+  double yaw_per_metre = 0.01;          ///< sigma of the yaw error per metre travelled [deg/m]
+  double yaw_per_degree = 0.01;         ///< sigma of the yaw error per degree turned [deg/deg]
+  std::uint32_t seed = 1;
+};
+
+/// Odometry that accumulates random errors on every relative motion, starting at the first true pose.
+std::vector<Eigen::Isometry3d> driftedOdometry(const std::vector<Eigen::Isometry3d>& truth, const DriftOptions& options);
+
+}  // namespace sim
+}  // namespace scan_context_loop

@@ -1,0 +1,80 @@
+// A procedural street world for simulating LiDAR scans: ground, buildings, walls and fences, parked
+// cars (some of which come and go), trees, poles and bushes, placed along a driven path.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include <Eigen/Core>
+
+namespace scan_context_loop {
+namespace sim {
+
+enum class Material : std::uint8_t { kGround, kBuilding, kWall, kCar, kTrunk, kFoliage, kPole };
+
+/// One solid. Boxes are vertical prisms with a yaw; cylinders are vertical; ellipsoids are axis-aligned.
+struct Primitive {
+  enum class Kind : std::uint8_t { kBox, kCylinder, kEllipsoid } kind = Kind::kBox;
+  Material material = Material::kBuilding;
+  Eigen::Vector3f center = Eigen::Vector3f::Zero();  ///< box/cylinder: z is unused (see z0, z1)
+  Eigen::Vector3f half = Eigen::Vector3f::Ones();    ///< half extents (box), radius in x (cylinder), radii (ellipsoid)
+  float yaw = 0.0f;                                  ///< box only
+  float z0 = 0.0f, z1 = 1.0f;                        ///< box and cylinder vertical extent
+  /// Present only for times in [present_from, present_to) (seconds); always present by default.
+  double present_from = -1e300, present_to = 1e300;
+};
+
+struct Hit {
+  float range = 0.0f;
+  Material material = Material::kGround;
+  Eigen::Vector3f normal = Eigen::Vector3f::UnitZ();
+};
+
+/// Ground plane z = slope_x * x + slope_y * y + offset, and the solids, with a 2D grid for ray casting.
+class World {
+ public:
+  World() = default;
+  World(std::vector<Primitive> primitives, const Eigen::Vector3d& ground, float cell_size = 4.0f);
+
+  /// Height of the ground at (x, y).
+  double groundZ(double x, double y) const { return ground_.x() * x + ground_.y() * y + ground_.z(); }
+
+  /// First surface along origin + t * direction (direction unit length) within max_range, at `time`.
+  /// `visit` must hold one int per primitive, all different from `ray_id` before the first call
+  /// (mailboxing: each solid is tested once per ray); callers give each thread its own.
+  bool cast(const Eigen::Vector3f& origin, const Eigen::Vector3f& direction, float max_range, double time,
+            std::uint32_t ray_id, std::vector<std::uint32_t>* visit, Hit* hit) const;
+
+  const std::vector<Primitive>& primitives() const { return primitives_; }
+  std::size_t size() const { return primitives_.size(); }
+
+ private:
+  bool intersect(const Primitive& p, const Eigen::Vector3f& o, const Eigen::Vector3f& d, float t_max, Hit* hit) const;
+
+  std::vector<Primitive> primitives_;
+  Eigen::Vector3d ground_ = Eigen::Vector3d::Zero();  // slope_x, slope_y, offset
+  float cell_ = 4.0f;
+  float min_x_ = 0.0f, min_y_ = 0.0f;
+  int nx_ = 0, ny_ = 0;
+  std::vector<std::vector<std::uint32_t>> cells_;
+};
+
+/// A pose along the driven path, for placing the street around it.
+struct PathPoint {
+  double x, y, heading;
+};
+
+struct WorldOptions {
+  std::uint32_t seed = 1;
+  double road_half_width = 6.0;   ///< kerb to road centre [m]: two lanes and parking
+  double ground_slope = 0.01;     ///< gentle slope of the ground plane (rise per metre)
+  double dynamic_car_fraction = 0.3;  ///< parked cars that are there only part of the time
+  double duration = 0.0;          ///< length of the drive [s], for placing the time windows of those cars
+};
+
+/// Builds streets along the path: facades on both sides (4-30 m tall, with gaps), walls and fences,
+/// parked cars at the kerbs, trees, poles and bushes on the pavements, nothing on any road.
+World generateWorld(const std::vector<PathPoint>& path, const WorldOptions& options);
+
+}  // namespace sim
+}  // namespace scan_context_loop

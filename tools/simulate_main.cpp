@@ -1,0 +1,274 @@
+// scan_context_simulate: ray-cast LiDAR keyframes through a procedural street world along a real KITTI
+// trajectory or a procedural drive; writes the KITTI odometry layout and, optionally, a rosbag.
+#include <atomic>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <map>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <pcl/filters/voxel_grid.h>
+#include <sys/stat.h>
+
+#include "scan_context_loop/kitti_io.h"
+#include "scan_context_loop/sim/sensor.h"
+#include "scan_context_loop/sim/trajectory.h"
+#include "sim_bag.h"
+
+namespace scl = scan_context_loop;
+namespace sim = scan_context_loop::sim;
+
+namespace {
+
+const char* kUsage = R"(usage: scan_context_simulate OUT_DIR [options]
+
+Ray-casts LiDAR keyframes through a generated street world and writes OUT_DIR in the KITTI odometry
+layout: velodyne/%06d.bin, poses.txt (ground truth), odom_poses.txt (drifted odometry), times.txt,
+calib.txt (Tr: identity, so poses.txt holds LiDAR poses), sequence.txt (what was simulated).
+
+trajectory (one of):
+  --procedural               a 2.2 km city drive with same-direction, reverse and one-lane-offset
+                             revisits (default)
+  --kitti-poses DIR          a real KITTI trajectory: DIR/poses.txt, DIR/calib.txt, DIR/times.txt
+  --first N, --last N        frame window of the KITTI trajectory (default: all)
+  --keyframe-spacing M       one keyframe every M metres of travel (default 2)
+
+sensor:
+  --sensor NAME              hdl64 | vlp16 | os1-64 (default hdl64)
+  --noise M                  Gaussian range noise sigma [m] (default: the sensor's, 0.02-0.03)
+  --dropout P                probability a return is lost (default 0.02)
+  --max-range M              maximum range [m] (default: the sensor's, 100-120)
+  --mount-height M           sensor height above the ground [m] (default 1.73)
+  --voxel M                  write clouds downsampled to M-metre voxels (default 0: raw scans)
+
+world and odometry:
+  --seed N                   world, noise and drift seed (default 1)
+  --dynamic-cars F           fraction of parked cars present only part of the time (default 0.3)
+  --drift-trans F            odometry translation error sigma per metre travelled (default 0.01)
+  --drift-yaw-per-m D        odometry yaw error sigma per metre travelled [deg/m] (default 0.01)
+  --drift-yaw-per-deg F      odometry yaw error sigma per degree turned (default 0.01)
+
+rosbag:
+  --bag FILE                 also write a bag: keyframe clouds (PointCloud2, x y z intensity, sensor
+                             frame), drifted odometry and ground truth (nav_msgs/Odometry)
+  --cloud-topic T            (default keyframe_cloud)
+  --odom-topic T             (default keyframe_odom)
+  --truth-topic T            (default ground_truth)
+  --sensor-frame F           (default velodyne)
+  --odom-frame F             (default odom)
+
+  --threads N                ray-casting threads (default: all cores)
+)";
+
+struct Options {
+  std::string out;
+  std::string kitti;
+  int first = 0, last = -1;
+  double spacing = 2.0;
+  std::string sensor = "hdl64";
+  double noise = -1, dropout = -1, max_range = -1, mount = -1, voxel = 0;
+  std::uint32_t seed = 1;
+  double dynamic_cars = 0.3;
+  sim::DriftOptions drift;
+  sim::BagOptions bag;
+  int threads = 0;
+};
+
+bool parse(int argc, char** argv, Options* o, std::string* error) {
+  std::map<std::string, std::string*> strings = {{"--kitti-poses", &o->kitti},  {"--sensor", &o->sensor},
+                                                 {"--bag", &o->bag.path},        {"--cloud-topic", &o->bag.cloud_topic},
+                                                 {"--odom-topic", &o->bag.odom_topic}, {"--truth-topic", &o->bag.truth_topic},
+                                                 {"--sensor-frame", &o->bag.sensor_frame}, {"--odom-frame", &o->bag.odom_frame}};
+  std::map<std::string, double*> numbers = {
+      {"--keyframe-spacing", &o->spacing}, {"--noise", &o->noise}, {"--dropout", &o->dropout},
+      {"--max-range", &o->max_range}, {"--mount-height", &o->mount}, {"--voxel", &o->voxel},
+      {"--dynamic-cars", &o->dynamic_cars}, {"--drift-trans", &o->drift.translation_per_metre},
+      {"--drift-yaw-per-m", &o->drift.yaw_per_metre}, {"--drift-yaw-per-deg", &o->drift.yaw_per_degree}};
+  std::map<std::string, int*> integers = {{"--first", &o->first}, {"--last", &o->last}, {"--threads", &o->threads}};
+  for (int i = 1; i < argc; ++i) {
+    const std::string arg = argv[i];
+    if (arg == "--procedural") {
+      o->kitti.clear();
+      continue;
+    }
+    const bool has_value = i + 1 < argc;
+    try {
+      if (strings.count(arg) && has_value) {
+        *strings[arg] = argv[++i];
+      } else if (numbers.count(arg) && has_value) {
+        *numbers[arg] = std::stod(argv[++i]);
+      } else if (integers.count(arg) && has_value) {
+        *integers[arg] = std::stoi(argv[++i]);
+      } else if (arg == "--seed" && has_value) {
+        o->seed = static_cast<std::uint32_t>(std::stoul(argv[++i]));
+      } else if (arg.rfind("--", 0) != 0 && o->out.empty()) {
+        o->out = arg;
+      } else {
+        *error = "unknown or incomplete option: " + arg;
+        return false;
+      }
+    } catch (const std::exception&) {
+      *error = "not a number: " + arg + " " + argv[i];
+      return false;
+    }
+  }
+  if (o->out.empty()) *error = "OUT_DIR is missing";
+  else if (!(o->spacing > 0.0)) *error = "--keyframe-spacing must be positive";
+  else if (o->dropout >= 1.0) *error = "--dropout must be below 1";
+  else if (o->voxel < 0.0) *error = "--voxel must be >= 0";
+  return error->empty();
+}
+
+pcl::PointCloud<pcl::PointXYZI> downsample(const pcl::PointCloud<pcl::PointXYZI>& cloud, double leaf) {
+  if (leaf <= 0.0) return cloud;
+  pcl::PointCloud<pcl::PointXYZI> out;
+  pcl::VoxelGrid<pcl::PointXYZI> grid;
+  grid.setLeafSize(static_cast<float>(leaf), static_cast<float>(leaf), static_cast<float>(leaf));
+  grid.setInputCloud(cloud.makeShared());
+  grid.filter(out);
+  return out;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  for (int i = 1; i < argc; ++i) {
+    if (std::string(argv[i]) == "--help" || std::string(argv[i]) == "-h") {
+      std::fputs(kUsage, stdout);
+      return 0;
+    }
+  }
+  Options o;
+  std::string error;
+  if (!parse(argc, argv, &o, &error)) {
+    std::fprintf(stderr, "scan_context_simulate: %s\n\n%s", error.c_str(), kUsage);
+    return 2;
+  }
+  sim::SensorModel sensor;
+  if (!sim::sensorPreset(o.sensor, &sensor)) {
+    std::fprintf(stderr, "scan_context_simulate: unknown sensor '%s' (hdl64, vlp16, os1-64)\n", o.sensor.c_str());
+    return 2;
+  }
+  if (o.noise >= 0) sensor.range_noise = static_cast<float>(o.noise);
+  if (o.dropout >= 0) sensor.dropout = static_cast<float>(o.dropout);
+  if (o.max_range > 0) sensor.max_range = static_cast<float>(o.max_range);
+  if (o.mount > 0) sensor.mount_height = static_cast<float>(o.mount);
+
+  // The drive: every source frame (for the world) and the keyframes along it.
+  std::vector<sim::PathPoint> path;
+  std::vector<double> source_times;
+  if (!o.kitti.empty()) {
+    std::vector<Eigen::Isometry3d> camera;
+    Eigen::Isometry3d tr;
+    if (!scl::kitti::readPoses(o.kitti + "/poses.txt", &camera, &error) ||
+        !scl::kitti::readCalibTr(o.kitti + "/calib.txt", &tr, &error)) {
+      std::fprintf(stderr, "scan_context_simulate: %s\n", error.c_str());
+      return 1;
+    }
+    path = sim::pathFromPoses(scl::kitti::lidarPoses(camera, tr), o.first, o.last);
+    std::vector<double> times;
+    if (scl::kitti::readTimes(o.kitti + "/times.txt", &times, &error)) {
+      for (std::size_t k = 0; k < path.size(); ++k) {
+        const std::size_t frame = k + std::max(0, o.first);
+        source_times.push_back(frame < times.size() ? times[frame] : 0.1 * frame);
+      }
+    }
+  } else {
+    path = sim::proceduralPath();
+  }
+  if (source_times.size() != path.size()) {
+    // 10 m/s along the path.
+    source_times.assign(path.size(), 0.0);
+    for (std::size_t k = 1; k < path.size(); ++k) {
+      source_times[k] = source_times[k - 1] + std::hypot(path[k].x - path[k - 1].x, path[k].y - path[k - 1].y) / 10.0;
+    }
+  }
+  if (path.size() < 2) {
+    std::fprintf(stderr, "scan_context_simulate: the trajectory has fewer than two frames\n");
+    return 1;
+  }
+  const std::vector<std::size_t> keyframes = sim::keyframesEvery(path, o.spacing);
+
+  const auto t0 = std::chrono::steady_clock::now();
+  sim::WorldOptions world_options;
+  world_options.seed = o.seed;
+  world_options.dynamic_car_fraction = o.dynamic_cars;
+  world_options.duration = source_times.back() - source_times.front();
+  const sim::World world = sim::generateWorld(path, world_options);
+
+  std::vector<Eigen::Isometry3d> truth;
+  std::vector<double> times;
+  for (std::size_t k : keyframes) {
+    truth.push_back(sim::sensorPose(world, path[k], sensor.mount_height));
+    times.push_back(source_times[k] - source_times.front());
+  }
+  o.drift.seed = o.seed;
+  const std::vector<Eigen::Isometry3d> odom = sim::driftedOdometry(truth, o.drift);
+
+  if (mkdir(o.out.c_str(), 0755) != 0 && errno != EEXIST) {
+    std::fprintf(stderr, "scan_context_simulate: cannot create %s\n", o.out.c_str());
+    return 1;
+  }
+  mkdir((o.out + "/velodyne").c_str(), 0755);
+
+  // Ray-cast the keyframes in parallel; each one's noise is seeded by (seed, keyframe).
+  const int threads = o.threads > 0 ? o.threads : std::max(1u, std::thread::hardware_concurrency());
+  std::atomic<std::size_t> next(0);
+  std::atomic<std::size_t> points(0);
+  std::atomic<bool> failed(false);
+  std::vector<std::thread> pool;
+  for (int t = 0; t < threads; ++t) {
+    pool.emplace_back([&] {
+      std::string write_error;
+      for (std::size_t k = next++; k < keyframes.size(); k = next++) {
+        const auto cloud = downsample(
+            sim::scan(world, sensor, truth[k], times[k], (static_cast<std::uint64_t>(o.seed) << 32) ^ k), o.voxel);
+        points += cloud.size();
+        if (!scl::kitti::writeScan(scl::kitti::scanPath(o.out, static_cast<int>(k)), cloud, &write_error)) {
+          std::fprintf(stderr, "scan_context_simulate: %s\n", write_error.c_str());
+          failed = true;
+        }
+      }
+    });
+  }
+  for (auto& t : pool) t.join();
+  if (failed) return 1;
+
+  std::ofstream calib(o.out + "/calib.txt");
+  calib << "Tr: 1 0 0 0 0 1 0 0 0 0 1 0\n";
+  std::ofstream times_file(o.out + "/times.txt");
+  times_file.precision(6);
+  for (double t : times) times_file << std::fixed << t << "\n";
+  if (!scl::kitti::writePoses(o.out + "/poses.txt", truth, &error) ||
+      !scl::kitti::writePoses(o.out + "/odom_poses.txt", odom, &error)) {
+    std::fprintf(stderr, "scan_context_simulate: %s\n", error.c_str());
+    return 1;
+  }
+  double length = 0.0;
+  for (std::size_t k = 1; k < truth.size(); ++k) length += (truth[k].translation() - truth[k - 1].translation()).norm();
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  std::ofstream info(o.out + "/sequence.txt");
+  info << "trajectory: " << (o.kitti.empty() ? std::string("procedural") : o.kitti) << "\n"
+       << "frames: " << o.first << " .. " << (o.last < 0 ? std::string("end") : std::to_string(o.last)) << "\n"
+       << "keyframes: " << keyframes.size() << "\nkeyframe_spacing_m: " << o.spacing << "\nlength_m: " << length
+       << "\nsensor: " << sensor.name << "\nbeams: " << sensor.elevations_deg.size() << "\ncolumns: " << sensor.columns
+       << "\nrange_noise_m: " << sensor.range_noise << "\ndropout: " << sensor.dropout << "\nmax_range_m: "
+       << sensor.max_range << "\nmount_height_m: " << sensor.mount_height << "\nvoxel_m: " << o.voxel
+       << "\nseed: " << o.seed << "\nworld_primitives: " << world.size() << "\ndrift_translation_per_m: "
+       << o.drift.translation_per_metre << "\ndrift_yaw_deg_per_m: " << o.drift.yaw_per_metre
+       << "\ndrift_yaw_per_deg: " << o.drift.yaw_per_degree << "\n";
+
+  if (!o.bag.path.empty()) {
+    if (!sim::writeBag(o.out, truth, odom, times, o.bag, &error)) {
+      std::fprintf(stderr, "scan_context_simulate: %s\n", error.c_str());
+      return 1;
+    }
+  }
+  std::printf("%zu keyframes (%.0f m, %zu points on average, %s) in %.1f s with %d threads -> %s\n", keyframes.size(),
+              length, points.load() / std::max<std::size_t>(1, keyframes.size()), sensor.name.c_str(), seconds,
+              threads, o.out.c_str());
+  return 0;
+}
