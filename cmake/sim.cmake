@@ -3,14 +3,14 @@ add_library(scan_context_loop_sim
   src/sim/world.cpp
   src/sim/sensor.cpp
   src/sim/trajectory.cpp
+  src/sim/sequence_writer.cpp
 )
 target_include_directories(scan_context_loop_sim PUBLIC include ${EIGEN3_INCLUDE_DIRS} ${PCL_INCLUDE_DIRS})
-target_link_libraries(scan_context_loop_sim PUBLIC ${PCL_COMMON_LIBRARIES})
+target_link_libraries(scan_context_loop_sim PUBLIC scan_context_loop_core ${PCL_COMMON_LIBRARIES} ${PCL_FILTERS_LIBRARIES} pthread)
 
 add_executable(scan_context_simulate tools/simulate_main.cpp tools/sim_bag.cpp)
 target_include_directories(scan_context_simulate PRIVATE ${catkin_INCLUDE_DIRS})
-target_link_libraries(scan_context_simulate scan_context_loop_sim scan_context_loop_core
-  ${PCL_FILTERS_LIBRARIES} ${catkin_LIBRARIES} pthread)
+target_link_libraries(scan_context_simulate scan_context_loop_sim ${catkin_LIBRARIES})
 
 if(CATKIN_ENABLE_TESTING)
   catkin_add_gtest(test_sim test/test_main.cpp test/sim/test_sim.cpp)

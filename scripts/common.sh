@@ -16,7 +16,7 @@ SCL_PACKAGES=(
   libstd-msgs-dev libsensor-msgs-dev libdiagnostic-updater-dev
   ros-message-generation ros-message-runtime librostest-dev python3-rostest python3-roslaunch
   python3-rosbag librosbag-dev python3-rosmaster rosout libgtest-dev
-  python3-numpy python3-matplotlib python3-yaml
+  python3-numpy python3-matplotlib python3-yaml libyaml-cpp-dev
 )
 # Only the demo needs these (RViz under a virtual display, and a screenshot of it).
 SCL_DEMO_PACKAGES=(rviz xvfb xauth x11-apps imagemagick)

@@ -1,6 +1,5 @@
 // scan_context_simulate: ray-cast LiDAR keyframes through a procedural street world along a real KITTI
 // trajectory or a procedural drive; writes the KITTI odometry layout and, optionally, a rosbag.
-#include <atomic>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -10,11 +9,9 @@
 #include <thread>
 #include <vector>
 
-#include <pcl/filters/voxel_grid.h>
-#include <sys/stat.h>
 
 #include "scan_context_loop/kitti_io.h"
-#include "scan_context_loop/sim/sensor.h"
+#include "scan_context_loop/sim/sequence_writer.h"
 #include "scan_context_loop/sim/trajectory.h"
 #include "sim_bag.h"
 
@@ -122,16 +119,6 @@ bool parse(int argc, char** argv, Options* o, std::string* error) {
   return error->empty();
 }
 
-pcl::PointCloud<pcl::PointXYZI> downsample(const pcl::PointCloud<pcl::PointXYZI>& cloud, double leaf) {
-  if (leaf <= 0.0) return cloud;
-  pcl::PointCloud<pcl::PointXYZI> out;
-  pcl::VoxelGrid<pcl::PointXYZI> grid;
-  grid.setLeafSize(static_cast<float>(leaf), static_cast<float>(leaf), static_cast<float>(leaf));
-  grid.setInputCloud(cloud.makeShared());
-  grid.filter(out);
-  return out;
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -199,54 +186,20 @@ int main(int argc, char** argv) {
   world_options.duration = source_times.back() - source_times.front();
   const sim::World world = sim::generateWorld(path, world_options);
 
-  std::vector<Eigen::Isometry3d> truth;
-  std::vector<double> times;
+  sim::SequenceData data;
   for (std::size_t k : keyframes) {
-    truth.push_back(sim::sensorPose(world, path[k], sensor.mount_height));
-    times.push_back(source_times[k] - source_times.front());
+    data.truth.push_back(sim::sensorPose(world, path[k], sensor.mount_height));
+    data.times.push_back(source_times[k] - source_times.front());
   }
   o.drift.seed = o.seed;
-  const std::vector<Eigen::Isometry3d> odom = sim::driftedOdometry(truth, o.drift);
-
-  if (mkdir(o.out.c_str(), 0755) != 0 && errno != EEXIST) {
-    std::fprintf(stderr, "scan_context_simulate: cannot create %s\n", o.out.c_str());
-    return 1;
-  }
-  mkdir((o.out + "/velodyne").c_str(), 0755);
-
-  // Ray-cast the keyframes in parallel; each one's noise is seeded by (seed, keyframe).
-  const int threads = o.threads > 0 ? o.threads : std::max(1u, std::thread::hardware_concurrency());
-  std::atomic<std::size_t> next(0);
-  std::atomic<std::size_t> points(0);
-  std::atomic<bool> failed(false);
-  std::vector<std::thread> pool;
-  for (int t = 0; t < threads; ++t) {
-    pool.emplace_back([&] {
-      std::string write_error;
-      for (std::size_t k = next++; k < keyframes.size(); k = next++) {
-        const auto cloud = downsample(
-            sim::scan(world, sensor, truth[k], times[k], (static_cast<std::uint64_t>(o.seed) << 32) ^ k), o.voxel);
-        points += cloud.size();
-        if (!scl::kitti::writeScan(scl::kitti::scanPath(o.out, static_cast<int>(k)), cloud, &write_error)) {
-          std::fprintf(stderr, "scan_context_simulate: %s\n", write_error.c_str());
-          failed = true;
-        }
-      }
-    });
-  }
-  for (auto& t : pool) t.join();
-  if (failed) return 1;
-
-  std::ofstream calib(o.out + "/calib.txt");
-  calib << "Tr: 1 0 0 0 0 1 0 0 0 0 1 0\n";
-  std::ofstream times_file(o.out + "/times.txt");
-  times_file.precision(6);
-  for (double t : times) times_file << std::fixed << t << "\n";
-  if (!scl::kitti::writePoses(o.out + "/poses.txt", truth, &error) ||
-      !scl::kitti::writePoses(o.out + "/odom_poses.txt", odom, &error)) {
+  data.odometry = sim::driftedOdometry(data.truth, o.drift);
+  const int threads = o.threads > 0 ? o.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  const double mean_points = sim::writeSequence(o.out, world, sensor, data, o.voxel, o.seed, threads, &error);
+  if (mean_points < 0) {
     std::fprintf(stderr, "scan_context_simulate: %s\n", error.c_str());
     return 1;
   }
+  const auto& truth = data.truth;
   double length = 0.0;
   for (std::size_t k = 1; k < truth.size(); ++k) length += (truth[k].translation() - truth[k - 1].translation()).norm();
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -262,13 +215,12 @@ int main(int argc, char** argv) {
        << "\ndrift_yaw_per_deg: " << o.drift.yaw_per_degree << "\n";
 
   if (!o.bag.path.empty()) {
-    if (!sim::writeBag(o.out, truth, odom, times, o.bag, &error)) {
+    if (!sim::writeBag(o.out, truth, data.odometry, data.times, o.bag, &error)) {
       std::fprintf(stderr, "scan_context_simulate: %s\n", error.c_str());
       return 1;
     }
   }
-  std::printf("%zu keyframes (%.0f m, %zu points on average, %s) in %.1f s with %d threads -> %s\n", keyframes.size(),
-              length, points.load() / std::max<std::size_t>(1, keyframes.size()), sensor.name.c_str(), seconds,
-              threads, o.out.c_str());
+  std::printf("%zu keyframes (%.0f m, %.0f points on average, %s) in %.1f s with %d threads -> %s\n",
+              keyframes.size(), length, mean_points, sensor.name.c_str(), seconds, threads, o.out.c_str());
   return 0;
 }

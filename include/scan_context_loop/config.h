@@ -64,4 +64,11 @@ struct Config {
   int searchHalfWidth() const;
 };
 
+/// The configuration keys: exactly the Config member names, as used in config/*.yaml.
+const std::vector<std::string>& configKeys();
+
+/// Sets one member from its text form ("20", "0.25", "occupancy"). Returns false, leaving the config
+/// unchanged, for an unknown key or a value that does not parse as the member's type.
+bool setConfigValue(Config* config, const std::string& key, const std::string& value, std::string* error);
+
 }  // namespace scan_context_loop

@@ -15,6 +15,8 @@ struct Detection {
   QueryResult query;         ///< candidates among the earlier keyframes
   std::size_t points_used = 0;
   std::size_t points_skipped = 0;
+  double descriptor_seconds = 0.0;  ///< making the descriptor
+  double query_seconds = 0.0;       ///< querying the database and adding the keyframe
 };
 
 /// Not thread-safe (one owner thread), like Database.

@@ -58,6 +58,63 @@ std::vector<std::string> Config::validate() const {
   return e;
 }
 
+namespace {
+
+bool parseInt(const std::string& text, int* out) {
+  std::istringstream in(text);
+  long long v;
+  char extra;
+  if (!(in >> v) || (in >> extra) || v < -2147483647LL || v > 2147483647LL) return false;
+  *out = static_cast<int>(v);
+  return true;
+}
+
+bool parseDouble(const std::string& text, double* out) {
+  std::istringstream in(text);
+  double v;
+  char extra;
+  if (!(in >> v) || (in >> extra)) return false;
+  *out = v;
+  return true;
+}
+
+}  // namespace
+
+const std::vector<std::string>& configKeys() {
+  static const std::vector<std::string> keys = {
+      "num_rings",      "num_sectors",        "max_radius",           "min_range",
+      "lidar_height",   "ring_key",           "num_candidates",       "search_ratio",
+      "distance_threshold", "exclude_recent_frames", "exclude_recent_seconds", "exclude_recent_distance"};
+  return keys;
+}
+
+bool setConfigValue(Config* config, const std::string& key, const std::string& value, std::string* error) {
+  bool ok = true;
+  Config c = *config;
+  if (key == "num_rings") ok = parseInt(value, &c.num_rings);
+  else if (key == "num_sectors") ok = parseInt(value, &c.num_sectors);
+  else if (key == "max_radius") ok = parseDouble(value, &c.max_radius);
+  else if (key == "min_range") ok = parseDouble(value, &c.min_range);
+  else if (key == "lidar_height") ok = parseDouble(value, &c.lidar_height);
+  else if (key == "ring_key") ok = parseRingKeyType(value, &c.ring_key);
+  else if (key == "num_candidates") ok = parseInt(value, &c.num_candidates);
+  else if (key == "search_ratio") ok = parseDouble(value, &c.search_ratio);
+  else if (key == "distance_threshold") ok = parseDouble(value, &c.distance_threshold);
+  else if (key == "exclude_recent_frames") ok = parseInt(value, &c.exclude_recent_frames);
+  else if (key == "exclude_recent_seconds") ok = parseDouble(value, &c.exclude_recent_seconds);
+  else if (key == "exclude_recent_distance") ok = parseDouble(value, &c.exclude_recent_distance);
+  else {
+    if (error) *error = "unknown configuration key '" + key + "'";
+    return false;
+  }
+  if (!ok) {
+    if (error) *error = key + ": cannot read '" + value + "' as its value";
+    return false;
+  }
+  *config = c;
+  return true;
+}
+
 int Config::searchHalfWidth() const {
   if (search_ratio >= 1.0) return num_sectors / 2;
   return static_cast<int>(std::lround(search_ratio * 0.5 * num_sectors));

@@ -94,7 +94,9 @@ TEST(Alignment, SmallTranslationStaysBelowEveryOtherPlace) {
       // Sideways steps in a narrow street are Scan Context's weak spot (README): 2 m across a street
       // whose facades stand 7-11 m away still has to stay below any other street.
       EXPECT_LT(a.distance, 0.9 * other) << metres << " m towards " << heading << " deg";
-      if (metres <= 1.0) EXPECT_LT(a.distance, 0.4 * other) << metres << " m towards " << heading;
+      if (metres <= 1.0) {
+        EXPECT_LT(a.distance, 0.4 * other) << metres << " m towards " << heading;
+      }
       sum += a.distance;
       ++count;
     }

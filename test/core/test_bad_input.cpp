@@ -112,3 +112,31 @@ TEST(BadInput, ConfigValidationNamesEachImpossibleValue) {
 
 }  // namespace
 }  // namespace scan_context_loop
+
+namespace scan_context_loop {
+namespace {
+
+TEST(ConfigKeys, EveryKeyIsSettableAndBadValuesLeaveTheConfigAlone) {
+  Config config;
+  for (const std::string& key : configKeys()) {
+    const std::string value = key == "ring_key" ? "mean_height" : "3";
+    std::string error;
+    EXPECT_TRUE(setConfigValue(&config, key, value, &error)) << key << ": " << error;
+  }
+  EXPECT_EQ(config.num_rings, 3);
+  EXPECT_EQ(config.distance_threshold, 3.0);
+  EXPECT_EQ(config.ring_key, RingKeyType::kMeanHeight);
+  const Config before = config;
+  std::string error;
+  EXPECT_FALSE(setConfigValue(&config, "num_rings", "20.5", &error));
+  EXPECT_FALSE(setConfigValue(&config, "max_radius", "far", &error));
+  EXPECT_NE(error.find("max_radius"), std::string::npos);
+  EXPECT_FALSE(setConfigValue(&config, "ring_key", "median", &error));
+  EXPECT_FALSE(setConfigValue(&config, "rings", "20", &error));
+  EXPECT_NE(error.find("unknown"), std::string::npos);
+  EXPECT_EQ(config.num_rings, before.num_rings);
+  EXPECT_EQ(config.max_radius, before.max_radius);
+}
+
+}  // namespace
+}  // namespace scan_context_loop

@@ -58,7 +58,9 @@ TEST(Database, ExcludesTheMostRecentFramesAndSeesEachOneTheMomentItLeaves) {
     const std::size_t expected = n > 3 ? n - 3 : 0;
     EXPECT_EQ(r.eligible, expected) << "query " << n;
     ASSERT_EQ(r.candidates.size(), expected) << "query " << n;
-    if (expected > 0) EXPECT_EQ(*candidateSet(r).rbegin(), expected - 1);
+    if (expected > 0) {
+      EXPECT_EQ(*candidateSet(r).rbegin(), expected - 1);
+    }
     ASSERT_TRUE(db.add(at(n), d));
   }
 }

@@ -1,0 +1,53 @@
+// Running the detector online over a KITTI-format sequence and writing what it found.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <Eigen/Geometry>
+
+#include "scan_context_loop/config.h"
+#include "scan_context_loop/eval/metrics.h"
+
+namespace scan_context_loop {
+namespace eval {
+
+struct SequenceOptions {
+  double keyframe_spacing = 0.0;  ///< metres of true travel between keyframes; 0 = every frame
+  int first = 0, last = -1;       ///< frame window (last < 0: to the end)
+  bool use_odometry_file = true;  ///< feed odom_poses.txt to the detector when the sequence has one
+};
+
+/// The keyframes of a sequence: frame numbers, true and odometry LiDAR poses, stamps.
+struct Sequence {
+  std::string dir;
+  std::vector<int> frames;
+  std::vector<Eigen::Isometry3d> truth, odometry;
+  std::vector<double> stamps;
+  std::size_t missing_scans = 0;  ///< frames of the window skipped because their .bin is absent
+  bool odometry_from_file = false;
+};
+
+/// Reads poses.txt, calib.txt, times.txt (optional) and odom_poses.txt (optional), then selects the
+/// keyframes among the frames whose scan exists.
+bool loadSequence(const std::string& dir, const SequenceOptions& options, Sequence* sequence, std::string* error);
+
+struct Evaluation {
+  std::vector<QueryOutcome> outcomes;
+  std::vector<double> descriptor_ms, query_ms;
+  Metrics metrics;
+  std::size_t rejected = 0;  ///< keyframes the detector refused (see errors)
+  std::vector<std::string> errors;
+};
+
+/// Feeds every keyframe to a LoopDetector in order, exactly as the node does, and scores each query
+/// with the ground-truth protocol (isRevisit with `revisit_radius`).
+Evaluation evaluate(const Sequence& sequence, const Config& config, double revisit_radius);
+
+bool writeResultsCsv(const std::string& path, const Evaluation& evaluation, std::string* error);
+bool writeMetricsJson(const std::string& path, const Evaluation& evaluation, const Sequence& sequence,
+                      const Config& config, double revisit_radius, std::string* error);
+bool writeTrajectoryCsv(const std::string& path, const Sequence& sequence, std::string* error);
+
+}  // namespace eval
+}  // namespace scan_context_loop

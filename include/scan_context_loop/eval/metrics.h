@@ -1,0 +1,57 @@
+// Loop-detection metrics: the ground-truth protocol, precision-recall sweeps and summaries.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <Eigen/Geometry>
+
+namespace scan_context_loop {
+namespace eval {
+
+/// One query's outcome, scored against the truth.
+struct QueryOutcome {
+  int query = -1;           ///< sequence frame index of the query keyframe
+  int match = -1;           ///< frame index of the best candidate, -1 without one
+  double distance = 1.0;    ///< the best candidate's descriptor distance (even above the threshold)
+  double yaw = 0.0;         ///< estimated yaw prior [rad]
+  bool revisit = false;     ///< an eligible earlier keyframe lies within the revisit radius
+  bool correct = false;     ///< the best candidate lies within the revisit radius
+  double match_gap = -1.0;  ///< true distance between query and match [m], -1 without a match
+  double true_yaw = 0.0;    ///< yaw of the match in the query frame from the true poses [rad]
+};
+
+/// Ground-truth protocol. `positions` are the true positions of the keyframes in arrival order.
+/// `eligible` keyframes (a prefix, as the database reports for this query) are the ones outside the
+/// exclusion windows. A query is a true revisit when one of them lies within `radius` of it.
+bool isRevisit(const std::vector<Eigen::Vector3d>& positions, std::size_t query, std::size_t eligible, double radius);
+
+struct PrPoint {
+  double threshold, precision, recall;
+};
+
+struct Metrics {
+  std::size_t queries = 0, revisits = 0;
+  double threshold = 0.0;  ///< the configured threshold
+  double precision = 1.0, recall = 0.0, f1 = 0.0;  ///< at the configured threshold
+  std::size_t true_positives = 0, false_positives = 0;
+  double f1_max = 0.0, f1_max_threshold = 0.0;
+  double recall_at_full_precision = 0.0, full_precision_threshold = 0.0;
+  double average_precision = 0.0;
+  std::vector<PrPoint> curve;  ///< one point per distinct distance, thresholds ascending
+  /// Yaw error [deg] over the true positives at the configured threshold.
+  double yaw_error_median = 0.0, yaw_error_p90 = 0.0, yaw_error_max = 0.0;
+};
+
+/// Precision and recall when every query whose distance is below `threshold` is a detection: a correct
+/// one is a true positive, any other (a wrong match, or a query that is not a revisit) a false
+/// positive. Recall = TP / revisits. Precision is 1 when nothing is detected.
+/// The sweep puts a threshold just above each distinct distance; average precision is the step-wise
+/// area under that curve; recall at 100% precision is the highest recall of a threshold with no FP.
+Metrics computeMetrics(const std::vector<QueryOutcome>& outcomes, double threshold);
+
+/// Percentile by nearest rank of an unsorted sample (0 for an empty one).
+double percentile(std::vector<double> values, double fraction);
+
+}  // namespace eval
+}  // namespace scan_context_loop

@@ -1,0 +1,76 @@
+#!/usr/bin/env python3
+"""Draws OUT_DIR/pr.png (precision-recall curve) and OUT_DIR/map.png (trajectory with the detected
+loops: true positives green, false positives red, missed revisits marked) from the evaluator's files.
+
+usage: plot_evaluation.py OUT_DIR"""
+import csv
+import json
+import os
+import sys
+
+import matplotlib
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+
+def main():
+    out = sys.argv[1]
+    with open(os.path.join(out, "results.csv")) as f:
+        rows = list(csv.DictReader(f))
+    with open(os.path.join(out, "metrics.json")) as f:
+        metrics = json.load(f)
+    with open(os.path.join(out, "trajectory.csv")) as f:
+        trajectory = {int(r["frame"]): (float(r["x"]), float(r["y"])) for r in csv.DictReader(f)}
+
+    revisits = sum(int(r["true_revisit"]) for r in rows)
+    detections = sorted((float(r["distance"]), int(r["correct"])) for r in rows if int(r["match"]) >= 0)
+    precision, recall, tp, fp = [], [], 0, 0
+    for _, correct in detections:
+        tp += correct
+        fp += 1 - correct
+        precision.append(tp / (tp + fp))
+        recall.append(tp / revisits if revisits else 0.0)
+    fig, ax = plt.subplots(figsize=(6, 5))
+    ax.plot(recall, precision, "b-")
+    ax.set_xlim(0, 1.02)
+    ax.set_ylim(0, 1.02)
+    ax.set_xlabel("recall")
+    ax.set_ylabel("precision")
+    ax.set_title("F1-max %.3f, recall@100%%P %.3f, AP %.3f" %
+                 (metrics["f1_max"], metrics["recall_at_100_precision"], metrics["average_precision"]))
+    ax.grid(True, alpha=0.3)
+    fig.savefig(os.path.join(out, "pr.png"), dpi=100, bbox_inches="tight")
+    plt.close(fig)
+
+    threshold = metrics["threshold"]
+    fig, ax = plt.subplots(figsize=(10, 9))
+    xs = [p[0] for p in trajectory.values()]
+    ys = [p[1] for p in trajectory.values()]
+    ax.plot(xs, ys, "-", color="0.6", lw=1, label="trajectory")
+    shown = set()
+    for r in rows:
+        q, m = int(r["query"]), int(r["match"])
+        detected = m >= 0 and float(r["distance"]) < threshold
+        if detected and q in trajectory and m in trajectory:
+            good = int(r["correct"])
+            label = "true positive" if good else "false positive"
+            ax.plot([trajectory[q][0], trajectory[m][0]], [trajectory[q][1], trajectory[m][1]],
+                    "-", color="g" if good else "r", lw=1.5 if good else 1.0,
+                    label=None if label in shown else label)
+            shown.add(label)
+        elif int(r["true_revisit"]) and q in trajectory:
+            ax.plot(*trajectory[q], "o", color="orange", ms=3,
+                    label=None if "missed revisit" in shown else "missed revisit")
+            shown.add("missed revisit")
+    ax.set_aspect("equal")
+    ax.set_xlabel("x [m]")
+    ax.set_ylabel("y [m]")
+    ax.set_title("threshold %.3f: precision %.3f, recall %.3f" % (threshold, metrics["precision"], metrics["recall"]))
+    ax.legend(loc="best")
+    fig.savefig(os.path.join(out, "map.png"), dpi=100, bbox_inches="tight")
+    plt.close(fig)
+    print(os.path.join(out, "pr.png"), os.path.join(out, "map.png"))
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,126 @@
+#include <fstream>
+#include <sstream>
+
+#include <gtest/gtest.h>
+
+#include "scan_context_loop/eval/config_file.h"
+#include "scan_context_loop/eval/evaluation.h"
+#include "scan_context_loop/sim/sequence_writer.h"
+#include "scan_context_loop/sim/trajectory.h"
+
+namespace scan_context_loop {
+namespace eval {
+namespace {
+
+std::string temp(const std::string& name) { return testing::TempDir() + "/scl_eval_" + name; }
+
+TEST(ConfigFile, ReadsNodeKeysIgnoresRosKeysAndRejectsBadValues) {
+  std::ofstream(temp("good.yaml")) << "# comment\nnum_sectors: 90\ndistance_threshold: 0.3\nring_key: mean_height\n"
+                                      "pose_source: odom\nvoxel_leaf: 0.4\nmystery: 1\n";
+  Config config;
+  std::vector<std::string> warnings;
+  std::string error;
+  ASSERT_TRUE(loadConfigFile(temp("good.yaml"), &config, &warnings, &error)) << error;
+  EXPECT_EQ(config.num_sectors, 90);
+  EXPECT_DOUBLE_EQ(config.distance_threshold, 0.3);
+  EXPECT_EQ(config.ring_key, RingKeyType::kMeanHeight);
+  ASSERT_EQ(warnings.size(), 1u);  // only "mystery"; the ROS keys are known
+  EXPECT_NE(warnings[0].find("mystery"), std::string::npos);
+
+  std::ofstream(temp("bad.yaml")) << "num_rings: twenty\n";
+  Config untouched;
+  EXPECT_FALSE(loadConfigFile(temp("bad.yaml"), &untouched, &warnings, &error));
+  EXPECT_NE(error.find("num_rings"), std::string::npos) << error;
+  EXPECT_EQ(untouched.num_rings, Config().num_rings);
+  EXPECT_FALSE(loadConfigFile(temp("absent.yaml"), &untouched, &warnings, &error));
+  std::ofstream(temp("list.yaml")) << "- 1\n- 2\n";
+  EXPECT_FALSE(loadConfigFile(temp("list.yaml"), &untouched, &warnings, &error));
+
+  EXPECT_TRUE(applyOverride("search_ratio=1.0", &config, &error));
+  EXPECT_DOUBLE_EQ(config.search_ratio, 1.0);
+  EXPECT_FALSE(applyOverride("search_ratio", &config, &error));
+}
+
+// A small simulated drive: twice around a 60 x 40 m block, the second lap offset by one lane.
+TEST(Evaluation, SimulatedLoopEndToEnd) {
+  const std::string dir = temp("loop");
+  using V = Eigen::Vector2d;
+  std::vector<sim::PathPoint> path;
+  const std::vector<V> corners = {V(0, 0), V(60, 0), V(60, 40), V(0, 40)};
+  for (int lap = 0; lap < 2; ++lap) {
+    for (int c = 0; c < 4; ++c) {
+      const V a = corners[c], b = corners[(c + 1) % 4];
+      const double heading = std::atan2(b.y() - a.y(), b.x() - a.x());
+      for (double s = 0; s < (b - a).norm(); s += 0.5) {
+        const V p = a + (b - a).normalized() * s;
+        path.push_back({p.x(), p.y(), heading});
+      }
+    }
+  }
+  sim::WorldOptions world_options;
+  world_options.seed = 5;
+  const sim::World world = sim::generateWorld(path, world_options);
+  sim::SensorModel sensor;
+  ASSERT_TRUE(sim::sensorPreset("hdl64", &sensor));
+  sensor.columns = 1000;
+  sim::SequenceData data;
+  for (std::size_t k : sim::keyframesEvery(path, 2.0)) {
+    data.truth.push_back(sim::sensorPose(world, path[k], sensor.mount_height));
+    data.times.push_back(0.2 * data.times.size());
+  }
+  data.odometry = sim::driftedOdometry(data.truth, sim::DriftOptions());
+  std::string error;
+  ASSERT_GT(sim::writeSequence(dir, world, sensor, data, 0.0, 1, 2, &error), 1000.0) << error;
+
+  Sequence sequence;
+  ASSERT_TRUE(loadSequence(dir, SequenceOptions(), &sequence, &error)) << error;
+  EXPECT_TRUE(sequence.odometry_from_file);
+  EXPECT_EQ(sequence.frames.size(), data.truth.size());
+  Config config;
+  config.exclude_recent_frames = 30;
+  const Evaluation e = evaluate(sequence, config, 5.0);
+  EXPECT_EQ(e.rejected, 0u);
+  EXPECT_EQ(e.outcomes.size(), sequence.frames.size() - 1);
+  // The whole second lap revisits the first.
+  EXPECT_GT(e.metrics.revisits, 80u);
+  EXPECT_GE(e.metrics.f1_max, 0.8);
+  EXPECT_GE(e.metrics.recall_at_full_precision, 0.5);
+  EXPECT_LT(e.metrics.yaw_error_median, 3.0);
+
+  ASSERT_TRUE(writeResultsCsv(temp("results.csv"), e, &error));
+  std::ifstream csv(temp("results.csv"));
+  std::string header;
+  std::getline(csv, header);
+  EXPECT_EQ(header.rfind("query,match,distance,yaw_rad", 0), 0u);
+  ASSERT_TRUE(writeMetricsJson(temp("metrics.json"), e, sequence, config, 5.0, &error));
+  std::stringstream json;
+  json << std::ifstream(temp("metrics.json")).rdbuf();
+  EXPECT_NE(json.str().find("\"recall_at_100_precision\""), std::string::npos);
+}
+
+TEST(Evaluation, RealKittiFramesThatExist) {
+  const char* env = std::getenv("SCL_SHARED_DATA");
+  const std::string data = env ? env : SCL_SHARED_DATA;
+  Sequence sequence;
+  std::string error;
+  SequenceOptions options;
+  options.first = 700;
+  options.last = 1600;
+  ASSERT_TRUE(loadSequence(data + "/kitti/08", options, &sequence, &error)) << error;
+  ASSERT_EQ(sequence.frames, (std::vector<int>{720, 1500}));
+  EXPECT_EQ(sequence.missing_scans, 901u - 2u);
+  Config config;
+  config.exclude_recent_frames = 0;
+  const Evaluation e = evaluate(sequence, config, 5.0);
+  ASSERT_EQ(e.outcomes.size(), 1u);
+  EXPECT_EQ(e.outcomes[0].query, 1500);
+  EXPECT_EQ(e.outcomes[0].match, 720);
+  EXPECT_TRUE(e.outcomes[0].revisit);
+  EXPECT_TRUE(e.outcomes[0].correct);
+  EXPECT_NEAR(e.outcomes[0].match_gap, 3.09, 0.01);
+  EXPECT_LT(std::fabs(e.outcomes[0].yaw - e.outcomes[0].true_yaw), 6.0 * M_PI / 180.0);
+}
+
+}  // namespace
+}  // namespace eval
+}  // namespace scan_context_loop

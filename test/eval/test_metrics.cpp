@@ -1,0 +1,99 @@
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+#include "scan_context_loop/eval/metrics.h"
+
+namespace scan_context_loop {
+namespace eval {
+namespace {
+
+QueryOutcome outcome(double distance, bool revisit, bool correct, int match = 1) {
+  QueryOutcome o;
+  o.query = 10;
+  o.match = match;
+  o.distance = distance;
+  o.revisit = revisit;
+  o.correct = correct;
+  return o;
+}
+
+TEST(Metrics, HandComputedSweep) {
+  // Sorted by distance: TP, TP, FP (not a revisit), TP, FP (wrong match on a revisit), TP; plus a
+  // revisit with no candidate and a non-revisit far away. Revisits: 5 TP-able + wrong-match + none = 7.
+  const std::vector<QueryOutcome> o = {
+      outcome(0.05, true, true),  outcome(0.10, true, true),   outcome(0.15, false, false),
+      outcome(0.20, true, true),  outcome(0.25, true, false),  outcome(0.30, true, true),
+      outcome(1.0, true, false, -1), outcome(0.9, false, false), outcome(0.35, true, true)};
+  const Metrics m = computeMetrics(o, 0.22);
+  EXPECT_EQ(m.queries, 9u);
+  EXPECT_EQ(m.revisits, 7u);
+  // Below 0.22: 0.05 TP, 0.10 TP, 0.15 FP, 0.20 TP.
+  EXPECT_EQ(m.true_positives, 3u);
+  EXPECT_EQ(m.false_positives, 1u);
+  EXPECT_DOUBLE_EQ(m.precision, 0.75);
+  EXPECT_DOUBLE_EQ(m.recall, 3.0 / 7.0);
+  // Recall at 100% precision: the first two detections.
+  EXPECT_DOUBLE_EQ(m.recall_at_full_precision, 2.0 / 7.0);
+  EXPECT_GT(m.full_precision_threshold, 0.10);
+  EXPECT_LE(m.full_precision_threshold, 0.15);
+  // Curve points (P, R): (1, 1/7) (1, 2/7) (2/3, 2/7) (3/4, 3/7) (3/5, 3/7) (2/3, 4/7) (5/7, 5/7) (5/8, 5/7)
+  ASSERT_EQ(m.curve.size(), 8u);
+  EXPECT_DOUBLE_EQ(m.curve[6].precision, 5.0 / 7.0);
+  const double ap = (1.0 / 7) * 1 + (1.0 / 7) * 1 + (1.0 / 7) * 0.75 + (1.0 / 7) * (2.0 / 3) + (1.0 / 7) * (5.0 / 7);
+  EXPECT_NEAR(m.average_precision, ap, 1e-12);
+  // F1: best at (5/7, 5/7) = 5/7, reached when 0.35 enters.
+  EXPECT_NEAR(m.f1_max, 5.0 / 7.0, 1e-12);
+  EXPECT_GT(m.f1_max_threshold, 0.35);
+  EXPECT_LT(m.f1_max_threshold, 0.36);
+}
+
+TEST(Metrics, TiesEnterTogetherAndEmptyCasesAreDefined) {
+  const std::vector<QueryOutcome> tied = {outcome(0.1, true, true), outcome(0.1, false, false)};
+  const Metrics m = computeMetrics(tied, 0.5);
+  ASSERT_EQ(m.curve.size(), 1u);
+  EXPECT_DOUBLE_EQ(m.curve[0].precision, 0.5);
+  EXPECT_DOUBLE_EQ(m.recall_at_full_precision, 0.0);
+
+  const Metrics none = computeMetrics({}, 0.2);
+  EXPECT_EQ(none.queries, 0u);
+  EXPECT_DOUBLE_EQ(none.precision, 1.0);
+  EXPECT_DOUBLE_EQ(none.recall, 0.0);
+  EXPECT_DOUBLE_EQ(none.average_precision, 0.0);
+
+  // No revisits at all: every detection is a false positive, recall stays 0.
+  const Metrics no_revisits = computeMetrics({outcome(0.1, false, false)}, 0.2);
+  EXPECT_EQ(no_revisits.false_positives, 1u);
+  EXPECT_DOUBLE_EQ(no_revisits.precision, 0.0);
+  EXPECT_DOUBLE_EQ(no_revisits.recall, 0.0);
+  EXPECT_DOUBLE_EQ(no_revisits.f1_max, 0.0);
+}
+
+TEST(Metrics, YawErrorOverTruePositivesOnly) {
+  std::vector<QueryOutcome> o;
+  for (double err_deg : {1.0, -2.0, 3.0, 170.0}) {
+    QueryOutcome q = outcome(0.1, true, true);
+    q.true_yaw = 3.0;  // near +pi: errors wrap
+    q.yaw = 3.0 + err_deg * M_PI / 180.0;
+    o.push_back(q);
+  }
+  o.back().correct = false;  // the 170-degree one is a wrong match and does not count
+  const Metrics m = computeMetrics(o, 0.2);
+  EXPECT_NEAR(m.yaw_error_median, 2.0, 1e-9);
+  EXPECT_NEAR(m.yaw_error_max, 3.0, 1e-9);
+}
+
+TEST(GroundTruth, RevisitNeedsAnEligibleKeyframeWithinTheRadius) {
+  const std::vector<Eigen::Vector3d> p = {{0, 0, 0}, {10, 0, 0}, {20, 0, 0}, {10, 3, 0}, {10, 4.5, 0}};
+  EXPECT_TRUE(isRevisit(p, 3, 3, 5.0));   // keyframe 1 is 3 m away and eligible
+  EXPECT_FALSE(isRevisit(p, 3, 1, 5.0));  // only keyframe 0 is eligible: 10.4 m away
+  EXPECT_FALSE(isRevisit(p, 3, 3, 2.0));  // radius too small
+  EXPECT_TRUE(isRevisit(p, 4, 4, 5.0));
+  EXPECT_FALSE(isRevisit(p, 0, 0, 5.0));
+  EXPECT_DOUBLE_EQ(percentile({5, 1, 3, 2, 4}, 0.5), 3.0);
+  EXPECT_DOUBLE_EQ(percentile({5, 1, 3, 2, 4}, 1.0), 5.0);
+}
+
+}  // namespace
+}  // namespace eval
+}  // namespace scan_context_loop
