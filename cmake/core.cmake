@@ -28,10 +28,6 @@ add_executable(scan_context_bench tools/bench.cpp)
 target_link_libraries(scan_context_bench scan_context_loop_core ${PCL_FILTERS_LIBRARIES})
 
 if(CATKIN_ENABLE_TESTING)
-  # Real data lives beside the project root; tests read it in place.
-  # (The workspace links to the repository, so resolve the link before stepping up.)
-  get_filename_component(SCL_SOURCE_REAL "${CMAKE_CURRENT_SOURCE_DIR}" REALPATH)
-  set(SCL_SHARED_DATA "${SCL_SOURCE_REAL}/../shared/data")
   catkin_add_gtest(test_core
     test/test_main.cpp
     test/core/test_descriptor.cpp

@@ -8,8 +8,8 @@ add_executable(scan_context_evaluate tools/evaluate_main.cpp)
 target_link_libraries(scan_context_evaluate scan_context_loop_eval)
 
 if(CATKIN_ENABLE_TESTING)
-  catkin_add_gtest(test_eval test/test_main.cpp test/eval/test_metrics.cpp test/eval/test_evaluation.cpp)
+  catkin_add_gtest(test_eval test/test_main.cpp test/eval/test_metrics.cpp test/eval/test_evaluation.cpp
+    test/common/sim_drive.cpp)
   target_link_libraries(test_eval scan_context_loop_eval scan_context_loop_sim)
-  get_filename_component(SCL_SOURCE_REAL_EVAL "${CMAKE_CURRENT_SOURCE_DIR}" REALPATH)
-  target_compile_definitions(test_eval PRIVATE SCL_SHARED_DATA="${SCL_SOURCE_REAL_EVAL}/../shared/data")
+  target_compile_definitions(test_eval PRIVATE SCL_SHARED_DATA="${SCL_SHARED_DATA}")
 endif()

@@ -16,10 +16,10 @@ SCL_PACKAGES=(
   libstd-msgs-dev libsensor-msgs-dev libdiagnostic-updater-dev
   ros-message-generation ros-message-runtime librostest-dev python3-rostest python3-roslaunch
   python3-rosbag librosbag-dev python3-rosmaster rosout libgtest-dev
-  python3-numpy python3-matplotlib python3-yaml libyaml-cpp-dev
+  python3-numpy python3-matplotlib python3-yaml libyaml-cpp-dev rviz
 )
 # Only the demo needs these (RViz under a virtual display, and a screenshot of it).
-SCL_DEMO_PACKAGES=(rviz xvfb xauth x11-apps imagemagick)
+SCL_DEMO_PACKAGES=(xvfb xauth x11-apps imagemagick)
 
 scl_log() { echo "[scan_context_loop] $*" >&2; }
 
@@ -39,11 +39,26 @@ scl_install_deps() {
   DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
 }
 
+# The workspace's package folder holds a link to each top-level entry of the repository except build/
+# (a link to the whole repository would contain the workspace itself, and ROS tools that walk the
+# package with links followed would never finish).
 scl_make_workspace() {
+  local pkg="$SCL_WS/src/scan_context_loop"
   mkdir -p "$SCL_WS/src"
-  if [ ! -e "$SCL_WS/src/scan_context_loop" ]; then
-    ln -s "$SCL_ROOT" "$SCL_WS/src/scan_context_loop"
-  fi
+  if [ -L "$pkg" ]; then rm -f "$pkg"; fi
+  mkdir -p "$pkg"
+  local entry name
+  for entry in "$SCL_ROOT"/* "$SCL_ROOT"/.ci; do
+    name="$(basename "$entry")"
+    [ "$name" = "build" ] && continue
+    [ -e "$entry" ] || continue
+    [ -L "$pkg/$name" ] || ln -s "$entry" "$pkg/$name"
+  done
+  # Drop links to entries that no longer exist.
+  for entry in "$pkg"/*; do
+    [ -L "$entry" ] && [ ! -e "$entry" ] && rm -f "$entry"
+  done
+  return 0
 }
 
 scl_build() {

@@ -7,6 +7,7 @@
 #include "scan_context_loop/eval/evaluation.h"
 #include "scan_context_loop/sim/sequence_writer.h"
 #include "scan_context_loop/sim/trajectory.h"
+#include "../common/sim_drive.h"
 
 namespace scan_context_loop {
 namespace eval {
@@ -41,36 +42,16 @@ TEST(ConfigFile, ReadsNodeKeysIgnoresRosKeysAndRejectsBadValues) {
   EXPECT_FALSE(applyOverride("search_ratio", &config, &error));
 }
 
-// A small simulated drive: twice around a 60 x 40 m block, the second lap offset by one lane.
+// Twice around a block, the second lap in reverse: every keyframe of lap 2 revisits lap 1.
 TEST(Evaluation, SimulatedLoopEndToEnd) {
   const std::string dir = temp("loop");
-  using V = Eigen::Vector2d;
-  std::vector<sim::PathPoint> path;
-  const std::vector<V> corners = {V(0, 0), V(60, 0), V(60, 40), V(0, 40)};
-  for (int lap = 0; lap < 2; ++lap) {
-    for (int c = 0; c < 4; ++c) {
-      const V a = corners[c], b = corners[(c + 1) % 4];
-      const double heading = std::atan2(b.y() - a.y(), b.x() - a.x());
-      for (double s = 0; s < (b - a).norm(); s += 0.5) {
-        const V p = a + (b - a).normalized() * s;
-        path.push_back({p.x(), p.y(), heading});
-      }
-    }
-  }
-  sim::WorldOptions world_options;
-  world_options.seed = 5;
-  const sim::World world = sim::generateWorld(path, world_options);
-  sim::SensorModel sensor;
-  ASSERT_TRUE(sim::sensorPreset("hdl64", &sensor));
-  sensor.columns = 1000;
+  const test::Drive drive = test::blockDrive(true, 5);
   sim::SequenceData data;
-  for (std::size_t k : sim::keyframesEvery(path, 2.0)) {
-    data.truth.push_back(sim::sensorPose(world, path[k], sensor.mount_height));
-    data.times.push_back(0.2 * data.times.size());
-  }
+  data.truth = drive.truth;
+  data.times = drive.times;
   data.odometry = sim::driftedOdometry(data.truth, sim::DriftOptions());
   std::string error;
-  ASSERT_GT(sim::writeSequence(dir, world, sensor, data, 0.0, 1, 2, &error), 1000.0) << error;
+  ASSERT_GT(sim::writeSequence(dir, drive.world, drive.sensor, data, 0.0, 1, 2, &error), 1000.0) << error;
 
   Sequence sequence;
   ASSERT_TRUE(loadSequence(dir, SequenceOptions(), &sequence, &error)) << error;
@@ -81,7 +62,7 @@ TEST(Evaluation, SimulatedLoopEndToEnd) {
   const Evaluation e = evaluate(sequence, config, 5.0);
   EXPECT_EQ(e.rejected, 0u);
   EXPECT_EQ(e.outcomes.size(), sequence.frames.size() - 1);
-  // The whole second lap revisits the first.
+  // The whole second lap revisits the first (in reverse).
   EXPECT_GT(e.metrics.revisits, 80u);
   EXPECT_GE(e.metrics.f1_max, 0.8);
   EXPECT_GE(e.metrics.recall_at_full_precision, 0.5);

@@ -1,0 +1,108 @@
+// The ROS adapter: subscribes to keyframe clouds and poses, runs the core detector on a worker thread
+// and publishes loop-closure constraints, RViz markers and diagnostics.
+#pragma once
+
+#include <atomic>
+#include <condition_variable>
+#include <deque>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <diagnostic_updater/diagnostic_updater.h>
+#include <message_filters/subscriber.h>
+#include <message_filters/sync_policies/approximate_time.h>
+#include <message_filters/sync_policies/exact_time.h>
+#include <message_filters/synchronizer.h>
+#include <nav_msgs/Odometry.h>
+#include <ros/ros.h>
+#include <sensor_msgs/PointCloud2.h>
+#include <tf2_ros/buffer.h>
+#include <tf2_ros/transform_listener.h>
+
+#include "scan_context_loop/detector.h"
+#include "scan_context_loop/ros/parameters.h"
+
+namespace scan_context_loop {
+
+class LoopClosureRos {
+ public:
+  /// `nh` resolves the topics (relative names), `pnh` the parameters; `name` prefixes the logs.
+  LoopClosureRos(const ros::NodeHandle& nh, const ros::NodeHandle& pnh, const std::string& name);
+  /// Stops the worker (it finishes the keyframe in hand) and unsubscribes; never blocks for long.
+  ~LoopClosureRos();
+
+  /// Reads and validates the parameters, then subscribes, advertises and starts the worker. Returns
+  /// false, having logged every problem as fatal, when the configuration is impossible.
+  bool start();
+
+ private:
+  /// A keyframe waiting for the worker.
+  struct Item {
+    sensor_msgs::PointCloud2ConstPtr cloud;
+    bool has_pose = false;  ///< false in tf mode: the worker looks it up
+    Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+    std::string pose_frame;
+  };
+  using ApproxPolicy = message_filters::sync_policies::ApproximateTime<sensor_msgs::PointCloud2, nav_msgs::Odometry>;
+  using ExactPolicy = message_filters::sync_policies::ExactTime<sensor_msgs::PointCloud2, nav_msgs::Odometry>;
+
+  void onCloudAndOdom(const sensor_msgs::PointCloud2ConstPtr& cloud, const nav_msgs::OdometryConstPtr& odom);
+  void onCloudOnly(const sensor_msgs::PointCloud2ConstPtr& cloud);
+  void onAnyCloud(const sensor_msgs::PointCloud2ConstPtr& cloud);
+  void enqueue(Item item);
+  void work();
+  void process(Item item);
+  bool lookUpPose(Item* item);
+  bool selectKeyframe(const Eigen::Isometry3d& pose);
+  void publishLoop(const Detection& detection, const Item& item);
+  void publishMarkers(const std::string& frame);
+  void checkSynchronisation(const ros::WallTimerEvent&);
+  void diagnose(diagnostic_updater::DiagnosticStatusWrapper& status);
+
+  ros::NodeHandle nh_, pnh_;
+  std::string name_;
+  Config config_;
+  RosOptions options_;
+
+  // Inputs and outputs (set up in start(), used from callbacks; ROS handles are thread-safe).
+  message_filters::Subscriber<sensor_msgs::PointCloud2> cloud_sub_;
+  message_filters::Subscriber<nav_msgs::Odometry> odom_sub_;
+  std::unique_ptr<message_filters::Synchronizer<ApproxPolicy>> approx_sync_;
+  std::unique_ptr<message_filters::Synchronizer<ExactPolicy>> exact_sync_;
+  ros::Subscriber cloud_only_sub_;
+  ros::Publisher loop_pub_, marker_pub_, lio_pub_;
+  std::unique_ptr<tf2_ros::Buffer> tf_buffer_;
+  std::unique_ptr<tf2_ros::TransformListener> tf_listener_;
+  ros::WallTimer sync_timer_;
+  ros::Timer diagnostics_timer_;
+  std::unique_ptr<diagnostic_updater::Updater> diagnostics_;
+
+  // queue_mutex_ guards queue_ and stop_; queue_cv_ wakes the worker.
+  std::mutex queue_mutex_;
+  std::condition_variable queue_cv_;
+  std::deque<Item> queue_;
+  bool stop_ = false;
+  std::thread worker_;
+
+  // Counters read by diagnostics and the synchronisation check; written by callbacks and the worker.
+  std::atomic<std::size_t> dropped_{0}, rejected_{0}, loops_found_{0}, database_size_{0}, queue_length_{0};
+  std::atomic<double> last_query_ms_{0.0};
+  std::atomic<double> last_cloud_wall_{0.0}, last_pair_wall_{0.0}, first_unpaired_wall_{0.0};
+
+  // Worker-only state: touched by the worker thread alone, no lock.
+  std::unique_ptr<LoopDetector> detector_;
+  std::vector<Eigen::Vector3d> positions_;  // keyframe positions in the pose frame, by keyframe number
+  std::vector<ros::Time> stamps_;           // keyframe stamps, by keyframe number
+  struct Edge {
+    std::size_t query, match;
+    double distance;
+  };
+  std::vector<Edge> edges_;
+  bool has_last_keyframe_ = false;
+  Eigen::Isometry3d last_keyframe_pose_ = Eigen::Isometry3d::Identity();
+};
+
+}  // namespace scan_context_loop

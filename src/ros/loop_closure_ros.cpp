@@ -1,0 +1,306 @@
+#include "scan_context_loop/ros/loop_closure_ros.h"
+
+#include <chrono>
+#include <cmath>
+
+#include <pcl/common/transforms.h>
+#include <pcl/filters/voxel_grid.h>
+#include <pcl_conversions/pcl_conversions.h>
+#include <std_msgs/Float64MultiArray.h>
+#include <tf2_eigen/tf2_eigen.h>
+
+#include "scan_context_loop/LoopClosure.h"
+#include "scan_context_loop/ros/cloud_input.h"
+#include "scan_context_loop/ros/markers.h"
+
+namespace scan_context_loop {
+
+namespace {
+
+double wallNow() { return ros::WallTime::now().toSec(); }
+
+double yawOf(const Eigen::Isometry3d& pose) { return std::atan2(pose(1, 0), pose(0, 0)); }
+
+}  // namespace
+
+LoopClosureRos::LoopClosureRos(const ros::NodeHandle& nh, const ros::NodeHandle& pnh, const std::string& name)
+    : nh_(nh), pnh_(pnh), name_(name) {}
+
+LoopClosureRos::~LoopClosureRos() {
+  // Stop the inputs first so nothing new is queued, then let the worker finish the keyframe in hand.
+  cloud_sub_.unsubscribe();
+  odom_sub_.unsubscribe();
+  cloud_only_sub_.shutdown();
+  sync_timer_.stop();
+  diagnostics_timer_.stop();
+  {
+    std::lock_guard<std::mutex> lock(queue_mutex_);
+    stop_ = true;
+  }
+  queue_cv_.notify_all();
+  if (worker_.joinable()) worker_.join();
+}
+
+bool LoopClosureRos::start() {
+  const auto problems = readParameters(pnh_, &config_, &options_);
+  if (!problems.empty()) {
+    for (const auto& p : problems) ROS_FATAL_NAMED(name_, "invalid parameter: %s", p.c_str());
+    ROS_FATAL_NAMED(name_, "not starting: fix the parameters above (see config/default.yaml)");
+    return false;
+  }
+  detector_.reset(new LoopDetector(config_));
+
+  loop_pub_ = nh_.advertise<scan_context_loop::LoopClosure>("loop_closures", 100);
+  marker_pub_ = nh_.advertise<visualization_msgs::MarkerArray>("loop_markers", 1, true);
+  if (options_.lio_sam_output) lio_pub_ = nh_.advertise<std_msgs::Float64MultiArray>("lio_loop", 100);
+
+  if (options_.pose_source == "tf") {
+    tf_buffer_.reset(new tf2_ros::Buffer(ros::Duration(30.0)));
+    tf_listener_.reset(new tf2_ros::TransformListener(*tf_buffer_, nh_));
+    cloud_only_sub_ = nh_.subscribe("keyframe_cloud", options_.sync_queue_size, &LoopClosureRos::onCloudOnly, this);
+  } else {
+    cloud_sub_.subscribe(nh_, "keyframe_cloud", options_.sync_queue_size);
+    odom_sub_.subscribe(nh_, "keyframe_odom", options_.sync_queue_size);
+    cloud_sub_.registerCallback(&LoopClosureRos::onAnyCloud, this);
+    if (options_.approximate_sync) {
+      approx_sync_.reset(new message_filters::Synchronizer<ApproxPolicy>(ApproxPolicy(options_.sync_queue_size),
+                                                                         cloud_sub_, odom_sub_));
+      approx_sync_->registerCallback(&LoopClosureRos::onCloudAndOdom, this);
+    } else {
+      exact_sync_.reset(new message_filters::Synchronizer<ExactPolicy>(ExactPolicy(options_.sync_queue_size),
+                                                                       cloud_sub_, odom_sub_));
+      exact_sync_->registerCallback(&LoopClosureRos::onCloudAndOdom, this);
+    }
+    sync_timer_ = nh_.createWallTimer(ros::WallDuration(1.0), &LoopClosureRos::checkSynchronisation, this);
+  }
+
+  diagnostics_.reset(new diagnostic_updater::Updater(nh_, pnh_, name_));
+  diagnostics_->setHardwareID("none");
+  diagnostics_->add("loop closure", this, &LoopClosureRos::diagnose);
+  diagnostics_timer_ = nh_.createTimer(ros::Duration(1.0), [this](const ros::TimerEvent&) { diagnostics_->update(); });
+
+  worker_ = std::thread(&LoopClosureRos::work, this);
+  ROS_INFO_NAMED(name_, "listening on %s with poses from %s; %d x %d Scan Context, threshold %.3f, ring key %s",
+                 cloud_only_sub_ ? cloud_only_sub_.getTopic().c_str() : cloud_sub_.getTopic().c_str(),
+                 options_.pose_source == "tf" ? ("tf (" + options_.fixed_frame + ")").c_str()
+                                              : odom_sub_.getTopic().c_str(),
+                 config_.num_rings, config_.num_sectors, config_.distance_threshold, ringKeyTypeName(config_.ring_key));
+  return true;
+}
+
+// ---- callbacks: copy the message pointers into the queue and return ----------------------------
+
+void LoopClosureRos::onAnyCloud(const sensor_msgs::PointCloud2ConstPtr&) {
+  const double now = wallNow();
+  last_cloud_wall_ = now;
+  if (first_unpaired_wall_.load() == 0.0) first_unpaired_wall_ = now;
+}
+
+void LoopClosureRos::onCloudAndOdom(const sensor_msgs::PointCloud2ConstPtr& cloud,
+                                    const nav_msgs::OdometryConstPtr& odom) {
+  last_pair_wall_ = wallNow();
+  first_unpaired_wall_ = 0.0;
+  Item item;
+  item.cloud = cloud;
+  item.has_pose = true;
+  tf2::fromMsg(odom->pose.pose, item.pose);
+  item.pose_frame = odom->header.frame_id;
+  enqueue(std::move(item));
+}
+
+void LoopClosureRos::onCloudOnly(const sensor_msgs::PointCloud2ConstPtr& cloud) {
+  Item item;
+  item.cloud = cloud;
+  item.pose_frame = options_.fixed_frame;
+  enqueue(std::move(item));
+}
+
+void LoopClosureRos::enqueue(Item item) {
+  {
+    std::lock_guard<std::mutex> lock(queue_mutex_);
+    if (queue_.size() >= static_cast<std::size_t>(options_.queue_size)) {
+      ++dropped_;
+      ROS_WARN_THROTTLE_NAMED(5.0, name_, "worker queue full (%d keyframes): dropped %zu keyframes so far",
+                              options_.queue_size, dropped_.load());
+      return;
+    }
+    queue_.push_back(std::move(item));
+    queue_length_ = queue_.size();
+  }
+  queue_cv_.notify_one();
+}
+
+void LoopClosureRos::checkSynchronisation(const ros::WallTimerEvent&) {
+  const double now = wallNow();
+  const double since = first_unpaired_wall_.load();
+  if (since > 0.0 && now - since > options_.unsynchronised_warning && now - last_cloud_wall_.load() < 2.0) {
+    ROS_WARN_THROTTLE_NAMED(10.0, name_,
+                            "clouds on %s have found no matching pose on %s for %.0f s: are both published, "
+                            "with matching stamps (approximate_sync: %s)?",
+                            cloud_sub_.getTopic().c_str(), odom_sub_.getTopic().c_str(), now - since,
+                            options_.approximate_sync ? "true" : "false");
+  }
+}
+
+// ---- worker ------------------------------------------------------------------------------------
+
+void LoopClosureRos::work() {
+  while (true) {
+    Item item;
+    {
+      std::unique_lock<std::mutex> lock(queue_mutex_);
+      queue_cv_.wait(lock, [this] { return stop_ || !queue_.empty(); });
+      if (stop_) return;
+      item = std::move(queue_.front());
+      queue_.pop_front();
+      queue_length_ = queue_.size();
+    }
+    process(std::move(item));
+  }
+}
+
+bool LoopClosureRos::lookUpPose(Item* item) {
+  try {
+    const auto t = tf_buffer_->lookupTransform(options_.fixed_frame, item->cloud->header.frame_id,
+                                               item->cloud->header.stamp, ros::Duration(options_.tf_timeout));
+    item->pose = tf2::transformToEigen(t);
+    item->has_pose = true;
+    return true;
+  } catch (const tf2::TransformException& e) {
+    ROS_WARN_THROTTLE_NAMED(5.0, name_, "keyframe skipped: no transform %s <- %s at its stamp: %s",
+                            options_.fixed_frame.c_str(), item->cloud->header.frame_id.c_str(), e.what());
+    return false;
+  }
+}
+
+bool LoopClosureRos::selectKeyframe(const Eigen::Isometry3d& pose) {
+  if (options_.keyframe_min_distance <= 0.0 && options_.keyframe_min_angle <= 0.0) return true;
+  if (has_last_keyframe_) {
+    const Eigen::Isometry3d delta = last_keyframe_pose_.inverse() * pose;
+    const bool moved = options_.keyframe_min_distance > 0.0 && delta.translation().norm() >= options_.keyframe_min_distance;
+    const bool turned = options_.keyframe_min_angle > 0.0 &&
+                        std::fabs(yawOf(delta)) * 180.0 / M_PI >= options_.keyframe_min_angle;
+    if (!moved && !turned) return false;
+  }
+  return true;
+}
+
+void LoopClosureRos::process(Item item) {
+  const sensor_msgs::PointCloud2& msg = *item.cloud;
+  if (!item.has_pose && !lookUpPose(&item)) return;
+  if (!item.pose.matrix().allFinite()) {
+    ++rejected_;
+    ROS_ERROR_THROTTLE_NAMED(5.0, name_, "keyframe at %.3f skipped: its pose is not finite", msg.header.stamp.toSec());
+    return;
+  }
+  PointView view;
+  std::string why;
+  if (!viewCloud(msg, &view, &why)) {
+    ++rejected_;
+    ROS_ERROR_THROTTLE_NAMED(5.0, name_, "keyframe cloud at %.3f skipped: %s", msg.header.stamp.toSec(), why.c_str());
+    return;
+  }
+  if (!selectKeyframe(item.pose)) return;
+
+  // Registered clouds go back to the sensor frame; optional downsampling. Both need a copy.
+  pcl::PointCloud<pcl::PointXYZ> copy;
+  if (options_.cloud_in_world_frame || options_.voxel_leaf > 0.0) {
+    pcl::fromROSMsg(msg, copy);
+    if (options_.cloud_in_world_frame) {
+      pcl::transformPointCloud(copy, copy, item.pose.inverse().matrix().cast<float>());
+    }
+    if (options_.voxel_leaf > 0.0) {
+      pcl::PointCloud<pcl::PointXYZ> filtered;
+      pcl::VoxelGrid<pcl::PointXYZ> grid;
+      const float leaf = static_cast<float>(options_.voxel_leaf);
+      grid.setLeafSize(leaf, leaf, leaf);
+      grid.setInputCloud(copy.makeShared());
+      grid.filter(filtered);
+      copy.swap(filtered);
+    }
+    view = viewOf(copy);
+  }
+  KeyframeInfo info;
+  info.stamp = msg.header.stamp.toSec();
+  info.pose = item.pose;
+  const Detection detection = detector_->process(view, info);
+  if (!detection.accepted) {
+    ++rejected_;
+    ROS_ERROR_THROTTLE_NAMED(5.0, name_, "keyframe at %.3f skipped: %s", info.stamp, detection.error.c_str());
+    return;
+  }
+  if (detection.points_used == 0) {
+    ROS_WARN_THROTTLE_NAMED(5.0, name_,
+                            "keyframe %zu at %.3f has no usable point (%zu NaN/Inf or out of range): kept as a "
+                            "keyframe that never matches",
+                            detection.index, info.stamp, detection.points_skipped);
+  }
+  has_last_keyframe_ = true;
+  last_keyframe_pose_ = item.pose;
+  positions_.push_back(item.pose.translation());
+  stamps_.push_back(msg.header.stamp);
+  database_size_ = detector_->database().size();
+  last_query_ms_ = (detection.descriptor_seconds + detection.query_seconds) * 1e3;
+  if (detection.query.matched) publishLoop(detection, item);
+  if (marker_pub_.getNumSubscribers() > 0) publishMarkers(item.pose_frame);
+}
+
+void LoopClosureRos::publishLoop(const Detection& detection, const Item& item) {
+  const Candidate& best = *detection.query.best();
+  ++loops_found_;
+  edges_.push_back({detection.index, best.index, best.alignment.distance});
+
+  scan_context_loop::LoopClosure loop;
+  loop.header.stamp = item.cloud->header.stamp;
+  loop.header.frame_id = item.pose_frame;
+  loop.query_id = static_cast<std::uint32_t>(detection.index);
+  loop.match_id = static_cast<std::uint32_t>(best.index);
+  loop.query_stamp = stamps_[detection.index];
+  loop.match_stamp = stamps_[best.index];
+  loop.distance = best.alignment.distance;
+  loop.yaw = best.alignment.yaw;
+  loop.shift = best.alignment.shift;
+  // T_query<-match from the yaw prior alone: no translation yet, so its variance is large.
+  Eigen::Isometry3d relative = Eigen::Isometry3d::Identity();
+  relative.linear() = Eigen::AngleAxisd(best.alignment.yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  loop.relative_pose = tf2::toMsg(relative);
+  const double half_sector = M_PI / config_.num_sectors;
+  const double diagonal[6] = {options_.covariance_translation, options_.covariance_translation,
+                              options_.covariance_translation, options_.covariance_rotation,
+                              options_.covariance_rotation, half_sector * half_sector};
+  for (int i = 0; i < 6; ++i) loop.covariance[i * 6 + i] = diagonal[i];
+  loop.verified = false;
+  loop.fitness = 0.0;
+  loop_pub_.publish(loop);
+  ROS_DEBUG_NAMED(name_, "loop %u -> %u, distance %.3f, yaw %.1f deg", loop.query_id, loop.match_id, loop.distance,
+                  loop.yaw * 180.0 / M_PI);
+
+  if (options_.lio_sam_output) {
+    std_msgs::Float64MultiArray hook;
+    hook.data = {loop.query_stamp.toSec(), loop.match_stamp.toSec()};
+    lio_pub_.publish(hook);
+  }
+}
+
+void LoopClosureRos::publishMarkers(const std::string& frame) {
+  std::vector<LoopEdge> edges;
+  for (const auto& e : edges_) edges.push_back({e.query, e.match, e.distance});
+  marker_pub_.publish(makeLoopMarkers(positions_, edges, frame, stamps_.back(), config_.distance_threshold));
+}
+
+void LoopClosureRos::diagnose(diagnostic_updater::DiagnosticStatusWrapper& status) {
+  const std::size_t dropped = dropped_.load();
+  if (dropped > 0) {
+    status.summaryf(diagnostic_msgs::DiagnosticStatus::WARN, "%zu keyframes dropped (queue full)", dropped);
+  } else {
+    status.summary(diagnostic_msgs::DiagnosticStatus::OK, "running");
+  }
+  status.add("database size", database_size_.load());
+  status.add("queue length", queue_length_.load());
+  status.add("last query time [ms]", last_query_ms_.load());
+  status.add("loops found", loops_found_.load());
+  status.add("keyframes dropped", dropped);
+  status.add("keyframes rejected", rejected_.load());
+}
+
+}  // namespace scan_context_loop

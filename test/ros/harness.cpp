@@ -1,0 +1,110 @@
+#include "harness.h"
+
+#include <cmath>
+
+#include <pcl_conversions/pcl_conversions.h>
+#include <tf2_eigen/tf2_eigen.h>
+
+namespace scan_context_loop {
+namespace test {
+
+Harness::Harness(ros::NodeHandle nh) : nh_(nh) {
+  cloud_pub = nh_.advertise<sensor_msgs::PointCloud2>("keyframe_cloud", 50);
+  odom_pub = nh_.advertise<nav_msgs::Odometry>("keyframe_odom", 50);
+  loop_sub_ = nh_.subscribe<scan_context_loop::LoopClosure>(
+      "loop_closures", 1000, [this](const scan_context_loop::LoopClosure::ConstPtr& m) {
+        std::lock_guard<std::mutex> lock(mutex_);
+        loops_.push_back(*m);
+        last_loop_ = ros::WallTime::now();
+      });
+  marker_sub_ = nh_.subscribe<visualization_msgs::MarkerArray>(
+      "loop_markers", 10, [this](const visualization_msgs::MarkerArray::ConstPtr& m) {
+        std::lock_guard<std::mutex> lock(mutex_);
+        markers_ = *m;
+        ++marker_messages_;
+      });
+  lio_sub_ = nh_.subscribe<std_msgs::Float64MultiArray>("lio_loop", 1000,
+                                                        [this](const std_msgs::Float64MultiArray::ConstPtr& m) {
+                                                          std::lock_guard<std::mutex> lock(mutex_);
+                                                          lio_.push_back(*m);
+                                                        });
+}
+
+bool Harness::waitForNode(double seconds) {
+  const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(seconds);
+  while (ros::ok() && ros::WallTime::now() < end) {
+    if (cloud_pub.getNumSubscribers() > 0 && odom_pub.getNumSubscribers() > 0 && loop_sub_.getNumPublishers() > 0) {
+      ros::WallDuration(0.5).sleep();  // let the markers connection settle too
+      return true;
+    }
+    ros::WallDuration(0.05).sleep();
+  }
+  return false;
+}
+
+sensor_msgs::PointCloud2 Harness::cloud(const Drive& drive, std::size_t k) const {
+  sensor_msgs::PointCloud2 msg;
+  pcl::toROSMsg(drive.scan(k), msg);
+  msg.header.stamp = base + ros::Duration(drive.times[k]);
+  msg.header.frame_id = "velodyne";
+  return msg;
+}
+
+nav_msgs::Odometry Harness::odom(const Drive& drive, std::size_t k) const {
+  nav_msgs::Odometry msg;
+  msg.header.stamp = base + ros::Duration(drive.times[k]);
+  msg.header.frame_id = "odom";
+  msg.child_frame_id = "velodyne";
+  msg.pose.pose = tf2::toMsg(drive.truth[k]);
+  return msg;
+}
+
+void Harness::publish(const Drive& drive, std::size_t first, std::size_t last, double rate) {
+  ros::WallRate r(rate);
+  for (std::size_t k = first; k < last && ros::ok(); ++k) {
+    cloud_pub.publish(cloud(drive, k));
+    odom_pub.publish(odom(drive, k));
+    r.sleep();
+  }
+}
+
+void Harness::settle(double quiet, double limit) {
+  const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(limit);
+  while (ros::ok() && ros::WallTime::now() < end) {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      if ((ros::WallTime::now() - last_loop_).toSec() > quiet) return;
+    }
+    ros::WallDuration(0.1).sleep();
+  }
+}
+
+std::vector<scan_context_loop::LoopClosure> Harness::loops() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return loops_;
+}
+
+std::vector<std_msgs::Float64MultiArray> Harness::lioLoops() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return lio_;
+}
+
+visualization_msgs::MarkerArray Harness::lastMarkers() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return markers_;
+}
+
+std::size_t Harness::markerMessages() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return marker_messages_;
+}
+
+int keyframeAt(const Drive& drive, const ros::Time& base, const ros::Time& stamp) {
+  for (std::size_t k = 0; k < drive.times.size(); ++k) {
+    if (std::fabs((base + ros::Duration(drive.times[k]) - stamp).toSec()) < 1e-6) return static_cast<int>(k);
+  }
+  return -1;
+}
+
+}  // namespace test
+}  // namespace scan_context_loop

@@ -1,0 +1,56 @@
+// Publishes a simulated drive to the loop-closure node and collects what it publishes.
+#pragma once
+
+#include <mutex>
+#include <vector>
+
+#include <nav_msgs/Odometry.h>
+#include <ros/ros.h>
+#include <sensor_msgs/PointCloud2.h>
+#include <std_msgs/Float64MultiArray.h>
+#include <visualization_msgs/MarkerArray.h>
+
+#include "../common/sim_drive.h"
+#include "scan_context_loop/LoopClosure.h"
+
+namespace scan_context_loop {
+namespace test {
+
+class Harness {
+ public:
+  explicit Harness(ros::NodeHandle nh);
+
+  /// Waits until the node subscribes to both inputs; false after `seconds`.
+  bool waitForNode(double seconds);
+  /// Keyframe k of the drive as messages stamped base + times[k].
+  sensor_msgs::PointCloud2 cloud(const Drive& drive, std::size_t k) const;
+  nav_msgs::Odometry odom(const Drive& drive, std::size_t k) const;
+  /// Publishes keyframes [first, last) at `rate` Hz, each cloud with its pose.
+  void publish(const Drive& drive, std::size_t first, std::size_t last, double rate);
+  /// Spins until no loop arrived for `quiet` seconds (at most `limit`).
+  void settle(double quiet, double limit);
+
+  std::vector<scan_context_loop::LoopClosure> loops() const;
+  std::vector<std_msgs::Float64MultiArray> lioLoops() const;
+  visualization_msgs::MarkerArray lastMarkers() const;
+  std::size_t markerMessages() const;
+
+  ros::Publisher cloud_pub, odom_pub;
+  ros::Time base{1000.0};
+
+ private:
+  ros::NodeHandle nh_;
+  ros::Subscriber loop_sub_, marker_sub_, lio_sub_;
+  mutable std::mutex mutex_;  // guards everything below (callbacks vs. test thread)
+  std::vector<scan_context_loop::LoopClosure> loops_;
+  std::vector<std_msgs::Float64MultiArray> lio_;
+  visualization_msgs::MarkerArray markers_;
+  std::size_t marker_messages_ = 0;
+  ros::WallTime last_loop_ = ros::WallTime::now();
+};
+
+/// Index of the keyframe published with this stamp, or -1.
+int keyframeAt(const Drive& drive, const ros::Time& base, const ros::Time& stamp);
+
+}  // namespace test
+}  // namespace scan_context_loop

@@ -1,0 +1,82 @@
+// rostest: a simulated drive in, loop closures out; checks ids, stamps, revisits, yaw and markers.
+#include <cmath>
+
+#include <gtest/gtest.h>
+#include <tf2_eigen/tf2_eigen.h>
+
+#include "harness.h"
+#include "scan_context_loop/alignment.h"
+
+namespace scan_context_loop {
+namespace test {
+namespace {
+
+double yawOf(const Eigen::Isometry3d& t) { return std::atan2(t(1, 0), t(0, 0)); }
+
+TEST(LoopClosureNode, PublishesTrueRevisitsWithTheirYawAndMarkers) {
+  ros::NodeHandle nh, pnh("~");
+  bool expect_lio = false;
+  pnh.param("expect_lio", expect_lio, expect_lio);
+  Harness harness(nh);
+  ASSERT_TRUE(harness.waitForNode(30.0)) << "the loop-closure node never subscribed";
+  const Drive drive = blockDrive(true, 7);  // lap 2 drives lap 1 in reverse
+  harness.publish(drive, 0, drive.truth.size(), 15.0);
+  harness.settle(3.0, 30.0);
+
+  const auto loops = harness.loops();
+  ASSERT_GE(loops.size(), 10u) << "reverse revisits of a whole lap";
+  for (const auto& loop : loops) {
+    const int q = keyframeAt(drive, harness.base, loop.query_stamp);
+    const int m = keyframeAt(drive, harness.base, loop.match_stamp);
+    ASSERT_GE(q, 0);
+    ASSERT_GE(m, 0);
+    // Every keyframe was accepted, so keyframe numbers are publication indices.
+    EXPECT_EQ(loop.query_id, static_cast<std::uint32_t>(q));
+    EXPECT_EQ(loop.match_id, static_cast<std::uint32_t>(m));
+    EXPECT_EQ(loop.header.stamp, loop.query_stamp);
+    EXPECT_EQ(loop.header.frame_id, "odom");
+    const Eigen::Isometry3d truth = drive.truth[q].inverse() * drive.truth[m];
+    EXPECT_LT(truth.translation().norm(), 5.0) << "loop " << q << " -> " << m << " is not a revisit";
+    EXPECT_LT(std::fabs(wrapAngle(loop.yaw - yawOf(truth))), 6.0 * M_PI / 180.0) << "loop " << q << " -> " << m;
+    EXPECT_LT(loop.distance, 0.21);
+    Eigen::Isometry3d relative;
+    tf2::fromMsg(loop.relative_pose, relative);
+    EXPECT_NEAR(yawOf(relative), loop.yaw, 1e-6);
+    EXPECT_GT(loop.covariance[35], 0.0);
+    EXPECT_FALSE(loop.verified);
+  }
+
+  ASSERT_GT(harness.markerMessages(), 0u);
+  const auto markers = harness.lastMarkers();
+  std::size_t edges = 0, keyframes = 0;
+  for (const auto& m : markers.markers) {
+    if (m.ns == "loops") edges = m.points.size() / 2;
+    if (m.ns == "keyframes") keyframes = m.points.size();
+  }
+  EXPECT_EQ(edges, loops.size());
+  EXPECT_EQ(keyframes, drive.truth.size());
+
+  const auto lio = harness.lioLoops();
+  if (expect_lio) {
+    ASSERT_EQ(lio.size(), loops.size());
+    for (std::size_t i = 0; i < lio.size(); ++i) {
+      ASSERT_EQ(lio[i].data.size(), 2u);
+      EXPECT_DOUBLE_EQ(lio[i].data[0], loops[i].query_stamp.toSec());
+      EXPECT_DOUBLE_EQ(lio[i].data[1], loops[i].match_stamp.toSec());
+    }
+  } else {
+    EXPECT_TRUE(lio.empty());
+  }
+}
+
+}  // namespace
+}  // namespace test
+}  // namespace scan_context_loop
+
+int main(int argc, char** argv) {
+  testing::InitGoogleTest(&argc, argv);
+  ros::init(argc, argv, "test_loops");
+  ros::AsyncSpinner spinner(2);
+  spinner.start();
+  return RUN_ALL_TESTS();
+}
