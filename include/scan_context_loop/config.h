@@ -49,7 +49,7 @@ struct Config {
   /// VLP-16 along the KITTI 00 and 08 trajectories and the procedural drive), so precision is 100% on
   /// each; mean F1 would peak near 0.26, where precision on KITTI 08 falls to 0.83 (README,
   /// "Choosing the threshold"). At 0.15, near the published code's 0.13, recall on the same sequences
-  /// is 0.27-0.68 against 0.32-0.89 at 0.21.
+  /// is 0.10-0.68 against 0.11-0.89 at 0.21.
   double distance_threshold = 0.21;
 
   // ---- exclusion of recent keyframes (each rule: 0 disables it) ---------------------------

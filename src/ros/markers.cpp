@@ -57,19 +57,23 @@ visualization_msgs::MarkerArray makeLoopMarkers(const std::vector<Eigen::Vector3
   if (trajectory.points.size() >= 2) array.markers.push_back(trajectory);
 
   auto edges = base(frame, stamp, "loops", 0, visualization_msgs::Marker::LINE_LIST);
-  edges.scale.x = 0.5;
+  edges.scale.x = 0.8;
   edges.color = colour(0.0f, 1.0f, 0.0f);
+  // Both ends of every loop, large enough to see a revisit on a city-scale map from above.
+  auto ends = base(frame, stamp, "loop_ends", 0, visualization_msgs::Marker::SPHERE_LIST);
+  ends.scale.x = ends.scale.y = ends.scale.z = 2.5;
+  ends.color = colour(0.0f, 1.0f, 0.0f);
   int label_id = 0;
   for (const auto& loop : loops) {
     if (loop.query >= positions.size() || loop.match >= positions.size()) continue;
     const float t = static_cast<float>(std::min(1.0, std::max(0.0, loop.distance / threshold)));
     const auto c = colour(t, 1.0f - t, 0.0f);
-    // Lift the edge a little so it stands out from the trajectory even for revisits on the same spot.
-    const Eigen::Vector3d lift(0.0, 0.0, 2.0);
-    edges.points.push_back(point(positions[loop.query] + lift));
-    edges.points.push_back(point(positions[loop.match]));
-    edges.colors.push_back(c);
-    edges.colors.push_back(c);
+    for (std::size_t end : {loop.query, loop.match}) {
+      edges.points.push_back(point(positions[end]));
+      edges.colors.push_back(c);
+      ends.points.push_back(point(positions[end]));
+      ends.colors.push_back(c);
+    }
     auto label = base(frame, stamp, "labels", label_id++, visualization_msgs::Marker::TEXT_VIEW_FACING);
     label.pose.position = point(positions[loop.query] + Eigen::Vector3d(0.0, 0.0, 3.5));
     label.scale.z = 1.5;
@@ -79,7 +83,10 @@ visualization_msgs::MarkerArray makeLoopMarkers(const std::vector<Eigen::Vector3
     label.text = text;
     array.markers.push_back(label);
   }
-  if (!edges.points.empty()) array.markers.push_back(edges);
+  if (!edges.points.empty()) {
+    array.markers.push_back(edges);
+    array.markers.push_back(ends);
+  }
   return array;
 }
 

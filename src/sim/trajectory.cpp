@@ -71,9 +71,10 @@ std::vector<PathPoint> proceduralPath() {
       // Loop 2, one lane further out (on the right of the direction of travel).
       V(250 + lane, -lane), V(250 + lane, 150 + lane), V(-lane, 150 + lane), V(-lane, 0),
       // Bottom street again in the first lane, then north through the middle of the block.
-      V(125, 0), V(125, 150),
-      // East along the top street and south along the east street: against loop 1's direction.
-      V(250, 150), V(250, 10)};
+      V(125, 0), V(125, 150 - lane),
+      // East along the top street and south along the east street: against loop 1's direction, in the
+      // opposite lane as traffic drives (3 m to the side of loop 1's track).
+      V(250 - lane, 150 - lane), V(250 - lane, 10)};
   return roundedPolyline(waypoints, 8.0, 0.5);
 }
 

@@ -19,7 +19,8 @@ std::vector<PathPoint> pathFromPoses(const std::vector<Eigen::Isometry3d>& lidar
 /// The procedural drive, about 2.2 km sampled every 0.5 m: a loop around a 250 x 150 m block, the same
 /// loop again one lane (3 m) further out, the first half of the bottom street again in the same lane
 /// (same-direction revisit), a new street through the middle, then the east half of the top street
-/// and the east street driven the other way (reverse-direction revisits).
+/// and the east street driven the other way in the opposite lane, 3 m to the side (reverse-direction
+/// revisits, as real traffic makes them).
 std::vector<PathPoint> proceduralPath();
 
 /// Indices of the path points that become keyframes: the first, then each one at least `spacing`
