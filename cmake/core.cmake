@@ -6,11 +6,13 @@ add_library(scan_context_loop_core
   src/core/database.cpp
   src/core/detector.cpp
   src/core/kitti_io.cpp
+  src/core/verification.cpp
 )
 target_include_directories(scan_context_loop_core PUBLIC
   include ${EIGEN3_INCLUDE_DIRS} ${PCL_INCLUDE_DIRS} ${FLANN_INCLUDE_DIRS})
 # FLANN's C++ index is header-only; it needs lz4 for its serialisation code.
-target_link_libraries(scan_context_loop_core PUBLIC ${PCL_COMMON_LIBRARIES} lz4)
+target_link_libraries(scan_context_loop_core PUBLIC ${PCL_COMMON_LIBRARIES} ${PCL_FILTERS_LIBRARIES}
+  ${PCL_KDTREE_LIBRARIES} ${PCL_SEARCH_LIBRARIES} ${PCL_REGISTRATION_LIBRARIES} lz4)
 target_compile_definitions(scan_context_loop_core PUBLIC ${PCL_DEFINITIONS})
 # Lets the compiler vectorise the binning loop (if-conversion of float selects, sqrt without errno);
 # the core neither reads errno nor traps on floating-point exceptions. NaN/Inf handling is unchanged.
@@ -37,7 +39,8 @@ if(CATKIN_ENABLE_TESTING)
     test/core/test_kitti_io.cpp
     test/core/test_real_data.cpp
     test/core/test_scenes.cpp
+    test/core/test_verification.cpp
   )
-  target_link_libraries(test_core scan_context_loop_core)
+  target_link_libraries(test_core scan_context_loop_core ${PCL_IO_LIBRARIES})
   target_compile_definitions(test_core PRIVATE SCL_SHARED_DATA="${SCL_SHARED_DATA}")
 endif()

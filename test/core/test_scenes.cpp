@@ -120,16 +120,20 @@ pcl::PointCloud<pcl::PointXYZI> kittiScan(const std::string& sequence, int frame
   return cloud;
 }
 
-double kittiTrueYaw(const std::string& sequence, int query, int match) {
+Eigen::Isometry3d kittiRelative(const std::string& sequence, int query, int match) {
   const std::string dir = sharedData() + "/kitti/" + sequence;
   std::vector<Eigen::Isometry3d> poses;
   Eigen::Isometry3d tr;
   std::string error;
   EXPECT_TRUE(kitti::readPoses(dir + "/poses.txt", &poses, &error)) << error;
   EXPECT_TRUE(kitti::readCalibTr(dir + "/calib.txt", &tr, &error)) << error;
-  if (poses.size() <= static_cast<std::size_t>(std::max(query, match))) return NAN;
+  if (poses.size() <= static_cast<std::size_t>(std::max(query, match))) return Eigen::Isometry3d::Identity();
   const auto lidar = kitti::lidarPoses(poses, tr);
-  const Eigen::Matrix3d r = (lidar[query].inverse() * lidar[match]).linear();
+  return lidar[query].inverse() * lidar[match];
+}
+
+double kittiTrueYaw(const std::string& sequence, int query, int match) {
+  const Eigen::Matrix3d r = kittiRelative(sequence, query, match).linear();
   return std::atan2(r(1, 0), r(0, 0));
 }
 

@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <string>
 
+#include <Eigen/Geometry>
 #include <pcl/point_cloud.h>
 #include <pcl/point_types.h>
 
@@ -28,6 +29,9 @@ pcl::PointCloud<pcl::PointXYZ> rotateTranslate(const pcl::PointCloud<pcl::PointX
 
 /// Loads ../shared/data/kitti/<sequence>/velodyne/<frame>.bin; fails the calling test when missing.
 pcl::PointCloud<pcl::PointXYZI> kittiScan(const std::string& sequence, int frame);
+
+/// T_query<-match between two LiDAR frames from the sequence's ground truth.
+Eigen::Isometry3d kittiRelative(const std::string& sequence, int query, int match);
 
 /// Yaw of `match` in `query`'s LiDAR frame from the sequence's ground truth.
 double kittiTrueYaw(const std::string& sequence, int query, int match);

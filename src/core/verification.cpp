@@ -1,0 +1,162 @@
+#include "scan_context_loop/verification.h"
+
+#include <chrono>
+#include <cstring>
+#include <limits>
+#include <cmath>
+#include <sstream>
+
+#include <pcl/filters/voxel_grid.h>
+#include <pcl/kdtree/kdtree_flann.h>
+#include <pcl/registration/gicp.h>
+
+namespace scan_context_loop {
+
+std::vector<std::string> VerificationConfig::validate() const {
+  std::vector<std::string> e;
+  const auto positive = [&](double v, const char* name) {
+    if (!(std::isfinite(v) && v > 0.0)) e.push_back(std::string(name) + " must be a positive number");
+  };
+  positive(voxel_leaf, "verify_voxel_leaf");
+  positive(max_range, "verify_max_range");
+  positive(coarse_correspondence, "verify_coarse_correspondence");
+  positive(fine_correspondence, "verify_fine_correspondence");
+  positive(inlier_distance, "verify_inlier_distance");
+  positive(max_fitness, "verify_max_fitness");
+  positive(min_translation_variance, "verify_min_translation_variance");
+  positive(min_rotation_variance, "verify_min_rotation_variance");
+  if (min_points < 3) e.push_back("verify_min_points must be >= 3");
+  if (max_iterations < 1) e.push_back("verify_max_iterations must be >= 1");
+  if (!(min_inlier_ratio >= 0.0 && min_inlier_ratio <= 1.0)) e.push_back("verify_min_inlier_ratio must be in [0, 1]");
+  return e;
+}
+
+VerificationCloud prepareCloud(const PointView& points, const VerificationConfig& config) {
+  VerificationCloud kept;
+  kept.reserve(points.count);
+  const double max2 = config.max_range * config.max_range;
+  for (std::size_t i = 0; i < points.count && points.data != nullptr; ++i) {
+    const std::uint8_t* p = points.data + i * points.stride;
+    float x, y, z;
+    std::memcpy(&x, p + points.offset_x, 4);
+    std::memcpy(&y, p + points.offset_y, 4);
+    std::memcpy(&z, p + points.offset_z, 4);
+    if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(z)) continue;
+    if (static_cast<double>(x) * x + static_cast<double>(y) * y > max2) continue;
+    kept.push_back(pcl::PointXYZ(x, y, z));
+  }
+  VerificationCloud out;
+  if (kept.empty()) return out;
+  pcl::VoxelGrid<pcl::PointXYZ> grid;
+  const float leaf = static_cast<float>(config.voxel_leaf);
+  grid.setLeafSize(leaf, leaf, leaf);
+  grid.setInputCloud(kept.makeShared());
+  grid.filter(out);
+  return out;
+}
+
+namespace {
+
+Eigen::Matrix3d skew(const Eigen::Vector3d& v) {
+  Eigen::Matrix3d m;
+  m << 0, -v.z(), v.y(), v.z(), 0, -v.x(), -v.y(), v.x(), 0;
+  return m;
+}
+
+/// Inlier statistics and the covariance at the solution, from nearest-neighbour correspondences of
+/// the query points in the aligned candidate cloud.
+void judge(const VerificationCloud& query, const VerificationCloud& aligned, const VerificationConfig& config,
+           VerificationResult* r) {
+  pcl::KdTreeFLANN<pcl::PointXYZ> tree;
+  tree.setInputCloud(aligned.makeShared());
+  std::vector<int> index(1);
+  std::vector<float> d2(1);
+  const double limit2 = config.inlier_distance * config.inlier_distance;
+  Eigen::Matrix<double, 6, 6> hessian = Eigen::Matrix<double, 6, 6>::Zero();
+  double sum2 = 0.0;
+  std::size_t inliers = 0;
+  for (const auto& q : query) {
+    if (tree.nearestKSearch(q, 1, index, d2) < 1 || d2[0] > limit2) continue;
+    ++inliers;
+    sum2 += d2[0];
+    // Residual e = p' - q with p' = exp(xi) * p: de/dxi = [I, -[p']x] for xi = (t, theta).
+    const Eigen::Vector3d p = aligned[index[0]].getVector3fMap().cast<double>();
+    Eigen::Matrix<double, 3, 6> j;
+    j.leftCols<3>() = Eigen::Matrix3d::Identity();
+    j.rightCols<3>() = -skew(p);
+    hessian += j.transpose() * j;
+  }
+  r->inlier_ratio = query.empty() ? 0.0 : static_cast<double>(inliers) / query.size();
+  r->fitness = inliers > 0 ? sum2 / inliers : std::numeric_limits<double>::infinity();
+  if (inliers > 6) {
+    const double sigma2 = sum2 / std::max<double>(1.0, 3.0 * inliers - 6.0);
+    // Guard against a degenerate geometry (a straight corridor): floor the Hessian's eigenvalues.
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> eig(hessian);
+    Eigen::Matrix<double, 6, 1> values = eig.eigenvalues().cwiseMax(1e-6);
+    r->covariance = sigma2 * eig.eigenvectors() * values.cwiseInverse().asDiagonal() * eig.eigenvectors().transpose();
+  }
+  for (int i = 0; i < 6; ++i) {
+    const double floor = i < 3 ? config.min_translation_variance : config.min_rotation_variance;
+    r->covariance(i, i) = std::max(r->covariance(i, i), floor);
+  }
+}
+
+}  // namespace
+
+VerificationResult verify(const VerificationCloud& query, const VerificationCloud& match,
+                          const Eigen::Isometry3d& initial, const VerificationConfig& config) {
+  const auto start = std::chrono::steady_clock::now();
+  VerificationResult r;
+  r.query_points = query.size();
+  r.match_points = match.size();
+  r.relative = initial;
+  const auto finish = [&](const std::string& reason) {
+    r.reason = reason;
+    r.accepted = reason.empty();
+    r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return r;
+  };
+  if (query.size() < static_cast<std::size_t>(config.min_points) ||
+      match.size() < static_cast<std::size_t>(config.min_points)) {
+    std::ostringstream why;
+    why << "too few points to verify (query " << query.size() << ", candidate " << match.size() << ", need "
+        << config.min_points << ")";
+    return finish(why.str());
+  }
+  if (!initial.matrix().allFinite()) return finish("initial guess is not finite");
+
+  pcl::GeneralizedIterativeClosestPoint<pcl::PointXYZ, pcl::PointXYZ> gicp;
+  gicp.setInputSource(match.makeShared());
+  gicp.setInputTarget(query.makeShared());
+  gicp.setMaximumIterations(config.max_iterations);
+  gicp.setTransformationEpsilon(1e-6);
+  VerificationCloud aligned;
+  Eigen::Matrix4f guess = initial.matrix().cast<float>();
+  // Coarse, then fine: the wide correspondence distance pulls in a translation the prior lacks, the
+  // narrow one settles on the local surfaces.
+  for (double distance : {config.coarse_correspondence, config.fine_correspondence}) {
+    gicp.setMaxCorrespondenceDistance(distance);
+    gicp.align(aligned, guess);
+    if (!gicp.hasConverged()) return finish("registration did not converge");
+    guess = gicp.getFinalTransformation();
+  }
+  r.relative.matrix() = guess.cast<double>();
+  if (!r.relative.matrix().allFinite()) return finish("registration diverged");
+  judge(query, aligned, config, &r);
+  std::ostringstream why;
+  if (r.inlier_ratio < config.min_inlier_ratio) {
+    why << "inlier ratio " << r.inlier_ratio << " below " << config.min_inlier_ratio;
+  } else if (!(r.fitness <= config.max_fitness)) {
+    why << "fitness " << r.fitness << " m^2 above " << config.max_fitness;
+  }
+  return finish(why.str());
+}
+
+VerificationResult verifyWithYaw(const VerificationCloud& query, const VerificationCloud& match, double yaw,
+                                 const VerificationConfig& config) {
+  Eigen::Isometry3d initial = Eigen::Isometry3d::Identity();
+  initial.linear() = Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  return verify(query, match, initial, config);
+}
+
+}  // namespace scan_context_loop
