@@ -39,3 +39,9 @@ if(CATKIN_ENABLE_TESTING)
 
   roslaunch_add_file_check(launch)
 endif()
+
+if(CATKIN_ENABLE_TESTING)
+  add_rostest_gtest(test_ros_tf_world test/ros/tf_world.test test/ros/test_tf_world.cpp)
+  target_link_libraries(test_ros_tf_world scan_context_loop_ros_harness)
+  add_dependencies(test_ros_tf_world scan_context_loop_nodelet loop_closure_node)
+endif()

@@ -9,7 +9,7 @@ namespace eval {
 
 const std::vector<std::string>& rosOnlyKeys() {
   static const std::vector<std::string> keys = {
-      "pose_source",          "fixed_frame",          "tf_timeout",         "approximate_sync",
+      "pose_source",          "fixed_frame",          "tf_timeout",         "sensor_frame",       "approximate_sync",
       "sync_queue_size",      "cloud_in_world_frame", "keyframe_min_distance", "keyframe_min_angle",
       "voxel_leaf",           "queue_size",           "publish_markers",    "marker_frame",
       "lio_sam_output",       "unsynchronised_warning", "diagnostics_period", "covariance_translation",

@@ -160,15 +160,17 @@ void LoopClosureRos::work() {
 }
 
 bool LoopClosureRos::lookUpPose(Item* item) {
+  // A registered cloud's frame is the fixed frame: the sensor's own frame must be named.
+  const std::string& sensor = options_.sensor_frame.empty() ? item->cloud->header.frame_id : options_.sensor_frame;
   try {
-    const auto t = tf_buffer_->lookupTransform(options_.fixed_frame, item->cloud->header.frame_id,
-                                               item->cloud->header.stamp, ros::Duration(options_.tf_timeout));
+    const auto t = tf_buffer_->lookupTransform(options_.fixed_frame, sensor, item->cloud->header.stamp,
+                                               ros::Duration(options_.tf_timeout));
     item->pose = tf2::transformToEigen(t);
     item->has_pose = true;
     return true;
   } catch (const tf2::TransformException& e) {
     ROS_WARN_THROTTLE_NAMED(5.0, name_, "keyframe skipped: no transform %s <- %s at its stamp: %s",
-                            options_.fixed_frame.c_str(), item->cloud->header.frame_id.c_str(), e.what());
+                            options_.fixed_frame.c_str(), sensor.c_str(), e.what());
     return false;
   }
 }

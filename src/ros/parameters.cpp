@@ -22,6 +22,7 @@ std::vector<std::string> readParameters(const ros::NodeHandle& pnh, Config* c, R
   pnh.param("pose_source", o->pose_source, o->pose_source);
   pnh.param("fixed_frame", o->fixed_frame, o->fixed_frame);
   pnh.param("tf_timeout", o->tf_timeout, o->tf_timeout);
+  pnh.param("sensor_frame", o->sensor_frame, o->sensor_frame);
   pnh.param("approximate_sync", o->approximate_sync, o->approximate_sync);
   pnh.param("sync_queue_size", o->sync_queue_size, o->sync_queue_size);
   pnh.param("cloud_in_world_frame", o->cloud_in_world_frame, o->cloud_in_world_frame);
@@ -45,6 +46,8 @@ std::vector<std::string> readParameters(const ros::NodeHandle& pnh, Config* c, R
   check(o->pose_source == "odom" || o->pose_source == "tf", "pose_source = " + o->pose_source + ": must be odom or tf");
   check(!o->fixed_frame.empty() || o->pose_source != "tf", "fixed_frame must be set when pose_source is tf");
   check(std::isfinite(o->tf_timeout) && o->tf_timeout >= 0.0, "tf_timeout must be >= 0 seconds");
+  check(!(o->pose_source == "tf" && o->cloud_in_world_frame && o->sensor_frame.empty()),
+        "sensor_frame must name the sensor's tf frame when pose_source is tf and cloud_in_world_frame is true");
   check(o->sync_queue_size >= 1 && o->sync_queue_size <= 10000, "sync_queue_size must be in [1, 10000]");
   check(std::isfinite(o->keyframe_min_distance) && o->keyframe_min_distance >= 0.0, "keyframe_min_distance must be >= 0");
   check(std::isfinite(o->keyframe_min_angle) && o->keyframe_min_angle >= 0.0, "keyframe_min_angle must be >= 0");

@@ -2,7 +2,9 @@
 
 #include <cmath>
 
+#include <pcl/common/transforms.h>
 #include <pcl_conversions/pcl_conversions.h>
+#include <tf2_ros/transform_broadcaster.h>
 #include <tf2_eigen/tf2_eigen.h>
 
 namespace scan_context_loop {
@@ -30,10 +32,11 @@ Harness::Harness(ros::NodeHandle nh) : nh_(nh) {
                                                         });
 }
 
-bool Harness::waitForNode(double seconds) {
+bool Harness::waitForNode(double seconds, bool poses) {
   const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(seconds);
   while (ros::ok() && ros::WallTime::now() < end) {
-    if (cloud_pub.getNumSubscribers() > 0 && odom_pub.getNumSubscribers() > 0 && loop_sub_.getNumPublishers() > 0) {
+    if (cloud_pub.getNumSubscribers() > 0 && (!poses || odom_pub.getNumSubscribers() > 0) &&
+        loop_sub_.getNumPublishers() > 0) {
       ros::WallDuration(0.5).sleep();  // let the markers connection settle too
       return true;
     }
@@ -64,6 +67,28 @@ void Harness::publish(const Drive& drive, std::size_t first, std::size_t last, d
   for (std::size_t k = first; k < last && ros::ok(); ++k) {
     cloud_pub.publish(cloud(drive, k));
     odom_pub.publish(odom(drive, k));
+    r.sleep();
+  }
+}
+
+void Harness::publishTfAndWorldClouds(const Drive& drive, double rate) {
+  tf2_ros::TransformBroadcaster broadcaster;
+  ros::WallRate r(rate);
+  for (std::size_t k = 0; k < drive.truth.size() && ros::ok(); ++k) {
+    geometry_msgs::TransformStamped t = tf2::eigenToTransform(drive.truth[k]);
+    t.header.stamp = base + ros::Duration(drive.times[k]);
+    t.header.frame_id = "odom";
+    t.child_frame_id = "velodyne";
+    broadcaster.sendTransform(t);
+    pcl::PointCloud<pcl::PointXYZI> world;
+    pcl::transformPointCloud(drive.scan(k), world, drive.truth[k].matrix().cast<float>());
+    sensor_msgs::PointCloud2 msg;
+    pcl::toROSMsg(world, msg);
+    msg.header.stamp = t.header.stamp;
+    msg.header.frame_id = "odom";
+    // Let the transform arrive first, as a SLAM stack's tf precedes its registered cloud.
+    ros::WallDuration(0.02).sleep();
+    cloud_pub.publish(msg);
     r.sleep();
   }
 }

@@ -20,13 +20,16 @@ class Harness {
  public:
   explicit Harness(ros::NodeHandle nh);
 
-  /// Waits until the node subscribes to both inputs; false after `seconds`.
-  bool waitForNode(double seconds);
+  /// Waits until the node subscribes to the clouds (and the poses, unless `poses` is false); false
+  /// after `seconds`.
+  bool waitForNode(double seconds, bool poses = true);
   /// Keyframe k of the drive as messages stamped base + times[k].
   sensor_msgs::PointCloud2 cloud(const Drive& drive, std::size_t k) const;
   nav_msgs::Odometry odom(const Drive& drive, std::size_t k) const;
   /// Publishes keyframes [first, last) at `rate` Hz, each cloud with its pose.
   void publish(const Drive& drive, std::size_t first, std::size_t last, double rate);
+  /// The same with poses as tf (odom -> velodyne) and clouds registered in odom.
+  void publishTfAndWorldClouds(const Drive& drive, double rate);
   /// Spins until no loop arrived for `quiet` seconds (at most `limit`).
   void settle(double quiet, double limit);
 

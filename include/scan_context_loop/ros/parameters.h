@@ -14,6 +14,7 @@ struct RosOptions {
   std::string pose_source = "odom";     ///< "odom": keyframe_odom messages; "tf": look the pose up
   std::string fixed_frame = "odom";     ///< tf mode: the frame poses are looked up in
   double tf_timeout = 0.1;              ///< tf mode: how long to wait for a transform [s]
+  std::string sensor_frame;             ///< tf mode: the sensor's frame (empty: the cloud's frame_id)
   bool approximate_sync = true;         ///< approximate (true) or exact time synchronisation
   int sync_queue_size = 20;             ///< message_filters queue per input
   bool cloud_in_world_frame = false;    ///< clouds arrive registered in the pose frame
