@@ -40,6 +40,16 @@ KeyframeInfo at(double stamp, double x = 0.0) {
   return info;
 }
 
+/// A configuration that returns every eligible keyframe, with the given exclusion windows.
+Config windows(int frames, double seconds, double metres) {
+  Config config;
+  config.exclude_recent_frames = frames;
+  config.exclude_recent_seconds = seconds;
+  config.exclude_recent_distance = metres;
+  config.num_candidates = 100;
+  return config;
+}
+
 std::set<std::size_t> candidateSet(const QueryResult& result) {
   std::set<std::size_t> out;
   for (const auto& c : result.candidates) out.insert(c.index);
@@ -47,9 +57,7 @@ std::set<std::size_t> candidateSet(const QueryResult& result) {
 }
 
 TEST(Database, ExcludesTheMostRecentFramesAndSeesEachOneTheMomentItLeaves) {
-  Config config;
-  config.exclude_recent_frames = 3;
-  config.num_candidates = 100;
+  const Config config = windows(3, 0.0, 0.0);
   Database db(config);
   const Descriptor d = descriptorWithKey(std::vector<float>(20, 0.5f), config);
   for (int n = 0; n < 12; ++n) {
@@ -66,10 +74,7 @@ TEST(Database, ExcludesTheMostRecentFramesAndSeesEachOneTheMomentItLeaves) {
 }
 
 TEST(Database, ExcludesByTimeGap) {
-  Config config;
-  config.exclude_recent_frames = 0;
-  config.exclude_recent_seconds = 2.5;
-  config.num_candidates = 100;
+  const Config config = windows(0, 2.5, 0.0);
   Database db(config);
   const Descriptor d = descriptorWithKey(std::vector<float>(20, 0.5f), config);
   for (int n = 0; n < 10; ++n) ASSERT_TRUE(db.add(at(0.5 * n), d));  // stamps 0 .. 4.5 s
@@ -82,10 +87,7 @@ TEST(Database, ExcludesByTimeGap) {
 }
 
 TEST(Database, ExcludesByTravelledDistance) {
-  Config config;
-  config.exclude_recent_frames = 0;
-  config.exclude_recent_distance = 10.0;
-  config.num_candidates = 100;
+  const Config config = windows(0, 0.0, 10.0);
   Database db(config);
   const Descriptor d = descriptorWithKey(std::vector<float>(20, 0.5f), config);
   // Drive 3 m per keyframe, then turn back: path length keeps growing while the position returns.

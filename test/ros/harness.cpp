@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include <gtest/gtest.h>
+
 #include <pcl/common/transforms.h>
 #include <pcl_conversions/pcl_conversions.h>
 #include <tf2_ros/transform_broadcaster.h>
@@ -122,6 +124,14 @@ visualization_msgs::MarkerArray Harness::lastMarkers() const {
 std::size_t Harness::markerMessages() const {
   std::lock_guard<std::mutex> lock(mutex_);
   return marker_messages_;
+}
+
+int runRosTests(int argc, char** argv, const char* node_name) {
+  testing::InitGoogleTest(&argc, argv);
+  ros::init(argc, argv, node_name);
+  ros::AsyncSpinner spinner(2);
+  spinner.start();
+  return RUN_ALL_TESTS();
 }
 
 int keyframeAt(const Drive& drive, const ros::Time& base, const ros::Time& stamp) {

@@ -52,6 +52,9 @@ class Harness {
   ros::WallTime last_loop_ = ros::WallTime::now();
 };
 
+/// main() of a rostest node: gtest and ROS initialised, callbacks served by two threads.
+int runRosTests(int argc, char** argv, const char* node_name);
+
 /// Index of the keyframe published with this stamp, or -1.
 int keyframeAt(const Drive& drive, const ros::Time& base, const ros::Time& stamp);
 

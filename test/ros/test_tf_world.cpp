@@ -36,10 +36,4 @@ TEST(LoopClosureNode, PosesFromTfAndRegisteredClouds) {
 }  // namespace test
 }  // namespace scan_context_loop
 
-int main(int argc, char** argv) {
-  testing::InitGoogleTest(&argc, argv);
-  ros::init(argc, argv, "test_tf_world");
-  ros::AsyncSpinner spinner(2);
-  spinner.start();
-  return RUN_ALL_TESTS();
-}
+int main(int argc, char** argv) { return scan_context_loop::test::runRosTests(argc, argv, "test_tf_world"); }
