@@ -61,6 +61,22 @@ struct Config {
   /// (needs poses; keyframes added without a pose do not advance the path length).
   double exclude_recent_distance = 0.0;
 
+  // ---- geometric verification (verification.h) ----------------------------------------------
+  /// Verify candidates by registration; a loop is then reported only when one is accepted.
+  bool verify = false;
+  /// Candidates whose descriptor distance is below this looser threshold are verified.
+  double verify_threshold = 0.35;
+  /// At most this many candidates are verified per keyframe (best distance first): the cost bound.
+  int verify_max_candidates = 2;
+  /// Memory budget for the downsampled keyframe clouds kept for verification [bytes] (see CloudStore).
+  double verify_max_bytes = 1024.0 * 1024.0 * 1024.0;
+  /// Registration settings: voxel size [m], crop range [m], minimum inlier ratio, maximum inlier
+  /// mean squared distance [m^2] (VerificationConfig documents each).
+  double verify_voxel_leaf = 0.6;
+  double verify_max_range = 40.0;
+  double verify_min_inlier_ratio = 0.4;
+  double verify_max_fitness = 0.15;
+
   /// Human-readable problems, empty when the configuration is usable.
   std::vector<std::string> validate() const;
 

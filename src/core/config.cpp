@@ -55,10 +55,36 @@ std::vector<std::string> Config::validate() const {
           "exclude_recent_seconds", exclude_recent_seconds, "must be finite and >= 0 (0 disables)");
   require(&e, std::isfinite(exclude_recent_distance) && exclude_recent_distance >= 0.0,
           "exclude_recent_distance", exclude_recent_distance, "must be finite and >= 0 (0 disables)");
+  require(&e, std::isfinite(verify_threshold) && verify_threshold > 0.0 && verify_threshold <= 2.0,
+          "verify_threshold", verify_threshold, "must be in (0, 2]");
+  require(&e, verify_max_candidates >= 1 && verify_max_candidates <= 100, "verify_max_candidates",
+          verify_max_candidates, "must be in [1, 100]");
+  require(&e, std::isfinite(verify_max_bytes) && verify_max_bytes >= 1e6, "verify_max_bytes", verify_max_bytes,
+          "must be at least 1e6 bytes");
+  require(&e, std::isfinite(verify_voxel_leaf) && verify_voxel_leaf > 0.0, "verify_voxel_leaf", verify_voxel_leaf,
+          "must be positive");
+  require(&e, std::isfinite(verify_max_range) && verify_max_range > 0.0, "verify_max_range", verify_max_range,
+          "must be positive");
+  require(&e, verify_min_inlier_ratio >= 0.0 && verify_min_inlier_ratio <= 1.0, "verify_min_inlier_ratio",
+          verify_min_inlier_ratio, "must be in [0, 1]");
+  require(&e, std::isfinite(verify_max_fitness) && verify_max_fitness > 0.0, "verify_max_fitness",
+          verify_max_fitness, "must be positive");
   return e;
 }
 
 namespace {
+
+bool parseBool(const std::string& text, bool* out) {
+  if (text == "true" || text == "1") {
+    *out = true;
+    return true;
+  }
+  if (text == "false" || text == "0") {
+    *out = false;
+    return true;
+  }
+  return false;
+}
 
 bool parseInt(const std::string& text, int* out) {
   std::istringstream in(text);
@@ -84,7 +110,9 @@ const std::vector<std::string>& configKeys() {
   static const std::vector<std::string> keys = {
       "num_rings",      "num_sectors",        "max_radius",           "min_range",
       "lidar_height",   "ring_key",           "num_candidates",       "search_ratio",
-      "distance_threshold", "exclude_recent_frames", "exclude_recent_seconds", "exclude_recent_distance"};
+      "distance_threshold", "exclude_recent_frames", "exclude_recent_seconds", "exclude_recent_distance",
+      "verify",         "verify_threshold",   "verify_max_candidates", "verify_max_bytes",
+      "verify_voxel_leaf", "verify_max_range", "verify_min_inlier_ratio", "verify_max_fitness"};
   return keys;
 }
 
@@ -103,6 +131,14 @@ bool setConfigValue(Config* config, const std::string& key, const std::string& v
   else if (key == "exclude_recent_frames") ok = parseInt(value, &c.exclude_recent_frames);
   else if (key == "exclude_recent_seconds") ok = parseDouble(value, &c.exclude_recent_seconds);
   else if (key == "exclude_recent_distance") ok = parseDouble(value, &c.exclude_recent_distance);
+  else if (key == "verify") ok = parseBool(value, &c.verify);
+  else if (key == "verify_threshold") ok = parseDouble(value, &c.verify_threshold);
+  else if (key == "verify_max_candidates") ok = parseInt(value, &c.verify_max_candidates);
+  else if (key == "verify_max_bytes") ok = parseDouble(value, &c.verify_max_bytes);
+  else if (key == "verify_voxel_leaf") ok = parseDouble(value, &c.verify_voxel_leaf);
+  else if (key == "verify_max_range") ok = parseDouble(value, &c.verify_max_range);
+  else if (key == "verify_min_inlier_ratio") ok = parseDouble(value, &c.verify_min_inlier_ratio);
+  else if (key == "verify_max_fitness") ok = parseDouble(value, &c.verify_max_fitness);
   else {
     if (error) *error = "unknown configuration key '" + key + "'";
     return false;

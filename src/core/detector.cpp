@@ -20,7 +20,36 @@ Detection LoopDetector::process(const PointView& points, const KeyframeInfo& inf
   detection.accepted = database_.add(info, std::move(descriptor), &detection.error);
   detection.descriptor_seconds = std::chrono::duration<double>(t1 - t0).count();
   detection.query_seconds = std::chrono::duration<double>(Clock::now() - t1).count();
+  if (detection.accepted && database_.config().verify) verifyCandidates(points, &detection);
   return detection;
+}
+
+void LoopDetector::verifyCandidates(const PointView& points, Detection* detection) {
+  const auto start = std::chrono::steady_clock::now();
+  const Config& config = database_.config();
+  detection->verifications_enabled = true;
+  VerificationCloud cloud = prepareCloud(points, verification_);
+  int tried = 0;
+  for (const Candidate& c : detection->query.candidates) {
+    if (tried >= config.verify_max_candidates || !(c.alignment.distance < config.verify_threshold)) break;
+    ++tried;
+    VerifiedCandidate v;
+    v.index = c.index;
+    v.alignment = c.alignment;
+    const VerificationCloud* stored = store_.get(c.index);
+    if (stored == nullptr) {
+      v.result.reason = "unverifiable: the candidate's cloud was dropped to stay within verify_max_bytes";
+    } else {
+      v.result = verifyWithYaw(cloud, *stored, c.alignment.yaw, verification_);
+    }
+    detection->verifications.push_back(v);
+    if (v.result.accepted) {
+      detection->verified = true;
+      break;
+    }
+  }
+  store_.add(detection->index, std::move(cloud));
+  detection->verify_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
 }  // namespace scan_context_loop

@@ -152,6 +152,45 @@ VerificationResult verify(const VerificationCloud& query, const VerificationClou
   return finish(why.str());
 }
 
+VerificationConfig verificationConfig(const Config& c) {
+  VerificationConfig v;
+  v.voxel_leaf = c.verify_voxel_leaf;
+  v.max_range = c.verify_max_range;
+  v.min_inlier_ratio = c.verify_min_inlier_ratio;
+  v.max_fitness = c.verify_max_fitness;
+  return v;
+}
+
+void CloudStore::add(std::size_t index, VerificationCloud cloud) {
+  if (index % stride_ != 0) return;  // between the kept keyframes at the current density
+  const std::size_t size = bytesOf(cloud);
+  while (bytes_ + size > max_bytes_ && stride_ < (std::size_t(1) << 30)) {
+    // Halve the density everywhere: keep only multiples of the doubled stride.
+    stride_ *= 2;
+    for (std::size_t i = 0; i < clouds_.size(); ++i) {
+      if (clouds_[i] && i % stride_ != 0) {
+        bytes_ -= bytesOf(*clouds_[i]);
+        clouds_[i].reset();
+        ++dropped_;
+      }
+    }
+    if (index % stride_ != 0) return;
+  }
+  if (clouds_.size() <= index) clouds_.resize(index + 1);
+  bytes_ += size;
+  clouds_[index].reset(new VerificationCloud(std::move(cloud)));
+}
+
+const VerificationCloud* CloudStore::get(std::size_t index) const {
+  return index < clouds_.size() ? clouds_[index].get() : nullptr;
+}
+
+std::size_t CloudStore::stored() const {
+  std::size_t n = 0;
+  for (const auto& c : clouds_) n += c != nullptr;
+  return n;
+}
+
 VerificationResult verifyWithYaw(const VerificationCloud& query, const VerificationCloud& match, double yaw,
                                  const VerificationConfig& config) {
   Eigen::Isometry3d initial = Eigen::Isometry3d::Identity();

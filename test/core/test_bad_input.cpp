@@ -119,7 +119,7 @@ namespace {
 TEST(ConfigKeys, EveryKeyIsSettableAndBadValuesLeaveTheConfigAlone) {
   Config config;
   for (const std::string& key : configKeys()) {
-    const std::string value = key == "ring_key" ? "mean_height" : "3";
+    const std::string value = key == "ring_key" ? "mean_height" : key == "verify" ? "true" : "3";
     std::string error;
     EXPECT_TRUE(setConfigValue(&config, key, value, &error)) << key << ": " << error;
   }
