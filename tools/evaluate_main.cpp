@@ -118,5 +118,16 @@ int main(int argc, char** argv) {
   std::printf("descriptor %.3f ms median, %.3f ms p99; query + insert %.3f ms median, %.3f ms p99\n",
               eval::percentile(result.descriptor_ms, 0.5), eval::percentile(result.descriptor_ms, 0.99),
               eval::percentile(result.query_ms, 0.5), eval::percentile(result.query_ms, 0.99));
+  if (result.verification) {
+    const eval::VerifiedMetrics& v = result.verified;
+    std::printf("verified loops: precision %.3f, recall %.3f (%zu TP, %zu FP); relative pose error of true ones: "
+                "translation %.3f m median / %.3f p90, yaw %.2f deg median / %.2f p90\n",
+                v.precision, v.recall, v.true_positives, v.false_positives, v.translation_error_median,
+                v.translation_error_p90, v.yaw_error_median, v.yaw_error_p90);
+    std::printf("verification per keyframe: %.2f candidates on average, %d at most; %.1f ms median, %.1f ms p99, "
+                "%.1f ms max\n",
+                v.candidates_mean, v.candidates_max, eval::percentile(result.verify_ms, 0.5),
+                eval::percentile(result.verify_ms, 0.99), eval::percentile(result.verify_ms, 1.0));
+  }
   return 0;
 }

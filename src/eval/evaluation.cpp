@@ -4,6 +4,7 @@
 #include <fstream>
 #include <sys/stat.h>
 
+#include "scan_context_loop/alignment.h"
 #include "scan_context_loop/detector.h"
 #include "scan_context_loop/kitti_io.h"
 
@@ -109,9 +110,26 @@ Evaluation evaluate(const Sequence& s, const Config& config, double revisit_radi
       o.correct = o.match_gap < revisit_radius;
       o.true_yaw = yawOf(s.truth[k].inverse() * s.truth[m]);
     }
+    if (d.verifications_enabled) {
+      e.verify_ms.push_back(d.verify_seconds * 1e3);
+      o.candidates_verified = static_cast<int>(d.verifications.size());
+      if (d.verified) {
+        const VerifiedCandidate& v = d.verifications.back();
+        const std::size_t m = keyframe_of[v.index];
+        const Eigen::Isometry3d truth = s.truth[k].inverse() * s.truth[m];
+        o.verified_match = s.frames[m];
+        o.verified_correct = truth.translation().norm() < revisit_radius;
+        o.fitness = v.result.fitness;
+        o.inlier_ratio = v.result.inlier_ratio;
+        o.translation_error = (v.result.relative.translation() - truth.translation()).norm();
+        o.yaw_error = std::fabs(wrapAngle(yawOf(v.result.relative) - yawOf(truth)));
+      }
+    }
     e.outcomes.push_back(o);
   }
   e.metrics = computeMetrics(e.outcomes, config.distance_threshold);
+  e.verification = config.verify;
+  if (e.verification) e.verified = computeVerifiedMetrics(e.outcomes);
   return e;
 }
 
@@ -121,11 +139,22 @@ bool writeResultsCsv(const std::string& path, const Evaluation& e, std::string* 
     *error = "cannot create " + path;
     return false;
   }
-  out << "query,match,distance,yaw_rad,true_revisit,correct,match_gap_m,true_yaw_rad\n";
+  out << "query,match,distance,yaw_rad,true_revisit,correct,match_gap_m,true_yaw_rad";
+  if (e.verification) {
+    out << ",verified,verified_match,verified_correct,candidates_verified,fitness,inlier_ratio,trans_err_m,"
+           "yaw_err_rad";
+  }
+  out << '\n';
   out.precision(6);
   for (const auto& o : e.outcomes) {
     out << o.query << ',' << o.match << ',' << o.distance << ',' << o.yaw << ',' << int(o.revisit) << ','
-        << int(o.correct) << ',' << o.match_gap << ',' << o.true_yaw << '\n';
+        << int(o.correct) << ',' << o.match_gap << ',' << o.true_yaw;
+    if (e.verification) {
+      out << ',' << int(o.verified_match >= 0) << ',' << o.verified_match << ',' << int(o.verified_correct) << ','
+          << o.candidates_verified << ',' << o.fitness << ',' << o.inlier_ratio << ',' << o.translation_error << ','
+          << o.yaw_error;
+    }
+    out << '\n';
   }
   return out.good();
 }

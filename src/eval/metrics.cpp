@@ -96,5 +96,34 @@ Metrics computeMetrics(const std::vector<QueryOutcome>& outcomes, double thresho
   return m;
 }
 
+VerifiedMetrics computeVerifiedMetrics(const std::vector<QueryOutcome>& outcomes) {
+  VerifiedMetrics v;
+  std::size_t revisits = 0, candidates = 0;
+  std::vector<double> translation, yaw;
+  for (const auto& o : outcomes) {
+    revisits += o.revisit;
+    candidates += o.candidates_verified;
+    v.candidates_max = std::max(v.candidates_max, o.candidates_verified);
+    if (o.verified_match < 0) continue;
+    if (!o.verified_correct) {
+      ++v.false_positives;
+      continue;
+    }
+    ++v.true_positives;
+    translation.push_back(o.translation_error);
+    yaw.push_back(o.yaw_error * 180.0 / M_PI);
+  }
+  const std::size_t detections = v.true_positives + v.false_positives;
+  v.precision = detections > 0 ? double(v.true_positives) / detections : 1.0;
+  v.recall = revisits > 0 ? double(v.true_positives) / revisits : 0.0;
+  v.f1 = f1(v.precision, v.recall);
+  v.translation_error_median = percentile(translation, 0.5);
+  v.translation_error_p90 = percentile(translation, 0.9);
+  v.yaw_error_median = percentile(yaw, 0.5);
+  v.yaw_error_p90 = percentile(yaw, 0.9);
+  v.candidates_mean = outcomes.empty() ? 0.0 : double(candidates) / outcomes.size();
+  return v;
+}
+
 }  // namespace eval
 }  // namespace scan_context_loop

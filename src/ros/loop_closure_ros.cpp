@@ -51,6 +51,7 @@ bool LoopClosureRos::start() {
   detector_.reset(new LoopDetector(config_));
 
   loop_pub_ = nh_.advertise<scan_context_loop::LoopClosure>("loop_closures", 100);
+  if (config_.verify) rejected_pub_ = nh_.advertise<scan_context_loop::LoopClosure>("loop_candidates_rejected", 100);
   marker_pub_ = nh_.advertise<visualization_msgs::MarkerArray>("loop_markers", 1, true);
   if (options_.lio_sam_output) lio_pub_ = nh_.advertise<std_msgs::Float64MultiArray>("lio_loop", 100);
 
@@ -243,28 +244,34 @@ void LoopClosureRos::process(Item item) {
   stamps_.push_back(msg.header.stamp);
   database_size_ = detector_->database().size();
   last_query_ms_ = (detection.descriptor_seconds + detection.query_seconds) * 1e3;
-  if (detection.query.matched) publishLoop(detection, item);
+  publishLoop(detection, item);
   if (marker_pub_.getNumSubscribers() > 0) publishMarkers(item.pose_frame);
 }
 
-void LoopClosureRos::publishLoop(const Detection& detection, const Item& item) {
-  const Candidate& best = *detection.query.best();
-  ++loops_found_;
-  edges_.push_back({detection.index, best.index, best.alignment.distance});
-
+scan_context_loop::LoopClosure LoopClosureRos::makeLoop(const Detection& detection, const Item& item,
+                                                        std::size_t match, const Alignment& alignment,
+                                                        const VerificationResult* verification) const {
   scan_context_loop::LoopClosure loop;
   loop.header.stamp = item.cloud->header.stamp;
   loop.header.frame_id = item.pose_frame;
   loop.query_id = static_cast<std::uint32_t>(detection.index);
-  loop.match_id = static_cast<std::uint32_t>(best.index);
+  loop.match_id = static_cast<std::uint32_t>(match);
   loop.query_stamp = stamps_[detection.index];
-  loop.match_stamp = stamps_[best.index];
-  loop.distance = best.alignment.distance;
-  loop.yaw = best.alignment.yaw;
-  loop.shift = best.alignment.shift;
+  loop.match_stamp = stamps_[match];
+  loop.distance = alignment.distance;
+  loop.yaw = alignment.yaw;
+  loop.shift = alignment.shift;
+  if (verification != nullptr) {
+    // The registration's T_query<-match and covariance (row-major, x y z roll pitch yaw).
+    loop.relative_pose = tf2::toMsg(verification->relative);
+    for (int i = 0; i < 36; ++i) loop.covariance[i] = verification->covariance(i / 6, i % 6);
+    loop.verified = verification->accepted;
+    loop.fitness = verification->fitness;
+    return loop;
+  }
   // T_query<-match from the yaw prior alone: no translation yet, so its variance is large.
   Eigen::Isometry3d relative = Eigen::Isometry3d::Identity();
-  relative.linear() = Eigen::AngleAxisd(best.alignment.yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  relative.linear() = Eigen::AngleAxisd(alignment.yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
   loop.relative_pose = tf2::toMsg(relative);
   const double half_sector = M_PI / config_.num_sectors;
   const double diagonal[6] = {options_.covariance_translation, options_.covariance_translation,
@@ -273,9 +280,32 @@ void LoopClosureRos::publishLoop(const Detection& detection, const Item& item) {
   for (int i = 0; i < 6; ++i) loop.covariance[i * 6 + i] = diagonal[i];
   loop.verified = false;
   loop.fitness = 0.0;
+  return loop;
+}
+
+void LoopClosureRos::publishLoop(const Detection& detection, const Item& item) {
+  // Candidates that verification turned down, for diagnosis and RViz.
+  for (const auto& v : detection.verifications) {
+    if (v.result.accepted) continue;
+    rejected_edges_.push_back({detection.index, v.index, v.alignment.distance});
+    if (rejected_pub_.getNumSubscribers() > 0) {
+      rejected_pub_.publish(makeLoop(detection, item, v.index, v.alignment, &v.result));
+    }
+  }
+  if (!detection.loop()) return;
+  scan_context_loop::LoopClosure loop;
+  if (detection.verified) {
+    const VerifiedCandidate& v = detection.verifications.back();
+    loop = makeLoop(detection, item, v.index, v.alignment, &v.result);
+  } else {
+    const Candidate& best = *detection.query.best();
+    loop = makeLoop(detection, item, best.index, best.alignment, nullptr);
+  }
+  ++loops_found_;
+  edges_.push_back({loop.query_id, loop.match_id, loop.distance});
   loop_pub_.publish(loop);
-  ROS_DEBUG_NAMED(name_, "loop %u -> %u, distance %.3f, yaw %.1f deg", loop.query_id, loop.match_id, loop.distance,
-                  loop.yaw * 180.0 / M_PI);
+  ROS_DEBUG_NAMED(name_, "loop %u -> %u, distance %.3f, yaw %.1f deg%s", loop.query_id, loop.match_id, loop.distance,
+                  loop.yaw * 180.0 / M_PI, loop.verified ? ", verified" : "");
 
   if (options_.lio_sam_output) {
     std_msgs::Float64MultiArray hook;
@@ -285,9 +315,11 @@ void LoopClosureRos::publishLoop(const Detection& detection, const Item& item) {
 }
 
 void LoopClosureRos::publishMarkers(const std::string& frame) {
-  std::vector<LoopEdge> edges;
+  std::vector<LoopEdge> edges, rejected;
   for (const auto& e : edges_) edges.push_back({e.query, e.match, e.distance});
-  marker_pub_.publish(makeLoopMarkers(positions_, edges, frame, stamps_.back(), config_.distance_threshold));
+  for (const auto& e : rejected_edges_) rejected.push_back({e.query, e.match, e.distance});
+  marker_pub_.publish(
+      makeLoopMarkers(positions_, edges, rejected, frame, stamps_.back(), config_.distance_threshold));
 }
 
 void LoopClosureRos::diagnose(diagnostic_updater::DiagnosticStatusWrapper& status) {

@@ -40,7 +40,8 @@ visualization_msgs::Marker base(const std::string& frame, const ros::Time& stamp
 }  // namespace
 
 visualization_msgs::MarkerArray makeLoopMarkers(const std::vector<Eigen::Vector3d>& positions,
-                                                const std::vector<LoopEdge>& loops, const std::string& frame,
+                                                const std::vector<LoopEdge>& loops,
+                                                const std::vector<LoopEdge>& rejected, const std::string& frame,
                                                 const ros::Time& stamp, double threshold) {
   visualization_msgs::MarkerArray array;
   auto keyframes = base(frame, stamp, "keyframes", 0, visualization_msgs::Marker::SPHERE_LIST);
@@ -87,6 +88,15 @@ visualization_msgs::MarkerArray makeLoopMarkers(const std::vector<Eigen::Vector3
     array.markers.push_back(edges);
     array.markers.push_back(ends);
   }
+  auto turned_down = base(frame, stamp, "rejected", 0, visualization_msgs::Marker::LINE_LIST);
+  turned_down.scale.x = 0.2;
+  turned_down.color = colour(0.6f, 0.6f, 0.6f, 0.7f);
+  for (const auto& r : rejected) {
+    if (r.query >= positions.size() || r.match >= positions.size()) continue;
+    turned_down.points.push_back(point(positions[r.query]));
+    turned_down.points.push_back(point(positions[r.match]));
+  }
+  if (!turned_down.points.empty()) array.markers.push_back(turned_down);
   return array;
 }
 

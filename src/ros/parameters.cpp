@@ -18,6 +18,14 @@ std::vector<std::string> readParameters(const ros::NodeHandle& pnh, Config* c, R
   pnh.param("exclude_recent_frames", c->exclude_recent_frames, c->exclude_recent_frames);
   pnh.param("exclude_recent_seconds", c->exclude_recent_seconds, c->exclude_recent_seconds);
   pnh.param("exclude_recent_distance", c->exclude_recent_distance, c->exclude_recent_distance);
+  pnh.param("verify", c->verify, c->verify);
+  pnh.param("verify_threshold", c->verify_threshold, c->verify_threshold);
+  pnh.param("verify_max_candidates", c->verify_max_candidates, c->verify_max_candidates);
+  pnh.param("verify_max_bytes", c->verify_max_bytes, c->verify_max_bytes);
+  pnh.param("verify_voxel_leaf", c->verify_voxel_leaf, c->verify_voxel_leaf);
+  pnh.param("verify_max_range", c->verify_max_range, c->verify_max_range);
+  pnh.param("verify_min_inlier_ratio", c->verify_min_inlier_ratio, c->verify_min_inlier_ratio);
+  pnh.param("verify_max_fitness", c->verify_max_fitness, c->verify_max_fitness);
 
   pnh.param("pose_source", o->pose_source, o->pose_source);
   pnh.param("fixed_frame", o->fixed_frame, o->fixed_frame);

@@ -97,3 +97,40 @@ TEST(GroundTruth, RevisitNeedsAnEligibleKeyframeWithinTheRadius) {
 }  // namespace
 }  // namespace eval
 }  // namespace scan_context_loop
+
+namespace scan_context_loop {
+namespace eval {
+namespace {
+
+TEST(VerifiedMetrics, HandComputed) {
+  std::vector<QueryOutcome> o(5);
+  for (auto& q : o) q.revisit = true;
+  o[0].verified_match = 3;  // true positive
+  o[0].verified_correct = true;
+  o[0].translation_error = 0.1;
+  o[0].yaw_error = 1.0 * M_PI / 180.0;
+  o[0].candidates_verified = 1;
+  o[1].verified_match = 4;  // true positive
+  o[1].verified_correct = true;
+  o[1].translation_error = 0.3;
+  o[1].yaw_error = 3.0 * M_PI / 180.0;
+  o[1].candidates_verified = 2;
+  o[2].verified_match = 9;  // wrong place
+  o[2].candidates_verified = 2;
+  o[3].candidates_verified = 1;  // verified, none accepted
+  o[4].revisit = false;          // nothing verified
+  const VerifiedMetrics v = computeVerifiedMetrics(o);
+  EXPECT_EQ(v.true_positives, 2u);
+  EXPECT_EQ(v.false_positives, 1u);
+  EXPECT_DOUBLE_EQ(v.precision, 2.0 / 3.0);
+  EXPECT_DOUBLE_EQ(v.recall, 2.0 / 4.0);
+  EXPECT_DOUBLE_EQ(v.translation_error_median, 0.1);
+  EXPECT_DOUBLE_EQ(v.translation_error_p90, 0.3);
+  EXPECT_NEAR(v.yaw_error_p90, 3.0, 1e-9);
+  EXPECT_DOUBLE_EQ(v.candidates_mean, 6.0 / 5.0);
+  EXPECT_EQ(v.candidates_max, 2);
+}
+
+}  // namespace
+}  // namespace eval
+}  // namespace scan_context_loop

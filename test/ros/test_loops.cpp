@@ -15,8 +15,9 @@ double yawOf(const Eigen::Isometry3d& t) { return std::atan2(t(1, 0), t(0, 0)); 
 
 TEST(LoopClosureNode, PublishesTrueRevisitsWithTheirYawAndMarkers) {
   ros::NodeHandle nh, pnh("~");
-  bool expect_lio = false;
+  bool expect_lio = false, expect_verified = false;
   pnh.param("expect_lio", expect_lio, expect_lio);
+  pnh.param("expect_verified", expect_verified, expect_verified);
   Harness harness(nh);
   ASSERT_TRUE(harness.waitForNode(30.0)) << "the loop-closure node never subscribed";
   const Drive drive = blockDrive(true, 7);  // lap 2 drives lap 1 in reverse
@@ -38,12 +39,20 @@ TEST(LoopClosureNode, PublishesTrueRevisitsWithTheirYawAndMarkers) {
     const Eigen::Isometry3d truth = drive.truth[q].inverse() * drive.truth[m];
     EXPECT_LT(truth.translation().norm(), 5.0) << "loop " << q << " -> " << m << " is not a revisit";
     EXPECT_LT(std::fabs(wrapAngle(loop.yaw - yawOf(truth))), 6.0 * M_PI / 180.0) << "loop " << q << " -> " << m;
-    EXPECT_LT(loop.distance, 0.21);
     Eigen::Isometry3d relative;
     tf2::fromMsg(loop.relative_pose, relative);
-    EXPECT_NEAR(yawOf(relative), loop.yaw, 1e-6);
     EXPECT_GT(loop.covariance[35], 0.0);
-    EXPECT_FALSE(loop.verified);
+    EXPECT_EQ(loop.verified, expect_verified);
+    if (expect_verified) {
+      // The registered pose, not the prior: translation and yaw against the truth.
+      EXPECT_LT(loop.distance, 0.35);
+      EXPECT_LT((relative.translation() - truth.translation()).norm(), 0.3) << "loop " << q << " -> " << m;
+      EXPECT_LT(std::fabs(wrapAngle(yawOf(relative) - yawOf(truth))), 1.0 * M_PI / 180.0);
+      EXPECT_GT(loop.fitness, 0.0);
+    } else {
+      EXPECT_LT(loop.distance, 0.21);
+      EXPECT_NEAR(yawOf(relative), loop.yaw, 1e-6);
+    }
   }
 
   ASSERT_GT(harness.markerMessages(), 0u);

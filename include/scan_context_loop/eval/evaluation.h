@@ -34,8 +34,10 @@ bool loadSequence(const std::string& dir, const SequenceOptions& options, Sequen
 
 struct Evaluation {
   std::vector<QueryOutcome> outcomes;
-  std::vector<double> descriptor_ms, query_ms;
+  std::vector<double> descriptor_ms, query_ms, verify_ms;
   Metrics metrics;
+  bool verification = false;  ///< Config::verify was on: verified_* fields and metrics are filled
+  VerifiedMetrics verified;
   std::size_t rejected = 0;  ///< keyframes the detector refused (see errors)
   std::vector<std::string> errors;
 };

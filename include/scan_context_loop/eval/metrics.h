@@ -19,7 +19,28 @@ struct QueryOutcome {
   bool correct = false;     ///< the best candidate lies within the revisit radius
   double match_gap = -1.0;  ///< true distance between query and match [m], -1 without a match
   double true_yaw = 0.0;    ///< yaw of the match in the query frame from the true poses [rad]
+
+  // With verification (Config::verify):
+  int verified_match = -1;       ///< frame index of the accepted candidate, -1 when none was accepted
+  bool verified_correct = false; ///< the accepted candidate lies within the revisit radius
+  int candidates_verified = 0;
+  double fitness = 0.0, inlier_ratio = 0.0;
+  double translation_error = 0.0;  ///< |t_est - t_true| of the refined T_query<-match [m]
+  double yaw_error = 0.0;          ///< |yaw_est - yaw_true| of the refined pose [rad]
 };
+
+/// Verified loop decisions: each query is a detection when a candidate was accepted.
+struct VerifiedMetrics {
+  std::size_t true_positives = 0, false_positives = 0;
+  double precision = 1.0, recall = 0.0, f1 = 0.0;
+  /// Over the verified true positives.
+  double translation_error_median = 0.0, translation_error_p90 = 0.0;
+  double yaw_error_median = 0.0, yaw_error_p90 = 0.0;  ///< [deg]
+  double candidates_mean = 0.0;
+  int candidates_max = 0;
+};
+
+VerifiedMetrics computeVerifiedMetrics(const std::vector<QueryOutcome>& outcomes);
 
 /// Ground-truth protocol. `positions` are the true positions of the keyframes in arrival order.
 /// `eligible` keyframes (a prefix, as the database reports for this query) are the ones outside the

@@ -23,6 +23,7 @@
 #include <tf2_ros/transform_listener.h>
 
 #include "scan_context_loop/detector.h"
+#include "scan_context_loop/LoopClosure.h"
 #include "scan_context_loop/ros/parameters.h"
 
 namespace scan_context_loop {
@@ -58,6 +59,8 @@ class LoopClosureRos {
   bool lookUpPose(Item* item);
   bool selectKeyframe(const Eigen::Isometry3d& pose);
   void publishLoop(const Detection& detection, const Item& item);
+  scan_context_loop::LoopClosure makeLoop(const Detection& detection, const Item& item, std::size_t match,
+                                          const Alignment& alignment, const VerificationResult* verification) const;
   void publishMarkers(const std::string& frame);
   void checkSynchronisation(const ros::WallTimerEvent&);
   void diagnose(diagnostic_updater::DiagnosticStatusWrapper& status);
@@ -73,7 +76,7 @@ class LoopClosureRos {
   std::unique_ptr<message_filters::Synchronizer<ApproxPolicy>> approx_sync_;
   std::unique_ptr<message_filters::Synchronizer<ExactPolicy>> exact_sync_;
   ros::Subscriber cloud_only_sub_;
-  ros::Publisher loop_pub_, marker_pub_, lio_pub_;
+  ros::Publisher loop_pub_, rejected_pub_, marker_pub_, lio_pub_;
   std::unique_ptr<tf2_ros::Buffer> tf_buffer_;
   std::unique_ptr<tf2_ros::TransformListener> tf_listener_;
   ros::WallTimer sync_timer_;
@@ -100,7 +103,7 @@ class LoopClosureRos {
     std::size_t query, match;
     double distance;
   };
-  std::vector<Edge> edges_;
+  std::vector<Edge> edges_, rejected_edges_;
   bool has_last_keyframe_ = false;
   Eigen::Isometry3d last_keyframe_pose_ = Eigen::Isometry3d::Identity();
 };

@@ -16,9 +16,11 @@ struct LoopEdge {
 };
 
 /// Keyframe positions (spheres), the trajectory (a line strip), loop edges (lines from green at
-/// distance 0 to red at the threshold) and a label per loop ("query -> match, distance").
+/// distance 0 to red at the threshold), a label per loop ("query -> match, distance"), and candidates
+/// that verification rejected as thin grey lines.
 visualization_msgs::MarkerArray makeLoopMarkers(const std::vector<Eigen::Vector3d>& positions,
-                                                const std::vector<LoopEdge>& loops, const std::string& frame,
+                                                const std::vector<LoopEdge>& loops,
+                                                const std::vector<LoopEdge>& rejected, const std::string& frame,
                                                 const ros::Time& stamp, double threshold);
 
 }  // namespace scan_context_loop
