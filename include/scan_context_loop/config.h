@@ -61,6 +61,11 @@ struct Config {
   /// (needs poses; keyframes added without a pose do not advance the path length).
   double exclude_recent_distance = 0.0;
 
+  /// Candidates whose odometry position is farther than this from the query's are dropped [m]
+  /// (0 disables; needs poses). Off by default: odometry drifts, and a revisit after a long loop can
+  /// be tens of metres away in odometry while it is the same place.
+  double gate_odometry_distance = 0.0;
+
   // ---- geometric verification (verification.h) ----------------------------------------------
   /// Verify candidates by registration; a loop is then reported only when one is accepted.
   bool verify = false;

@@ -159,6 +159,11 @@ QueryResult Database::query(const Descriptor& descriptor, const KeyframeInfo& in
   for (const auto& [d2, index] : tree_->nearest(descriptor.ring_key.data(), want)) {
     if (index >= eligible) continue;
     if (result.candidates.size() >= static_cast<std::size_t>(config_.num_candidates)) break;
+    if (config_.gate_odometry_distance > 0.0 && info.pose && keyframes_[index].info.pose &&
+        (info.pose->translation() - keyframes_[index].info.pose->translation()).norm() >
+            config_.gate_odometry_distance) {
+      continue;  // too far away by odometry
+    }
     Candidate c;
     c.index = index;
     c.ring_key_distance = std::sqrt(std::max(0.0f, d2));

@@ -139,6 +139,27 @@ TEST(Database, KdTreeReturnsTheBruteForceNearestRingKeys) {
   EXPECT_EQ(db.size(), 3000u);
 }
 
+TEST(Database, OdometryGateDropsFarCandidates) {
+  Config config = windows(0, 0.0, 0.0);
+  const Descriptor d = descriptorWithKey(std::vector<float>(20, 0.5f), config);
+  for (double gate : {0.0, 50.0}) {
+    config.gate_odometry_distance = gate;
+    Database db(config);
+    ASSERT_TRUE(db.add(at(0, 0.0), d));    // 0 m
+    ASSERT_TRUE(db.add(at(1, 100.0), d));  // 100 m
+    const QueryResult r = db.query(d, at(2, 10.0));
+    if (gate == 0.0) {
+      EXPECT_EQ(candidateSet(r), (std::set<std::size_t>{0, 1}));
+    } else {
+      EXPECT_EQ(candidateSet(r), (std::set<std::size_t>{0}));  // keyframe 1 is 90 m away
+    }
+    // A query without a pose is not gated.
+    KeyframeInfo no_pose;
+    no_pose.stamp = 3;
+    EXPECT_EQ(db.query(d, no_pose).candidates.size(), 2u);
+  }
+}
+
 TEST(Database, RejectsBadKeyframesAndKeepsItsContents) {
   Config config;
   Database db(config);
