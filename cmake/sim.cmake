@@ -1,6 +1,8 @@
 # Street LiDAR simulator: a ROS-free library, and a tool that also writes rosbags.
 add_library(scan_context_loop_sim
   src/sim/world.cpp
+  src/sim/placement.cpp
+  src/sim/street_generator.cpp
   src/sim/sensor.cpp
   src/sim/trajectory.cpp
   src/sim/sequence_writer.cpp
@@ -13,6 +15,8 @@ target_include_directories(scan_context_simulate PRIVATE ${catkin_INCLUDE_DIRS})
 target_link_libraries(scan_context_simulate scan_context_loop_sim ${catkin_LIBRARIES})
 
 if(CATKIN_ENABLE_TESTING)
-  catkin_add_gtest(test_sim test/test_main.cpp test/sim/test_sim.cpp)
+  catkin_add_gtest(test_sim test/test_main.cpp test/sim/test_world.cpp test/sim/test_sensor.cpp
+    test/sim/test_trajectory.cpp test/sim/test_sequence.cpp)
   target_link_libraries(test_sim scan_context_loop_sim scan_context_loop_core)
+  target_compile_definitions(test_sim PRIVATE SCL_SHARED_DATA="${SCL_SHARED_DATA}")
 endif()

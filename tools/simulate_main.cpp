@@ -27,7 +27,7 @@ layout: velodyne/%06d.bin, poses.txt (ground truth), odom_poses.txt (drifted odo
 calib.txt (Tr: identity, so poses.txt holds LiDAR poses), sequence.txt (what was simulated).
 
 trajectory (one of):
-  --procedural               a 2.2 km city drive with same-direction, reverse and one-lane-offset
+  --procedural               a 2.1 km city drive with same-direction, reverse and one-lane-offset
                              revisits (default)
   --kitti-poses DIR          a real KITTI trajectory: DIR/poses.txt, DIR/calib.txt, DIR/times.txt
   --first N, --last N        frame window of the KITTI trajectory (default: all)
@@ -39,14 +39,20 @@ sensor:
   --dropout P                probability a return is lost (default 0.02)
   --max-range M              maximum range [m] (default: the sensor's, 100-120)
   --mount-height M           sensor height above the ground [m] (default 1.73)
+  --dim-range M              range at which a dim return (10 % reflectivity, head-on) is detected half
+                             the time; brighter surfaces reach further, grazing ground fades sooner
+                             (default: the sensor's, 55-80; 0: no fading)
   --voxel M                  write clouds downsampled to M-metre voxels (default 0: raw scans)
 
 world and odometry:
   --seed N                   world, noise and drift seed (default 1)
-  --dynamic-cars F           fraction of parked cars present only part of the time (default 0.3)
-  --drift-trans F            odometry translation error sigma per metre travelled (default 0.01)
-  --drift-yaw-per-m D        odometry yaw error sigma per metre travelled [deg/m] (default 0.01)
-  --drift-yaw-per-deg F      odometry yaw error sigma per degree turned (default 0.01)
+  --dynamic-cars F           fraction of parked cars that leave, arrive or move a few metres at some
+                             time during the drive, so revisits differ (default 0.3)
+  --drift-trans F            odometry translation error per metre travelled (default 0.01: 1 %)
+  --drift-yaw-per-m D        odometry heading error per metre travelled [deg/m] (default 0.003)
+  --drift-yaw F, --drift-yaw-per-deg F
+                             odometry heading error per degree turned [deg/deg] (default 0.005)
+  --drift-correlation M      distance over which the odometry's error biases change [m] (default 300)
 
 rosbag:
   --bag FILE                 also write a bag: keyframe clouds (PointCloud2, x y z intensity, sensor
@@ -58,6 +64,11 @@ rosbag:
   --odom-frame F             (default odom)
 
   --threads N                ray-casting threads (default: all cores)
+
+scripts/simulate only:
+  --render                   also render OUT_DIR/render_map.png (whole map), render_detail.png (120 m
+                             around keyframe 20) and render_scan.png (keyframe 20: top-down, side view,
+                             range image) with scripts/render_sequence.py
 )";
 
 struct Options {
@@ -66,7 +77,7 @@ struct Options {
   int first = 0, last = -1;
   double spacing = 2.0;
   std::string sensor = "hdl64";
-  double noise = -1, dropout = -1, max_range = -1, mount = -1, voxel = 0;
+  double noise = -1, dropout = -1, max_range = -1, mount = -1, dim_range = -1, voxel = 0;
   std::uint32_t seed = 1;
   double dynamic_cars = 0.3;
   sim::DriftOptions drift;
@@ -81,9 +92,11 @@ bool parse(int argc, char** argv, Options* o, std::string* error) {
                                                  {"--sensor-frame", &o->bag.sensor_frame}, {"--odom-frame", &o->bag.odom_frame}};
   std::map<std::string, double*> numbers = {
       {"--keyframe-spacing", &o->spacing}, {"--noise", &o->noise}, {"--dropout", &o->dropout},
-      {"--max-range", &o->max_range}, {"--mount-height", &o->mount}, {"--voxel", &o->voxel},
+      {"--max-range", &o->max_range}, {"--mount-height", &o->mount}, {"--dim-range", &o->dim_range},
+      {"--voxel", &o->voxel},
       {"--dynamic-cars", &o->dynamic_cars}, {"--drift-trans", &o->drift.translation_per_metre},
-      {"--drift-yaw-per-m", &o->drift.yaw_per_metre}, {"--drift-yaw-per-deg", &o->drift.yaw_per_degree}};
+      {"--drift-yaw-per-m", &o->drift.yaw_per_metre}, {"--drift-yaw-per-deg", &o->drift.yaw_per_degree},
+      {"--drift-yaw", &o->drift.yaw_per_degree}, {"--drift-correlation", &o->drift.correlation_length}};
   std::map<std::string, int*> integers = {{"--first", &o->first}, {"--last", &o->last}, {"--threads", &o->threads}};
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
@@ -115,6 +128,8 @@ bool parse(int argc, char** argv, Options* o, std::string* error) {
   if (o->out.empty()) *error = "OUT_DIR is missing";
   else if (!(o->spacing > 0.0)) *error = "--keyframe-spacing must be positive";
   else if (o->dropout >= 1.0) *error = "--dropout must be below 1";
+  else if (o->drift.translation_per_metre < 0 || o->drift.yaw_per_metre < 0 || o->drift.yaw_per_degree < 0)
+    *error = "drift rates must be >= 0";
   else if (o->voxel < 0.0) *error = "--voxel must be >= 0";
   return error->empty();
 }
@@ -143,6 +158,7 @@ int main(int argc, char** argv) {
   if (o.dropout >= 0) sensor.dropout = static_cast<float>(o.dropout);
   if (o.max_range > 0) sensor.max_range = static_cast<float>(o.max_range);
   if (o.mount > 0) sensor.mount_height = static_cast<float>(o.mount);
+  if (o.dim_range >= 0) sensor.dim_range = static_cast<float>(o.dim_range);
 
   // The drive: every source frame (for the world) and the keyframes along it.
   std::vector<sim::PathPoint> path;
@@ -208,11 +224,15 @@ int main(int argc, char** argv) {
        << "frames: " << o.first << " .. " << (o.last < 0 ? std::string("end") : std::to_string(o.last)) << "\n"
        << "keyframes: " << keyframes.size() << "\nkeyframe_spacing_m: " << o.spacing << "\nlength_m: " << length
        << "\nsensor: " << sensor.name << "\nbeams: " << sensor.elevations_deg.size() << "\ncolumns: " << sensor.columns
-       << "\nrange_noise_m: " << sensor.range_noise << "\ndropout: " << sensor.dropout << "\nmax_range_m: "
-       << sensor.max_range << "\nmount_height_m: " << sensor.mount_height << "\nvoxel_m: " << o.voxel
-       << "\nseed: " << o.seed << "\nworld_primitives: " << world.size() << "\ndrift_translation_per_m: "
+       << "\nelevation_top_deg: " << sensor.elevations_deg.front()
+       << "\nelevation_bottom_deg: " << sensor.elevations_deg.back() << "\nrange_noise_m: " << sensor.range_noise
+       << "\ndropout: " << sensor.dropout << "\nmax_range_m: " << sensor.max_range
+       << "\ndim_range_m: " << sensor.dim_range << "\nmount_height_m: " << sensor.mount_height
+       << "\nvoxel_m: " << o.voxel << "\nseed: " << o.seed << "\nworld_primitives: " << world.size()
+       << "\ndynamic_car_fraction: " << o.dynamic_cars << "\ndrift_translation_per_m: "
        << o.drift.translation_per_metre << "\ndrift_yaw_deg_per_m: " << o.drift.yaw_per_metre
-       << "\ndrift_yaw_per_deg: " << o.drift.yaw_per_degree << "\n";
+       << "\ndrift_yaw_per_deg: " << o.drift.yaw_per_degree
+       << "\ndrift_correlation_m: " << o.drift.correlation_length << "\nseconds: " << seconds << "\n";
 
   if (!o.bag.path.empty()) {
     if (!sim::writeBag(o.out, truth, data.odometry, data.times, o.bag, &error)) {

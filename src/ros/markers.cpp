@@ -89,8 +89,8 @@ visualization_msgs::MarkerArray makeLoopMarkers(const std::vector<Eigen::Vector3
     array.markers.push_back(ends);
   }
   auto turned_down = base(frame, stamp, "rejected", 0, visualization_msgs::Marker::LINE_LIST);
-  turned_down.scale.x = 0.2;
-  turned_down.color = colour(0.6f, 0.6f, 0.6f, 0.7f);
+  turned_down.scale.x = 0.15;
+  turned_down.color = colour(0.6f, 0.6f, 0.6f, 0.25f);
   for (const auto& r : rejected) {
     if (r.query >= positions.size() || r.match >= positions.size()) continue;
     turned_down.points.push_back(point(positions[r.query]));

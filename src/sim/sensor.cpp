@@ -1,5 +1,6 @@
 #include "scan_context_loop/sim/sensor.h"
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 
@@ -16,13 +17,15 @@ std::vector<float> uniformBeams(int n, float top, float bottom) {
 
 float reflectivity(Material m) {
   switch (m) {
-    case Material::kGround: return 0.12f;
-    case Material::kBuilding: return 0.35f;
+    case Material::kGround: return 0.2f;
+    case Material::kPavement: return 0.28f;
+    case Material::kBuilding: return 0.32f;
     case Material::kWall: return 0.3f;
-    case Material::kCar: return 0.55f;
-    case Material::kTrunk: return 0.25f;
-    case Material::kFoliage: return 0.2f;
-    case Material::kPole: return 0.6f;
+    case Material::kCar: return 0.45f;
+    case Material::kTrunk: return 0.22f;
+    case Material::kFoliage: return 0.25f;
+    case Material::kPole: return 0.5f;
+    case Material::kSign: return 0.95f;
   }
   return 0.3f;
 }
@@ -38,19 +41,22 @@ bool sensorPreset(const std::string& name, SensorModel* model) {
     m.elevations_deg = uniformBeams(32, 2.0f, -8.33f);
     const auto lower = uniformBeams(32, -8.83f, -24.9f);
     m.elevations_deg.insert(m.elevations_deg.end(), lower.begin(), lower.end());
-    m.columns = 2000;
+    m.columns = 2000;  // 0.18 deg at 10 Hz
     m.max_range = 100.0f;
+    m.dim_range = 80.0f;
     m.mount_height = 1.73f;
   } else if (name == "vlp16") {
     m.elevations_deg = uniformBeams(16, 15.0f, -15.0f);
-    m.columns = 1800;
+    m.columns = 1800;  // 0.2 deg at 10 Hz
     m.max_range = 100.0f;
+    m.dim_range = 65.0f;
     m.range_noise = 0.03f;
     m.mount_height = 1.73f;
   } else if (name == "os1-64") {
     m.elevations_deg = uniformBeams(64, 16.6f, -16.6f);
     m.columns = 1024;
     m.max_range = 120.0f;
+    m.dim_range = 55.0f;
     m.range_noise = 0.03f;
     m.mount_height = 1.73f;
   } else {
@@ -86,14 +92,24 @@ pcl::PointCloud<pcl::PointXYZI> scan(const World& world, const SensorModel& sens
       ++ray;
       if (!world.cast(origin, direction, sensor.max_range, time, ray, &visit, &hit)) continue;
       if (unit(rng) < sensor.dropout) continue;
+      const float incidence = std::fabs(hit.normal.dot(direction));
+      const float reflectivity_seen = reflectivity(hit.material) * (0.3f + 0.7f * incidence);
+      if (sensor.dim_range > 0.0f) {
+        // Detected with probability 1 / (1 + (range / reach)^8): near certain well inside the reach,
+        // half at it, rare beyond.
+        const float reach = sensor.dim_range * std::sqrt(reflectivity_seen / 0.1f);
+        const float ratio2 = (hit.range / reach) * (hit.range / reach);
+        const float ratio8 = ratio2 * ratio2 * ratio2 * ratio2;
+        if (unit(rng) * (1.0f + ratio8) > 1.0f) continue;
+      }
       const float range = hit.range + noise(rng);
       if (range < sensor.min_range || range > sensor.max_range) continue;
-      const float incidence = std::fabs(hit.normal.dot(direction));
       pcl::PointXYZI p;
       p.x = local.x() * range;
       p.y = local.y() * range;
       p.z = local.z() * range;
-      p.intensity = std::min(1.0f, reflectivity(hit.material) * (0.4f + 0.6f * incidence) + 0.03f * unit(rng));
+      // Calibrated intensities depend on the surface more than on the angle.
+      p.intensity = std::min(1.0f, reflectivity(hit.material) * (0.6f + 0.4f * incidence) + 0.04f * unit(rng));
       cloud.push_back(p);
     }
   }

@@ -92,9 +92,15 @@ std::vector<std::size_t> keyframesEvery(const std::vector<PathPoint>& path, doub
 }
 
 Eigen::Isometry3d sensorPose(const World& world, const PathPoint& p, double mount_height) {
+  // The vehicle stands on the sloped ground: its up axis is the ground's normal, so it pitches and
+  // rolls with the slope, and the ground is level in the sensor frame as on a real car.
+  const double gx = (world.groundZ(p.x + 1.0, p.y) - world.groundZ(p.x - 1.0, p.y)) / 2.0;
+  const double gy = (world.groundZ(p.x, p.y + 1.0) - world.groundZ(p.x, p.y - 1.0)) / 2.0;
+  const Eigen::Vector3d up = Eigen::Vector3d(-gx, -gy, 1.0).normalized();
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
-  pose.linear() = Eigen::AngleAxisd(p.heading, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-  pose.translation() = Eigen::Vector3d(p.x, p.y, world.groundZ(p.x, p.y) + mount_height);
+  pose.linear() = Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitZ(), up).toRotationMatrix() *
+                  Eigen::AngleAxisd(p.heading, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  pose.translation() = Eigen::Vector3d(p.x, p.y, world.groundZ(p.x, p.y)) + mount_height * up;
   return pose;
 }
 
@@ -103,18 +109,29 @@ std::vector<Eigen::Isometry3d> driftedOdometry(const std::vector<Eigen::Isometry
   if (truth.empty()) return odom;
   std::mt19937 rng(options.seed);
   std::normal_distribution<double> gauss(0.0, 1.0);
+  // Biases: forward (scale), sideways and vertical translation error per metre, heading error per metre
+  // and per degree turned. Each is stationary with standard deviation `sigma`.
+  const double t = options.translation_per_metre;
+  const Eigen::Matrix<double, 5, 1> sigma =
+      (Eigen::Matrix<double, 5, 1>() << t / std::sqrt(2.0), t / std::sqrt(2.0), 0.2 * t,
+       options.yaw_per_metre * M_PI / 180.0, options.yaw_per_degree)
+          .finished();
+  Eigen::Matrix<double, 5, 1> bias;
+  for (int i = 0; i < 5; ++i) bias[i] = sigma[i] * gauss(rng);
   odom.push_back(truth.front());
   for (std::size_t k = 1; k < truth.size(); ++k) {
     const Eigen::Isometry3d delta = truth[k - 1].inverse() * truth[k];
     const double metres = delta.translation().norm();
     const Eigen::Matrix3d r = delta.linear();
-    const double turned_deg = std::fabs(std::atan2(r(1, 0), r(0, 0))) * 180.0 / M_PI;
-    const double sigma_t = options.translation_per_metre * metres;
-    const double sigma_yaw_deg = options.yaw_per_metre * metres + options.yaw_per_degree * turned_deg;
+    const double turned = std::atan2(r(1, 0), r(0, 0));
+    const double keep = options.correlation_length > 0.0 ? std::exp(-metres / options.correlation_length) : 1.0;
+    for (int i = 0; i < 5; ++i) bias[i] = keep * bias[i] + std::sqrt(1.0 - keep * keep) * sigma[i] * gauss(rng);
+    // White noise a tenth of the bias, so the odometry is not perfectly smooth.
     Eigen::Isometry3d error = Eigen::Isometry3d::Identity();
-    error.translation() = Eigen::Vector3d(gauss(rng), gauss(rng), 0.2 * gauss(rng)) * sigma_t;
-    error.linear() = Eigen::AngleAxisd(gauss(rng) * sigma_yaw_deg * M_PI / 180.0, Eigen::Vector3d::UnitZ())
-                         .toRotationMatrix();
+    error.translation() = metres * (bias.head<3>() + 0.1 * sigma.head<3>().cwiseProduct(
+                                                              Eigen::Vector3d(gauss(rng), gauss(rng), gauss(rng))));
+    const double yaw_error = bias[3] * metres + bias[4] * turned + 0.1 * sigma[3] * metres * gauss(rng);
+    error.linear() = Eigen::AngleAxisd(yaw_error, Eigen::Vector3d::UnitZ()).toRotationMatrix();
     odom.push_back(odom.back() * delta * error);
   }
   return odom;

@@ -79,15 +79,17 @@ TEST(LoopClosureNode, SurvivesBadInputAndStillFindsTheLoopsThatFollow) {
   harness.settle(3.0, 30.0);
 
   const auto loops = harness.loops();
-  ASSERT_GE(loops.size(), 10u) << "the node stopped finding loops after bad input";
+  std::size_t after_bad_input = 0;
   for (const auto& loop : loops) {
     const int q = keyframeAt(drive, harness.base, loop.query_stamp);
     const int m = keyframeAt(drive, harness.base, loop.match_stamp);
     ASSERT_GE(q, 0) << "a loop from a bad keyframe";
     ASSERT_GE(m, 0) << "a loop to a bad keyframe";
-    EXPECT_GE(static_cast<std::size_t>(q), half);
+    // Lap 1 closes on its own start too (a true revisit); what matters is that lap 2 still finds loops.
+    after_bad_input += static_cast<std::size_t>(q) >= half;
     EXPECT_LT((drive.truth[q].translation() - drive.truth[m].translation()).norm(), 5.0);
   }
+  EXPECT_GE(after_bad_input, 10u) << "the node stopped finding loops after bad input";
 }
 
 }  // namespace

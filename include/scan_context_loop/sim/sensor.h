@@ -22,6 +22,10 @@ struct SensorModel {
   float min_range = 0.9f;             ///< returns closer than this are dropped [m]
   float range_noise = 0.02f;          ///< Gaussian sigma [m]
   float dropout = 0.02f;              ///< probability that a return is lost
+  /// Range at which a dim return (reflectivity 0.1 at normal incidence) is detected half the time [m];
+  /// brighter surfaces reach further (with the square root of the reflectivity), and grazing ones --
+  /// distant ground -- fade sooner, as the rings of real scans do. 0: every return within max_range.
+  float dim_range = 100.0f;
   float mount_height = 1.73f;         ///< sensor above the ground [m]
 };
 

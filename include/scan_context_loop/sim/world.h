@@ -1,5 +1,6 @@
-// A procedural street world for simulating LiDAR scans: ground, buildings, walls and fences, parked
-// cars (some of which come and go), trees, poles and bushes, placed along a driven path.
+// A procedural street world for simulating LiDAR scans: ground and raised pavements, buildings, front
+// hedges, walls and fences, parked cars (some of which come, go or move between visits), trees, street
+// lights, signs and bushes, placed along a driven path; and ray casting through it.
 #pragma once
 
 #include <cstdint>
@@ -10,7 +11,17 @@
 namespace scan_context_loop {
 namespace sim {
 
-enum class Material : std::uint8_t { kGround, kBuilding, kWall, kCar, kTrunk, kFoliage, kPole };
+enum class Material : std::uint8_t {
+  kGround,    ///< asphalt
+  kPavement,  ///< raised concrete pavement between the kerb and the property line
+  kBuilding,
+  kWall,      ///< walls and fences
+  kCar,
+  kTrunk,
+  kFoliage,   ///< tree canopies, hedges, bushes
+  kPole,      ///< street lights and their arms
+  kSign       ///< retro-reflective sign boards
+};
 
 /// One solid. Boxes are vertical prisms with a yaw; cylinders are vertical; ellipsoids are axis-aligned.
 struct Primitive {
@@ -20,6 +31,10 @@ struct Primitive {
   Eigen::Vector3f half = Eigen::Vector3f::Ones();    ///< half extents (box), radius in x (cylinder), radii (ellipsoid)
   float yaw = 0.0f;                                  ///< box only
   float z0 = 0.0f, z1 = 1.0f;                        ///< box and cylinder vertical extent
+  /// Porous solids (foliage, hedges, wire fences; boxes and ellipsoids): the mean distance a ray travels
+  /// inside before something returns it [m], so canopies scatter returns through their depth and
+  /// let some rays through. 0: opaque.
+  float free_path = 0.0f;
   /// Present only for times in [present_from, present_to) (seconds); always present by default.
   double present_from = -1e300, present_to = 1e300;
 };
@@ -49,15 +64,21 @@ class World {
   std::size_t size() const { return primitives_.size(); }
 
  private:
-  bool intersect(const Primitive& p, const Eigen::Vector3f& o, const Eigen::Vector3f& d, float t_max, Hit* hit) const;
-
   std::vector<Primitive> primitives_;
+  std::vector<Eigen::Vector2f> yaw_axes_;  // cos and sin of each box's yaw, so rays need no trigonometry
   Eigen::Vector3d ground_ = Eigen::Vector3d::Zero();  // slope_x, slope_y, offset
   float cell_ = 4.0f;
   float min_x_ = 0.0f, min_y_ = 0.0f;
   int nx_ = 0, ny_ = 0;
   std::vector<std::vector<std::uint32_t>> cells_;
 };
+
+/// Nearest return of the ray origin + t * direction from one solid, for t in (0, t_max]. A ray starting
+/// inside a solid sees nothing of it (the sensor is never inside one). For a porous solid, `scatter` in
+/// [0, 1) picks how deep the ray gets: it returns from -free_path * ln(1 - scatter) past the surface,
+/// or passes through when that is beyond the far side.
+bool intersect(const Primitive& p, const Eigen::Vector3f& origin, const Eigen::Vector3f& direction, float t_max,
+               float scatter, Hit* hit);
 
 /// A pose along the driven path, for placing the street around it.
 struct PathPoint {
@@ -66,14 +87,18 @@ struct PathPoint {
 
 struct WorldOptions {
   std::uint32_t seed = 1;
-  double road_half_width = 6.0;   ///< kerb to road centre [m]: two lanes and parking
-  double ground_slope = 0.01;     ///< gentle slope of the ground plane (rise per metre)
-  double dynamic_car_fraction = 0.3;  ///< parked cars that are there only part of the time
-  double duration = 0.0;          ///< length of the drive [s], for placing the time windows of those cars
+  double road_half_width = 6.0;       ///< path (road centre) to kerb [m]: a lane and a parking lane
+  double ground_slope = 0.01;         ///< gentle slope of the ground plane (rise per metre)
+  double dynamic_car_fraction = 0.3;  ///< parked cars that leave, arrive or move during the drive
+  double duration = 0.0;              ///< length of the drive [s]; 0: every car stays put
+  double district_size = 160.0;       ///< side of the squares that share a street character [m]
 };
 
-/// Builds streets along the path: facades on both sides (4-30 m tall, with gaps), walls and fences,
-/// parked cars at the kerbs, trees, poles and bushes on the pavements, nothing on any road.
+/// Builds streets along the path. Each district-sized square of the map gets a character -- terraced
+/// blocks, detached houses with front gardens, a tree-lined avenue or an industrial estate -- that sets
+/// the building sizes, heights, setbacks and gaps, the front hedges, walls and fences, the street trees
+/// and how densely cars park. Nothing is ever placed on a road (within reach of any path point), so any
+/// path, including one that crosses or revisits itself, gets open streets.
 World generateWorld(const std::vector<PathPoint>& path, const WorldOptions& options);
 
 }  // namespace sim
