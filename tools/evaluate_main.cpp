@@ -128,6 +128,10 @@ int main(int argc, char** argv) {
                 "%.1f ms max\n",
                 v.candidates_mean, v.candidates_max, eval::percentile(result.verify_ms, 0.5),
                 eval::percentile(result.verify_ms, 0.99), eval::percentile(result.verify_ms, 1.0));
+    if (config.consistency_min_support > 0) {
+      std::printf("consistency check: %zu loops reported after their keyframe, %zu dropped without support\n",
+                  v.reported_late, result.loops_dropped);
+    }
   }
   return 0;
 }

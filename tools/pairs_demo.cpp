@@ -7,6 +7,7 @@
 
 #include "scan_context_loop/alignment.h"
 #include "scan_context_loop/descriptor.h"
+#include "scan_context_loop/detector.h"
 #include "scan_context_loop/kitti_io.h"
 
 namespace scl = scan_context_loop;
@@ -47,11 +48,12 @@ int main(int argc, char** argv) {
       {"00", 94, 198, "58 m apart, different places"},
       {"08", 720, 1500, "real reverse-direction revisit"},
   };
-  std::printf("threshold %.3f, %d rings x %d sectors, max radius %.0f m, ring key %s\n\n",
+  std::printf("threshold %.3f, %d rings x %d sectors, max radius %.0f m, ring key %s, lateral viewpoints every "
+              "%.1f m (%d a side); view = the viewpoint of the best distance\n\n",
               config.distance_threshold, config.num_rings, config.num_sectors, config.max_radius,
-              scl::ringKeyTypeName(config.ring_key));
-  std::printf("%-4s %6s %6s  %8s  %-5s  %9s  %9s  %7s  %s\n", "seq", "query", "match", "distance",
-              "match", "yaw [deg]", "true yaw", "apart", "");
+              scl::ringKeyTypeName(config.ring_key), config.lateral_offset_step, config.lateral_offset_count);
+  std::printf("%-4s %6s %6s  %8s  %6s  %-5s  %9s  %9s  %7s  %s\n", "seq", "query", "match", "distance",
+              "view", "match", "yaw [deg]", "true yaw", "apart", "");
   int wrong = 0;
   for (const auto& pair : pairs) {
     const std::string dir = data + "/kitti/" + pair.sequence;
@@ -62,15 +64,24 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "%s\n", error.c_str());
       return 1;
     }
-    const scl::Alignment al =
-        scl::align(scl::makeDescriptor(a, config), scl::makeDescriptor(b, config), config);
+    // From the sensor and from each lateral viewpoint (Config::lateral_offset_step), as the detector does.
+    const scl::Descriptor match_descriptor = scl::makeDescriptor(b, config);
+    scl::Alignment al = scl::align(scl::makeDescriptor(a, config), match_descriptor, config);
+    float view = 0.0f;
+    for (const Eigen::Vector2f& v : scl::lateralViewpoints(config)) {
+      const scl::Alignment other = scl::align(scl::makeDescriptor(a, config, v), match_descriptor, config);
+      if (other.distance < al.distance) {
+        al = other;
+        view = v.y();
+      }
+    }
     double true_yaw = 0.0, apart = 0.0;
     if (!truthYaw(dir, pair.query, pair.match, &true_yaw, &apart)) return 1;
     const bool match = al.distance < config.distance_threshold;
     const bool should = apart < 5.0;
     wrong += match != should;
-    std::printf("%-4s %6d %6d  %8.4f  %-5s  %9.2f  %9.2f  %5.1f m  %s\n", pair.sequence, pair.query,
-                pair.match, al.distance, match ? "yes" : "no", al.yaw * 180.0 / M_PI,
+    std::printf("%-4s %6d %6d  %8.4f  %+5.1fm  %-5s  %9.2f  %9.2f  %5.1f m  %s\n", pair.sequence, pair.query,
+                pair.match, al.distance, view, match ? "yes" : "no", al.yaw * 180.0 / M_PI,
                 true_yaw * 180.0 / M_PI, apart, pair.note);
   }
   std::printf("\n%d of %zu decisions disagree with the ground truth (revisit = under 5 m apart)\n", wrong,

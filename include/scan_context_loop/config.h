@@ -20,6 +20,14 @@ enum class RingKeyType {
 bool parseRingKeyType(const std::string& text, RingKeyType* out);
 const char* ringKeyTypeName(RingKeyType type);
 
+/// The PCL registration geometric verification runs (README, "Geometric verification", for the
+/// measurement behind the default).
+enum class RegistrationMethod { kGicp, kIcp, kNdt };
+
+/// Parses "gicp" / "icp" / "ndt"; returns false for anything else.
+bool parseRegistrationMethod(const std::string& text, RegistrationMethod* out);
+const char* registrationMethodName(RegistrationMethod method);
+
 /// Every tunable of the core. Members carry the documented defaults; call validate() before use.
 struct Config {
   // ---- descriptor -------------------------------------------------------------------------
@@ -51,6 +59,13 @@ struct Config {
   /// losing most reverse revisits (recall 0.28-0.37 on KITTI 08 at 0.15), which is what verification is
   /// for (README, "Choosing the threshold").
   double distance_threshold = 0.21;
+  /// Virtual viewpoints for revisits a lane or more to the side [m] (0 disables): besides the real one,
+  /// the query is described from lateral_offset_count points on each side along the sensor's y axis,
+  /// lateral_offset_step apart, and each of those descriptors searches the database too; a candidate
+  /// keeps the viewpoint it scored best from, which also seeds verification with that translation.
+  double lateral_offset_step = 0.0;
+  /// Virtual viewpoints on each side when lateral_offset_step > 0.
+  int lateral_offset_count = 1;
 
   // ---- exclusion of recent keyframes (each rule: 0 disables it) ---------------------------
   /// The most recent keyframes that are never candidates (the paper's 50).
@@ -83,6 +98,21 @@ struct Config {
   double verify_max_range = 40.0;
   double verify_min_inlier_ratio = 0.7;
   double verify_max_fitness = 0.15;
+  /// The registration verification runs.
+  RegistrationMethod verify_method = RegistrationMethod::kGicp;
+
+  // ---- pairwise consistency of verified loops (consistency.h) ---------------------------------
+  /// A verified loop is published only once at least this many other verified loops agree with it
+  /// (0 disables the check). Needs verify. Loops wait for that support for consistency_window keyframes.
+  int consistency_min_support = 0;
+  /// Keyframes a verified loop waits for support before it is dropped; loops whose queries are further
+  /// apart than this are not compared.
+  int consistency_window = 10;
+  /// Two loops agree when the cycle odometry - loop - odometry - loop closes within this translation
+  /// [m] and yaw [deg], plus consistency_drift times the odometry path length the cycle runs along.
+  double consistency_translation = 1.0;
+  double consistency_rotation = 2.0;
+  double consistency_drift = 0.05;
 
   /// Human-readable problems, empty when the configuration is usable.
   std::vector<std::string> validate() const;

@@ -29,6 +29,8 @@ struct Candidate {
   std::size_t index = 0;           ///< keyframe number in the database, 0-based in arrival order
   double ring_key_distance = 0.0;  ///< Euclidean distance between the ring keys
   Alignment alignment;             ///< full descriptor distance, shift and yaw prior
+  /// The virtual viewpoint (query frame) it was scored from; zero for the real one (see LoopDetector).
+  Eigen::Vector2d viewpoint = Eigen::Vector2d::Zero();
 };
 
 struct QueryResult {

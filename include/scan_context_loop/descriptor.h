@@ -55,11 +55,16 @@ struct HeightGrid {
   std::size_t points_skipped = 0;  ///< NaN/Inf or out of [min_range, max_radius]
 };
 
-HeightGrid makeHeightGrid(const PointView& points, const Config& config);
+/// `viewpoint` moves the grid's centre to (x, y) in the cloud's frame, axes unchanged: the scene as a
+/// sensor standing there would bin it (a virtual viewpoint; occlusions are not recomputed). The
+/// detector uses it to search for revisits a lane or two to the side (Config::lateral_offset_step).
+HeightGrid makeHeightGrid(const PointView& points, const Config& config,
+                          const Eigen::Vector2f& viewpoint = Eigen::Vector2f::Zero());
 
 template <typename PointT>
-HeightGrid makeHeightGrid(const pcl::PointCloud<PointT>& cloud, const Config& config) {
-  return makeHeightGrid(viewOf(cloud), config);
+HeightGrid makeHeightGrid(const pcl::PointCloud<PointT>& cloud, const Config& config,
+                          const Eigen::Vector2f& viewpoint = Eigen::Vector2f::Zero()) {
+  return makeHeightGrid(viewOf(cloud), config, viewpoint);
 }
 
 /// What the distance and the database need, in float, about 5 KB at 20 x 60.
@@ -84,11 +89,13 @@ struct Descriptor {
 
 Descriptor makeDescriptor(const HeightGrid& grid, const Config& config);
 
-Descriptor makeDescriptor(const PointView& points, const Config& config);
+Descriptor makeDescriptor(const PointView& points, const Config& config,
+                          const Eigen::Vector2f& viewpoint = Eigen::Vector2f::Zero());
 
 template <typename PointT>
-Descriptor makeDescriptor(const pcl::PointCloud<PointT>& cloud, const Config& config) {
-  return makeDescriptor(viewOf(cloud), config);
+Descriptor makeDescriptor(const pcl::PointCloud<PointT>& cloud, const Config& config,
+                          const Eigen::Vector2f& viewpoint = Eigen::Vector2f::Zero()) {
+  return makeDescriptor(viewOf(cloud), config, viewpoint);
 }
 
 }  // namespace scan_context_loop

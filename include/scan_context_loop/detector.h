@@ -1,11 +1,12 @@
-// Online loop detection: describe a keyframe, query the database, then add the keyframe.
+// Online loop detection: describe a keyframe, query the database, then add the keyframe; optionally
+// verify the candidates geometrically and check verified loops against each other.
 #pragma once
 
-#include <string>
-
 #include <memory>
+#include <string>
 #include <vector>
 
+#include "scan_context_loop/consistency.h"
 #include "scan_context_loop/database.h"
 #include "scan_context_loop/descriptor.h"
 #include "scan_context_loop/verification.h"
@@ -16,6 +17,7 @@ namespace scan_context_loop {
 struct VerifiedCandidate {
   std::size_t index = 0;  ///< candidate keyframe number
   Alignment alignment;    ///< its descriptor alignment (distance, yaw prior)
+  Eigen::Vector2d viewpoint = Eigen::Vector2d::Zero();  ///< the viewpoint it was found from
   VerificationResult result;
 };
 
@@ -23,21 +25,26 @@ struct Detection {
   bool accepted = false;     ///< false: the keyframe was rejected (see error) and nothing changed
   std::string error;
   std::size_t index = 0;     ///< keyframe number given to the new keyframe
-  QueryResult query;         ///< candidates among the earlier keyframes
+  /// Candidates among the earlier keyframes, from every viewpoint (Config::lateral_offset_step), best
+  /// first, at most Config::num_candidates.
+  QueryResult query;
   std::size_t points_used = 0;
   std::size_t points_skipped = 0;
-  double descriptor_seconds = 0.0;  ///< making the descriptor
+  double descriptor_seconds = 0.0;  ///< making the descriptors (one per viewpoint)
   double query_seconds = 0.0;       ///< querying the database and adding the keyframe
 
-  /// With Config::verify: the candidates verified, in order; the last one is the accepted loop when
-  /// `verified` is set.
+  /// With Config::verify: the candidates verified, in order; the last one is accepted when `verified`.
   std::vector<VerifiedCandidate> verifications;
   bool verified = false;
   double verify_seconds = 0.0;
-
-  /// The loop decision: a verified candidate with Config::verify, else the descriptor match.
-  bool loop() const { return verified || (!verifications_enabled && query.matched); }
   bool verifications_enabled = false;
+
+  /// The loops to report now. Without verification: this keyframe's descriptor match. With it: this
+  /// keyframe's verified loop, or with the consistency check (Config::consistency_min_support) the
+  /// loops it confirmed now, which may belong to earlier keyframes (Loop::query says which).
+  std::vector<Loop> loops;
+  /// Verified loops that the consistency check gave up on at this keyframe (no support in time).
+  std::vector<Loop> dropped;
 };
 
 /// Not thread-safe (one owner thread), like Database.
@@ -45,7 +52,7 @@ class LoopDetector {
  public:
   explicit LoopDetector(const Config& config)
       : database_(config), store_(static_cast<std::size_t>(config.verify_max_bytes)),
-        verification_(verificationConfig(config)) {}
+        verification_(verificationConfig(config)), consistency_(config) {}
 
   Detection process(const PointView& points, const KeyframeInfo& info);
 
@@ -57,13 +64,22 @@ class LoopDetector {
   const Database& database() const { return database_; }
   const Config& config() const { return database_.config(); }
   const CloudStore& cloudStore() const { return store_; }
+  const ConsistencyFilter& consistency() const { return consistency_; }
 
  private:
+  /// Searches from the virtual viewpoints too and merges their candidates into detection->query.
+  void queryViewpoints(const PointView& points, const KeyframeInfo& info, Detection* detection);
   void verifyCandidates(const PointView& points, Detection* detection);
+  void decide(Detection* detection);
 
   Database database_;
   CloudStore store_;
   VerificationConfig verification_;
+  ConsistencyFilter consistency_;
 };
+
+/// The virtual viewpoints of Config::lateral_offset_step / lateral_offset_count along the sensor's y
+/// axis, nearest first (+step, -step, +2 step, ...), without the real one; empty when disabled.
+std::vector<Eigen::Vector2f> lateralViewpoints(const Config& config);
 
 }  // namespace scan_context_loop

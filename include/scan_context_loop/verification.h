@@ -44,6 +44,10 @@ struct VerificationConfig {
   /// registration moves 2 m), so a backend should never be told centimetres.
   double min_translation_variance = 0.01;
   double min_rotation_variance = 7.6e-5;  // (0.5 deg)^2
+  /// The registration (Config::verify_method).
+  RegistrationMethod method = RegistrationMethod::kGicp;
+  /// NDT voxel resolution [m] (method ndt only).
+  double ndt_resolution = 2.0;
 
   std::vector<std::string> validate() const;
 };
@@ -106,8 +110,13 @@ VerificationCloud prepareCloud(const PointView& points, const VerificationConfig
 VerificationResult verify(const VerificationCloud& query, const VerificationCloud& match,
                           const Eigen::Isometry3d& initial, const VerificationConfig& config);
 
-/// The same, starting from the yaw prior alone: initial = Rz(yaw).
+/// The pose a descriptor match implies, T_query<-match: the match's sensor stands at `viewpoint` (the
+/// virtual viewpoint it was found from, zero for the real one) in the query's frame, turned by `yaw`.
+Eigen::Isometry3d priorPose(double yaw, const Eigen::Vector2d& viewpoint = Eigen::Vector2d::Zero());
+
+/// The same, starting from the descriptor prior: initial = priorPose(yaw, viewpoint).
 VerificationResult verifyWithYaw(const VerificationCloud& query, const VerificationCloud& match, double yaw,
-                                 const VerificationConfig& config);
+                                 const VerificationConfig& config,
+                                 const Eigen::Vector2d& viewpoint = Eigen::Vector2d::Zero());
 
 }  // namespace scan_context_loop

@@ -21,6 +21,22 @@ const char* ringKeyTypeName(RingKeyType type) {
   return type == RingKeyType::kOccupancy ? "occupancy" : "mean_height";
 }
 
+bool parseRegistrationMethod(const std::string& text, RegistrationMethod* out) {
+  if (text == "gicp") *out = RegistrationMethod::kGicp;
+  else if (text == "icp") *out = RegistrationMethod::kIcp;
+  else if (text == "ndt") *out = RegistrationMethod::kNdt;
+  else return false;
+  return true;
+}
+
+const char* registrationMethodName(RegistrationMethod method) {
+  switch (method) {
+    case RegistrationMethod::kIcp: return "icp";
+    case RegistrationMethod::kNdt: return "ndt";
+    default: return "gicp";
+  }
+}
+
 namespace {
 
 template <typename T>
@@ -49,6 +65,10 @@ std::vector<std::string> Config::validate() const {
           "search_ratio", search_ratio, "must be in [0, 1]");
   require(&e, std::isfinite(distance_threshold) && distance_threshold > 0.0 && distance_threshold <= 2.0,
           "distance_threshold", distance_threshold, "must be in (0, 2]");
+  require(&e, std::isfinite(lateral_offset_step) && lateral_offset_step >= 0.0 && lateral_offset_step <= max_radius,
+          "lateral_offset_step", lateral_offset_step, "must be in [0, max_radius] (0 disables)");
+  require(&e, lateral_offset_count >= 1 && lateral_offset_count <= 10, "lateral_offset_count", lateral_offset_count,
+          "must be in [1, 10]");
   require(&e, exclude_recent_frames >= 0, "exclude_recent_frames", exclude_recent_frames,
           "must be >= 0 (0 disables)");
   require(&e, std::isfinite(exclude_recent_seconds) && exclude_recent_seconds >= 0.0,
@@ -71,6 +91,18 @@ std::vector<std::string> Config::validate() const {
           verify_min_inlier_ratio, "must be in [0, 1]");
   require(&e, std::isfinite(verify_max_fitness) && verify_max_fitness > 0.0, "verify_max_fitness",
           verify_max_fitness, "must be positive");
+  require(&e, consistency_min_support >= 0 && consistency_min_support <= 100, "consistency_min_support",
+          consistency_min_support, "must be in [0, 100] (0 disables)");
+  require(&e, consistency_min_support == 0 || verify, "consistency_min_support", consistency_min_support,
+          "needs verify: true (it compares the registered relative poses)");
+  require(&e, consistency_window >= 1 && consistency_window <= 100000, "consistency_window", consistency_window,
+          "must be in [1, 100000]");
+  require(&e, std::isfinite(consistency_translation) && consistency_translation > 0.0, "consistency_translation",
+          consistency_translation, "must be positive");
+  require(&e, std::isfinite(consistency_rotation) && consistency_rotation > 0.0, "consistency_rotation",
+          consistency_rotation, "must be positive");
+  require(&e, std::isfinite(consistency_drift) && consistency_drift >= 0.0, "consistency_drift", consistency_drift,
+          "must be >= 0");
   return e;
 }
 
@@ -112,9 +144,11 @@ const std::vector<std::string>& configKeys() {
   static const std::vector<std::string> keys = {
       "num_rings",      "num_sectors",        "max_radius",           "min_range",
       "lidar_height",   "ring_key",           "num_candidates",       "search_ratio",
-      "distance_threshold", "exclude_recent_frames", "exclude_recent_seconds", "exclude_recent_distance",
+      "distance_threshold", "lateral_offset_step", "lateral_offset_count", "exclude_recent_frames", "exclude_recent_seconds", "exclude_recent_distance",
       "gate_odometry_distance", "verify", "verify_threshold",   "verify_max_candidates", "verify_max_bytes",
-      "verify_voxel_leaf", "verify_max_range", "verify_min_inlier_ratio", "verify_max_fitness"};
+      "verify_voxel_leaf", "verify_max_range", "verify_min_inlier_ratio", "verify_max_fitness",
+      "verify_method", "consistency_min_support", "consistency_window", "consistency_translation",
+      "consistency_rotation", "consistency_drift"};
   return keys;
 }
 
@@ -130,6 +164,8 @@ bool setConfigValue(Config* config, const std::string& key, const std::string& v
   else if (key == "num_candidates") ok = parseInt(value, &c.num_candidates);
   else if (key == "search_ratio") ok = parseDouble(value, &c.search_ratio);
   else if (key == "distance_threshold") ok = parseDouble(value, &c.distance_threshold);
+  else if (key == "lateral_offset_step") ok = parseDouble(value, &c.lateral_offset_step);
+  else if (key == "lateral_offset_count") ok = parseInt(value, &c.lateral_offset_count);
   else if (key == "exclude_recent_frames") ok = parseInt(value, &c.exclude_recent_frames);
   else if (key == "exclude_recent_seconds") ok = parseDouble(value, &c.exclude_recent_seconds);
   else if (key == "exclude_recent_distance") ok = parseDouble(value, &c.exclude_recent_distance);
@@ -142,6 +178,12 @@ bool setConfigValue(Config* config, const std::string& key, const std::string& v
   else if (key == "verify_max_range") ok = parseDouble(value, &c.verify_max_range);
   else if (key == "verify_min_inlier_ratio") ok = parseDouble(value, &c.verify_min_inlier_ratio);
   else if (key == "verify_max_fitness") ok = parseDouble(value, &c.verify_max_fitness);
+  else if (key == "verify_method") ok = parseRegistrationMethod(value, &c.verify_method);
+  else if (key == "consistency_min_support") ok = parseInt(value, &c.consistency_min_support);
+  else if (key == "consistency_window") ok = parseInt(value, &c.consistency_window);
+  else if (key == "consistency_translation") ok = parseDouble(value, &c.consistency_translation);
+  else if (key == "consistency_rotation") ok = parseDouble(value, &c.consistency_rotation);
+  else if (key == "consistency_drift") ok = parseDouble(value, &c.consistency_drift);
   else {
     if (error) *error = "unknown configuration key '" + key + "'";
     return false;

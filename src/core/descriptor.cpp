@@ -43,6 +43,7 @@ inline float loadFloat(const std::uint8_t* p) {
 struct Binning {
   int rings, sectors;
   float min2, max2, ring_scale, sector_scale, h0;
+  float view_x, view_y;  ///< the viewpoint the grid is made from, subtracted from every x and y
 };
 
 // One portable binary, with AVX-512 and AVX2/FMA clones picked at run time where the CPU has them
@@ -64,6 +65,7 @@ SCL_CLONES std::size_t binPoints(const PointView& points, const Binning& b, floa
   const int sectors = b.sectors;
   const float min2 = b.min2, max2 = b.max2, ring_scale = b.ring_scale, sector_scale = b.sector_scale;
   const float h0 = b.h0;
+  const float view_x = b.view_x, view_y = b.view_y;
   // Three passes per block: gather x, y, z into contiguous arrays; a branch-free pass that turns them
   // into (bin, height), which the compiler vectorises (the library is built with -fno-math-errno and
   // -fno-trapping-math for this; NaN semantics are untouched); then the scatter of maxima, spread over
@@ -81,8 +83,8 @@ SCL_CLONES std::size_t binPoints(const PointView& points, const Binning& b, floa
     const std::uint8_t* block = base + start * points.stride;
     for (std::size_t i = 0; i < n; ++i) {
       const std::uint8_t* p = block + i * points.stride;
-      xs[i] = loadFloat(p + points.offset_x);
-      ys[i] = loadFloat(p + points.offset_y);
+      xs[i] = loadFloat(p + points.offset_x) - view_x;
+      ys[i] = loadFloat(p + points.offset_y) - view_y;
       zs[i] = loadFloat(p + points.offset_z) + h0;
     }
     for (std::size_t i = 0; i < n; ++i) {
@@ -109,7 +111,7 @@ SCL_CLONES std::size_t binPoints(const PointView& points, const Binning& b, floa
 
 }  // namespace
 
-HeightGrid makeHeightGrid(const PointView& points, const Config& config) {
+HeightGrid makeHeightGrid(const PointView& points, const Config& config, const Eigen::Vector2f& viewpoint) {
   const int rings = config.num_rings;
   const int sectors = config.num_sectors;
   const float max_r = static_cast<float>(config.max_radius);
@@ -119,7 +121,9 @@ HeightGrid makeHeightGrid(const PointView& points, const Config& config) {
                         max_r * max_r,
                         static_cast<float>(rings) / max_r,
                         static_cast<float>(sectors) / kTwoPi,
-                        static_cast<float>(config.lidar_height)};
+                        static_cast<float>(config.lidar_height),
+                        viewpoint.x(),
+                        viewpoint.y()};
   constexpr float kEmpty = -std::numeric_limits<float>::infinity();
   // Row-major scratch (ring, sector) so that one ring's sectors are contiguous while binning.
   const std::size_t cells = static_cast<std::size_t>(rings) * sectors + 1;
@@ -176,8 +180,8 @@ Descriptor makeDescriptor(const HeightGrid& grid, const Config& config) {
   return d;
 }
 
-Descriptor makeDescriptor(const PointView& points, const Config& config) {
-  return makeDescriptor(makeHeightGrid(points, config), config);
+Descriptor makeDescriptor(const PointView& points, const Config& config, const Eigen::Vector2f& viewpoint) {
+  return makeDescriptor(makeHeightGrid(points, config, viewpoint), config);
 }
 
 std::size_t Descriptor::bytes() const {

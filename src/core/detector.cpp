@@ -1,31 +1,82 @@
 #include "scan_context_loop/detector.h"
 
+#include <algorithm>
 #include <chrono>
 
 namespace scan_context_loop {
 
+namespace {
+using Clock = std::chrono::steady_clock;
+double secondsSince(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+}  // namespace
+
+std::vector<Eigen::Vector2f> lateralViewpoints(const Config& config) {
+  std::vector<Eigen::Vector2f> views;
+  if (!(config.lateral_offset_step > 0.0)) return views;
+  const float step = static_cast<float>(config.lateral_offset_step);
+  for (int k = 1; k <= config.lateral_offset_count; ++k) {
+    views.emplace_back(0.0f, k * step);
+    views.emplace_back(0.0f, -k * step);
+  }
+  return views;
+}
+
 Detection LoopDetector::process(const PointView& points, const KeyframeInfo& info) {
   Detection detection;
-  using Clock = std::chrono::steady_clock;
+  const Config& config = database_.config();
   if (!database_.acceptable(info, &detection.error)) return detection;
   const auto t0 = Clock::now();
-  const HeightGrid grid = makeHeightGrid(points, database_.config());
+  const HeightGrid grid = makeHeightGrid(points, config);
   detection.points_used = grid.points_used;
   detection.points_skipped = grid.points_skipped;
-  Descriptor descriptor = makeDescriptor(grid, database_.config());
+  Descriptor descriptor = makeDescriptor(grid, config);
+  detection.descriptor_seconds = secondsSince(t0);
   const auto t1 = Clock::now();
-  // Query before adding, so the keyframe never finds itself.
+  // Query (from every viewpoint) before adding, so the keyframe never finds itself.
   detection.query = database_.query(descriptor, info);
+  detection.query_seconds = secondsSince(t1);
+  if (!descriptor.empty()) queryViewpoints(points, info, &detection);
+  const auto t2 = Clock::now();
   detection.index = database_.size();
   detection.accepted = database_.add(info, std::move(descriptor), &detection.error);
-  detection.descriptor_seconds = std::chrono::duration<double>(t1 - t0).count();
-  detection.query_seconds = std::chrono::duration<double>(Clock::now() - t1).count();
-  if (detection.accepted && database_.config().verify) verifyCandidates(points, &detection);
+  detection.query_seconds += secondsSince(t2);
+  if (!detection.accepted) return detection;
+  if (config.verify) verifyCandidates(points, &detection);
+  decide(&detection);
   return detection;
 }
 
+void LoopDetector::queryViewpoints(const PointView& points, const KeyframeInfo& info, Detection* detection) {
+  const Config& config = database_.config();
+  const std::vector<Eigen::Vector2f> views = lateralViewpoints(config);
+  if (views.empty()) return;
+  std::vector<Candidate>& merged = detection->query.candidates;
+  for (const Eigen::Vector2f& view : views) {
+    const auto t0 = Clock::now();
+    const Descriptor d = makeDescriptor(points, config, view);
+    const auto t1 = Clock::now();
+    detection->descriptor_seconds += std::chrono::duration<double>(t1 - t0).count();
+    QueryResult r = database_.query(d, info);
+    for (Candidate& c : r.candidates) {
+      c.viewpoint = view.cast<double>();
+      auto same = std::find_if(merged.begin(), merged.end(), [&](const Candidate& m) { return m.index == c.index; });
+      if (same == merged.end()) {
+        merged.push_back(c);
+      } else if (c.alignment.distance < same->alignment.distance) {
+        *same = c;
+      }
+    }
+    detection->query_seconds += secondsSince(t1);
+  }
+  std::stable_sort(merged.begin(), merged.end(), [](const Candidate& a, const Candidate& b) {
+    return a.alignment.distance < b.alignment.distance;
+  });
+  if (merged.size() > static_cast<std::size_t>(config.num_candidates)) merged.resize(config.num_candidates);
+  detection->query.matched = !merged.empty() && merged.front().alignment.distance < config.distance_threshold;
+}
+
 void LoopDetector::verifyCandidates(const PointView& points, Detection* detection) {
-  const auto start = std::chrono::steady_clock::now();
+  const auto start = Clock::now();
   const Config& config = database_.config();
   detection->verifications_enabled = true;
   VerificationCloud cloud = prepareCloud(points, verification_);
@@ -36,11 +87,12 @@ void LoopDetector::verifyCandidates(const PointView& points, Detection* detectio
     VerifiedCandidate v;
     v.index = c.index;
     v.alignment = c.alignment;
+    v.viewpoint = c.viewpoint;
     const VerificationCloud* stored = store_.get(c.index);
     if (stored == nullptr) {
       v.result.reason = "unverifiable: the candidate's cloud was dropped to stay within verify_max_bytes";
     } else {
-      v.result = verifyWithYaw(cloud, *stored, c.alignment.yaw, verification_);
+      v.result = verifyWithYaw(cloud, *stored, c.alignment.yaw, verification_, c.viewpoint);
     }
     detection->verifications.push_back(v);
     if (v.result.accepted) {
@@ -49,7 +101,38 @@ void LoopDetector::verifyCandidates(const PointView& points, Detection* detectio
     }
   }
   store_.add(detection->index, std::move(cloud));
-  detection->verify_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  detection->verify_seconds = secondsSince(start);
+}
+
+void LoopDetector::decide(Detection* detection) {
+  const Config& config = database_.config();
+  if (!config.verify) {
+    if (!detection->query.matched) return;
+    const Candidate& best = *detection->query.best();
+    Loop loop;
+    loop.query = detection->index;
+    loop.match = best.index;
+    loop.viewpoint = best.viewpoint;
+    loop.alignment = best.alignment;
+    detection->loops.push_back(loop);
+    return;
+  }
+  const bool check = config.consistency_min_support > 0;
+  if (check) consistency_.advance(detection->index, &detection->dropped);
+  if (!detection->verified) return;
+  const VerifiedCandidate& v = detection->verifications.back();
+  Loop loop;
+  loop.query = detection->index;
+  loop.match = v.index;
+  loop.viewpoint = v.viewpoint;
+  loop.alignment = v.alignment;
+  loop.verified = true;
+  loop.verification = v.result;
+  if (check) {
+    consistency_.offer(loop, database_, &detection->loops);
+  } else {
+    detection->loops.push_back(loop);
+  }
 }
 
 }  // namespace scan_context_loop

@@ -9,6 +9,8 @@
 #include <pcl/filters/voxel_grid.h>
 #include <pcl/kdtree/kdtree_flann.h>
 #include <pcl/registration/gicp.h>
+#include <pcl/registration/icp.h>
+#include <pcl/registration/ndt.h>
 
 namespace scan_context_loop {
 
@@ -23,6 +25,7 @@ std::vector<std::string> VerificationConfig::validate() const {
   positive(fine_correspondence, "verify_fine_correspondence");
   positive(inlier_distance, "verify_inlier_distance");
   positive(max_fitness, "verify_max_fitness");
+  positive(ndt_resolution, "verify_ndt_resolution");
   positive(min_translation_variance, "verify_min_translation_variance");
   positive(min_rotation_variance, "verify_min_rotation_variance");
   if (min_points < 3) e.push_back("verify_min_points must be >= 3");
@@ -125,20 +128,33 @@ VerificationResult verify(const VerificationCloud& query, const VerificationClou
   }
   if (!initial.matrix().allFinite()) return finish("initial guess is not finite");
 
+  // Coarse, then fine: the first stage pulls in a translation the prior lacks (a wide correspondence
+  // distance, or NDT's coarser cells), the second settles on the local surfaces.
   pcl::GeneralizedIterativeClosestPoint<pcl::PointXYZ, pcl::PointXYZ> gicp;
-  gicp.setInputSource(match.makeShared());
-  gicp.setInputTarget(query.makeShared());
-  gicp.setMaximumIterations(config.max_iterations);
-  gicp.setTransformationEpsilon(1e-6);
+  pcl::IterativeClosestPoint<pcl::PointXYZ, pcl::PointXYZ> icp;
+  pcl::NormalDistributionsTransform<pcl::PointXYZ, pcl::PointXYZ> ndt;
+  pcl::Registration<pcl::PointXYZ, pcl::PointXYZ>* registration = &gicp;
+  if (config.method == RegistrationMethod::kIcp) registration = &icp;
+  if (config.method == RegistrationMethod::kNdt) {
+    ndt.setStepSize(0.5);
+    registration = &ndt;
+  }
+  registration->setInputSource(match.makeShared());
+  registration->setInputTarget(query.makeShared());
+  registration->setMaximumIterations(config.max_iterations);
+  registration->setTransformationEpsilon(1e-6);
   VerificationCloud aligned;
   Eigen::Matrix4f guess = initial.matrix().cast<float>();
-  // Coarse, then fine: the wide correspondence distance pulls in a translation the prior lacks, the
-  // narrow one settles on the local surfaces.
-  for (double distance : {config.coarse_correspondence, config.fine_correspondence}) {
-    gicp.setMaxCorrespondenceDistance(distance);
-    gicp.align(aligned, guess);
-    if (!gicp.hasConverged()) return finish("registration did not converge");
-    guess = gicp.getFinalTransformation();
+  for (int stage = 0; stage < 2; ++stage) {
+    if (config.method == RegistrationMethod::kNdt) {
+      ndt.setResolution(static_cast<float>(stage == 0 ? 2.0 * config.ndt_resolution : config.ndt_resolution));
+    } else {
+      registration->setMaxCorrespondenceDistance(stage == 0 ? config.coarse_correspondence
+                                                            : config.fine_correspondence);
+    }
+    registration->align(aligned, guess);
+    if (!registration->hasConverged()) return finish("registration did not converge");
+    guess = registration->getFinalTransformation();
   }
   r.relative.matrix() = guess.cast<double>();
   if (!r.relative.matrix().allFinite()) return finish("registration diverged");
@@ -158,6 +174,7 @@ VerificationConfig verificationConfig(const Config& c) {
   v.max_range = c.verify_max_range;
   v.min_inlier_ratio = c.verify_min_inlier_ratio;
   v.max_fitness = c.verify_max_fitness;
+  v.method = c.verify_method;
   return v;
 }
 
@@ -191,11 +208,16 @@ std::size_t CloudStore::stored() const {
   return n;
 }
 
+Eigen::Isometry3d priorPose(double yaw, const Eigen::Vector2d& viewpoint) {
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  pose.linear() = Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  pose.translation() << viewpoint.x(), viewpoint.y(), 0.0;
+  return pose;
+}
+
 VerificationResult verifyWithYaw(const VerificationCloud& query, const VerificationCloud& match, double yaw,
-                                 const VerificationConfig& config) {
-  Eigen::Isometry3d initial = Eigen::Isometry3d::Identity();
-  initial.linear() = Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-  return verify(query, match, initial, config);
+                                 const VerificationConfig& config, const Eigen::Vector2d& viewpoint) {
+  return verify(query, match, priorPose(yaw, viewpoint), config);
 }
 
 }  // namespace scan_context_loop

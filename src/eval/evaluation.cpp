@@ -74,6 +74,7 @@ Evaluation evaluate(const Sequence& s, const Config& config, double revisit_radi
   LoopDetector detector(config);
   std::vector<Eigen::Vector3d> positions;  // true positions of the accepted keyframes
   std::vector<std::size_t> keyframe_of;    // detector index -> position in the sequence
+  std::vector<long> outcome_of;            // detector index -> position in e.outcomes, -1 for none
   for (std::size_t k = 0; k < s.frames.size(); ++k) {
     pcl::PointCloud<pcl::PointXYZI> cloud;
     std::string error;
@@ -113,19 +114,26 @@ Evaluation evaluate(const Sequence& s, const Config& config, double revisit_radi
     if (d.verifications_enabled) {
       e.verify_ms.push_back(d.verify_seconds * 1e3);
       o.candidates_verified = static_cast<int>(d.verifications.size());
-      if (d.verified) {
-        const VerifiedCandidate& v = d.verifications.back();
-        const std::size_t m = keyframe_of[v.index];
-        const Eigen::Isometry3d truth = s.truth[k].inverse() * s.truth[m];
-        o.verified_match = s.frames[m];
-        o.verified_correct = truth.translation().norm() < revisit_radius;
-        o.fitness = v.result.fitness;
-        o.inlier_ratio = v.result.inlier_ratio;
-        o.translation_error = (v.result.relative.translation() - truth.translation()).norm();
-        o.yaw_error = std::fabs(wrapAngle(yawOf(v.result.relative) - yawOf(truth)));
-      }
     }
+    outcome_of.resize(d.index + 1, -1);
+    outcome_of[d.index] = static_cast<long>(e.outcomes.size());
     e.outcomes.push_back(o);
+    // Loops may be reported a few keyframes after their query (consistency check): score each one on
+    // its own query's outcome.
+    e.loops_dropped += d.dropped.size();
+    for (const Loop& loop : d.verifications_enabled ? d.loops : std::vector<Loop>()) {
+      if (loop.query >= outcome_of.size() || outcome_of[loop.query] < 0) continue;
+      QueryOutcome& q = e.outcomes[outcome_of[loop.query]];
+      const std::size_t qk = keyframe_of[loop.query], mk = keyframe_of[loop.match];
+      const Eigen::Isometry3d truth = s.truth[qk].inverse() * s.truth[mk];
+      q.verified_match = s.frames[mk];
+      q.verified_correct = truth.translation().norm() < revisit_radius;
+      q.fitness = loop.verification.fitness;
+      q.inlier_ratio = loop.verification.inlier_ratio;
+      q.translation_error = (loop.verification.relative.translation() - truth.translation()).norm();
+      q.yaw_error = std::fabs(wrapAngle(yawOf(loop.verification.relative) - yawOf(truth)));
+      q.reported_late = loop.query != d.index;
+    }
   }
   e.metrics = computeMetrics(e.outcomes, config.distance_threshold);
   e.verification = config.verify;
@@ -194,8 +202,20 @@ bool writeMetricsJson(const std::string& path, const Evaluation& e, const Sequen
       << "  \"descriptor_ms\": {\"median\": " << percentile(e.descriptor_ms, 0.5)
       << ", \"p99\": " << percentile(e.descriptor_ms, 0.99) << "},\n"
       << "  \"query_ms\": {\"median\": " << percentile(e.query_ms, 0.5) << ", \"p99\": " << percentile(e.query_ms, 0.99)
-      << "}\n"
-      << "}\n";
+      << "}";
+  if (e.verification) {
+    const VerifiedMetrics& v = e.verified;
+    out << ",\n  \"verified\": {\"true_positives\": " << v.true_positives << ", \"false_positives\": "
+        << v.false_positives << ", \"precision\": " << v.precision << ", \"recall\": " << v.recall
+        << ", \"f1\": " << v.f1 << ", \"translation_error_m\": {\"median\": " << v.translation_error_median
+        << ", \"p90\": " << v.translation_error_p90 << "}, \"yaw_error_deg\": {\"median\": " << v.yaw_error_median
+        << ", \"p90\": " << v.yaw_error_p90 << "}, \"candidates_mean\": " << v.candidates_mean
+        << ", \"candidates_max\": " << v.candidates_max << ", \"reported_late\": " << v.reported_late
+        << ", \"dropped_by_consistency\": " << e.loops_dropped << ", \"verify_ms\": {\"median\": "
+        << percentile(e.verify_ms, 0.5) << ", \"p99\": " << percentile(e.verify_ms, 0.99)
+        << ", \"max\": " << percentile(e.verify_ms, 1.0) << "}}";
+  }
+  out << "\n}\n";
   return out.good();
 }
 

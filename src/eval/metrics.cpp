@@ -105,6 +105,7 @@ VerifiedMetrics computeVerifiedMetrics(const std::vector<QueryOutcome>& outcomes
     candidates += o.candidates_verified;
     v.candidates_max = std::max(v.candidates_max, o.candidates_verified);
     if (o.verified_match < 0) continue;
+    v.reported_late += o.reported_late;
     if (!o.verified_correct) {
       ++v.false_positives;
       continue;

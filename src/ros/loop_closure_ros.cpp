@@ -244,35 +244,33 @@ void LoopClosureRos::process(Item item) {
   stamps_.push_back(msg.header.stamp);
   database_size_ = detector_->database().size();
   last_query_ms_ = (detection.descriptor_seconds + detection.query_seconds) * 1e3;
-  publishLoop(detection, item);
+  publishLoops(detection, item.pose_frame);
   if (marker_pub_.getNumSubscribers() > 0) publishMarkers(item.pose_frame);
 }
 
-scan_context_loop::LoopClosure LoopClosureRos::makeLoop(const Detection& detection, const Item& item,
-                                                        std::size_t match, const Alignment& alignment,
-                                                        const VerificationResult* verification) const {
+scan_context_loop::LoopClosure LoopClosureRos::makeLoop(const Loop& found, const std::string& frame) const {
   scan_context_loop::LoopClosure loop;
-  loop.header.stamp = item.cloud->header.stamp;
-  loop.header.frame_id = item.pose_frame;
-  loop.query_id = static_cast<std::uint32_t>(detection.index);
-  loop.match_id = static_cast<std::uint32_t>(match);
-  loop.query_stamp = stamps_[detection.index];
-  loop.match_stamp = stamps_[match];
-  loop.distance = alignment.distance;
-  loop.yaw = alignment.yaw;
-  loop.shift = alignment.shift;
-  if (verification != nullptr) {
-    // The registration's T_query<-match and covariance (row-major, x y z roll pitch yaw).
-    loop.relative_pose = tf2::toMsg(verification->relative);
-    for (int i = 0; i < 36; ++i) loop.covariance[i] = verification->covariance(i / 6, i % 6);
-    loop.verified = verification->accepted;
-    loop.fitness = verification->fitness;
+  loop.header.stamp = stamps_[found.query];
+  loop.header.frame_id = frame;
+  loop.query_id = static_cast<std::uint32_t>(found.query);
+  loop.match_id = static_cast<std::uint32_t>(found.match);
+  loop.query_stamp = stamps_[found.query];
+  loop.match_stamp = stamps_[found.match];
+  loop.distance = found.alignment.distance;
+  loop.yaw = found.alignment.yaw;
+  loop.shift = found.alignment.shift;
+  loop.relative_pose = tf2::toMsg(found.relative());
+  loop.support = static_cast<std::uint32_t>(found.support);
+  if (found.verified || !found.verification.reason.empty()) {
+    // The registration's T_query<-match and covariance (row-major, x y z roll pitch yaw); for a
+    // rejected candidate, where registration left it.
+    loop.relative_pose = tf2::toMsg(found.verification.relative);
+    for (int i = 0; i < 36; ++i) loop.covariance[i] = found.verification.covariance(i / 6, i % 6);
+    loop.verified = found.verified;
+    loop.fitness = found.verification.fitness;
     return loop;
   }
-  // T_query<-match from the yaw prior alone: no translation yet, so its variance is large.
-  Eigen::Isometry3d relative = Eigen::Isometry3d::Identity();
-  relative.linear() = Eigen::AngleAxisd(alignment.yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-  loop.relative_pose = tf2::toMsg(relative);
+  // T_query<-match from the descriptor prior (yaw, and the viewpoint's offset): large variances.
   const double half_sector = M_PI / config_.num_sectors;
   const double diagonal[6] = {options_.covariance_translation, options_.covariance_translation,
                               options_.covariance_translation, options_.covariance_rotation,
@@ -283,34 +281,41 @@ scan_context_loop::LoopClosure LoopClosureRos::makeLoop(const Detection& detecti
   return loop;
 }
 
-void LoopClosureRos::publishLoop(const Detection& detection, const Item& item) {
-  // Candidates that verification turned down, for diagnosis and RViz.
+void LoopClosureRos::publishRejected(const Loop& rejected, const std::string& frame) {
+  rejected_edges_.push_back({rejected.query, rejected.match, rejected.alignment.distance});
+  if (rejected_pub_.getNumSubscribers() > 0) rejected_pub_.publish(makeLoop(rejected, frame));
+}
+
+void LoopClosureRos::publishLoops(const Detection& detection, const std::string& frame) {
+  // Candidates that verification turned down, and verified loops the consistency check dropped, for
+  // diagnosis and RViz.
   for (const auto& v : detection.verifications) {
     if (v.result.accepted) continue;
-    rejected_edges_.push_back({detection.index, v.index, v.alignment.distance});
-    if (rejected_pub_.getNumSubscribers() > 0) {
-      rejected_pub_.publish(makeLoop(detection, item, v.index, v.alignment, &v.result));
+    Loop rejected;
+    rejected.query = detection.index;
+    rejected.match = v.index;
+    rejected.viewpoint = v.viewpoint;
+    rejected.alignment = v.alignment;
+    rejected.verification = v.result;
+    publishRejected(rejected, frame);
+  }
+  for (Loop dropped : detection.dropped) {
+    dropped.verified = false;
+    dropped.verification.reason = "no consistent loop within consistency_window keyframes";
+    publishRejected(dropped, frame);
+  }
+  for (const Loop& found : detection.loops) {
+    const scan_context_loop::LoopClosure loop = makeLoop(found, frame);
+    ++loops_found_;
+    edges_.push_back({loop.query_id, loop.match_id, loop.distance});
+    loop_pub_.publish(loop);
+    ROS_DEBUG_NAMED(name_, "loop %u -> %u, distance %.3f, yaw %.1f deg%s", loop.query_id, loop.match_id,
+                    loop.distance, loop.yaw * 180.0 / M_PI, loop.verified ? ", verified" : "");
+    if (options_.lio_sam_output) {
+      std_msgs::Float64MultiArray hook;
+      hook.data = {loop.query_stamp.toSec(), loop.match_stamp.toSec()};
+      lio_pub_.publish(hook);
     }
-  }
-  if (!detection.loop()) return;
-  scan_context_loop::LoopClosure loop;
-  if (detection.verified) {
-    const VerifiedCandidate& v = detection.verifications.back();
-    loop = makeLoop(detection, item, v.index, v.alignment, &v.result);
-  } else {
-    const Candidate& best = *detection.query.best();
-    loop = makeLoop(detection, item, best.index, best.alignment, nullptr);
-  }
-  ++loops_found_;
-  edges_.push_back({loop.query_id, loop.match_id, loop.distance});
-  loop_pub_.publish(loop);
-  ROS_DEBUG_NAMED(name_, "loop %u -> %u, distance %.3f, yaw %.1f deg%s", loop.query_id, loop.match_id, loop.distance,
-                  loop.yaw * 180.0 / M_PI, loop.verified ? ", verified" : "");
-
-  if (options_.lio_sam_output) {
-    std_msgs::Float64MultiArray hook;
-    hook.data = {loop.query_stamp.toSec(), loop.match_stamp.toSec()};
-    lio_pub_.publish(hook);
   }
 }
 

@@ -15,6 +15,8 @@ std::vector<std::string> readParameters(const ros::NodeHandle& pnh, Config* c, R
   pnh.param("num_candidates", c->num_candidates, c->num_candidates);
   pnh.param("search_ratio", c->search_ratio, c->search_ratio);
   pnh.param("distance_threshold", c->distance_threshold, c->distance_threshold);
+  pnh.param("lateral_offset_step", c->lateral_offset_step, c->lateral_offset_step);
+  pnh.param("lateral_offset_count", c->lateral_offset_count, c->lateral_offset_count);
   pnh.param("exclude_recent_frames", c->exclude_recent_frames, c->exclude_recent_frames);
   pnh.param("exclude_recent_seconds", c->exclude_recent_seconds, c->exclude_recent_seconds);
   pnh.param("exclude_recent_distance", c->exclude_recent_distance, c->exclude_recent_distance);
@@ -27,6 +29,13 @@ std::vector<std::string> readParameters(const ros::NodeHandle& pnh, Config* c, R
   pnh.param("verify_max_range", c->verify_max_range, c->verify_max_range);
   pnh.param("verify_min_inlier_ratio", c->verify_min_inlier_ratio, c->verify_min_inlier_ratio);
   pnh.param("verify_max_fitness", c->verify_max_fitness, c->verify_max_fitness);
+  std::string verify_method = registrationMethodName(c->verify_method);
+  pnh.param("verify_method", verify_method, verify_method);
+  pnh.param("consistency_min_support", c->consistency_min_support, c->consistency_min_support);
+  pnh.param("consistency_window", c->consistency_window, c->consistency_window);
+  pnh.param("consistency_translation", c->consistency_translation, c->consistency_translation);
+  pnh.param("consistency_rotation", c->consistency_rotation, c->consistency_rotation);
+  pnh.param("consistency_drift", c->consistency_drift, c->consistency_drift);
 
   pnh.param("pose_source", o->pose_source, o->pose_source);
   pnh.param("fixed_frame", o->fixed_frame, o->fixed_frame);
@@ -47,6 +56,9 @@ std::vector<std::string> readParameters(const ros::NodeHandle& pnh, Config* c, R
   std::vector<std::string> problems;
   if (!parseRingKeyType(ring_key, &c->ring_key)) {
     problems.push_back("ring_key = " + ring_key + ": must be mean_height or occupancy");
+  }
+  if (!parseRegistrationMethod(verify_method, &c->verify_method)) {
+    problems.push_back("verify_method = " + verify_method + ": must be gicp, icp or ndt");
   }
   for (const auto& p : c->validate()) problems.push_back(p);
   const auto check = [&](bool ok, const std::string& text) {

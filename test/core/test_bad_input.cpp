@@ -96,6 +96,11 @@ TEST(BadInput, ConfigValidationNamesEachImpossibleValue) {
       {[](Config* c) { c->exclude_recent_frames = -1; }, "exclude_recent_frames"},
       {[](Config* c) { c->exclude_recent_seconds = -1; }, "exclude_recent_seconds"},
       {[](Config* c) { c->exclude_recent_distance = NAN; }, "exclude_recent_distance"},
+      {[](Config* c) { c->lateral_offset_step = -2; }, "lateral_offset_step"},
+      {[](Config* c) { c->lateral_offset_count = 0; }, "lateral_offset_count"},
+      {[](Config* c) { c->consistency_min_support = 1; }, "consistency_min_support"},  // without verify
+      {[](Config* c) { c->consistency_window = 0; }, "consistency_window"},
+      {[](Config* c) { c->consistency_drift = NAN; }, "consistency_drift"},
   };
   for (const auto& c : cases) {
     Config config;
@@ -108,6 +113,12 @@ TEST(BadInput, ConfigValidationNamesEachImpossibleValue) {
   EXPECT_TRUE(parseRingKeyType("mean_height", &type));
   EXPECT_EQ(type, RingKeyType::kMeanHeight);
   EXPECT_FALSE(parseRingKeyType("bogus", &type));
+  RegistrationMethod method;
+  for (auto m : {RegistrationMethod::kGicp, RegistrationMethod::kIcp, RegistrationMethod::kNdt}) {
+    EXPECT_TRUE(parseRegistrationMethod(registrationMethodName(m), &method));
+    EXPECT_EQ(method, m);
+  }
+  EXPECT_FALSE(parseRegistrationMethod("GICP ", &method));
 }
 
 }  // namespace
@@ -119,19 +130,25 @@ namespace {
 TEST(ConfigKeys, EveryKeyIsSettableAndBadValuesLeaveTheConfigAlone) {
   Config config;
   for (const std::string& key : configKeys()) {
-    const std::string value = key == "ring_key" ? "mean_height" : key == "verify" ? "true" : "3";
+    const std::string value = key == "ring_key"        ? "mean_height"
+                              : key == "verify"        ? "true"
+                              : key == "verify_method" ? "ndt"
+                                                       : "3";
     std::string error;
     EXPECT_TRUE(setConfigValue(&config, key, value, &error)) << key << ": " << error;
   }
   EXPECT_EQ(config.num_rings, 3);
   EXPECT_EQ(config.distance_threshold, 3.0);
   EXPECT_EQ(config.ring_key, RingKeyType::kMeanHeight);
+  EXPECT_EQ(config.verify_method, RegistrationMethod::kNdt);
+  EXPECT_EQ(config.lateral_offset_step, 3.0);
   const Config before = config;
   std::string error;
   EXPECT_FALSE(setConfigValue(&config, "num_rings", "20.5", &error));
   EXPECT_FALSE(setConfigValue(&config, "max_radius", "far", &error));
   EXPECT_NE(error.find("max_radius"), std::string::npos);
   EXPECT_FALSE(setConfigValue(&config, "ring_key", "median", &error));
+  EXPECT_FALSE(setConfigValue(&config, "verify_method", "sift", &error));
   EXPECT_FALSE(setConfigValue(&config, "rings", "20", &error));
   EXPECT_NE(error.find("unknown"), std::string::npos);
   EXPECT_EQ(config.num_rings, before.num_rings);

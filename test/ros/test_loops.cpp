@@ -16,7 +16,9 @@ double yawOf(const Eigen::Isometry3d& t) { return std::atan2(t(1, 0), t(0, 0)); 
 TEST(LoopClosureNode, PublishesTrueRevisitsWithTheirYawAndMarkers) {
   ros::NodeHandle nh, pnh("~");
   bool expect_lio = false, expect_verified = false;
+  int expect_support = 0;
   pnh.param("expect_lio", expect_lio, expect_lio);
+  pnh.param("expect_support", expect_support, expect_support);
   pnh.param("expect_verified", expect_verified, expect_verified);
   Harness harness(nh);
   ASSERT_TRUE(harness.waitForNode(30.0)) << "the loop-closure node never subscribed";
@@ -43,6 +45,7 @@ TEST(LoopClosureNode, PublishesTrueRevisitsWithTheirYawAndMarkers) {
     tf2::fromMsg(loop.relative_pose, relative);
     EXPECT_GT(loop.covariance[35], 0.0);
     EXPECT_EQ(loop.verified, expect_verified);
+    EXPECT_GE(loop.support, static_cast<std::uint32_t>(expect_support)) << "loop " << q << " -> " << m;
     if (expect_verified) {
       // The registered pose, not the prior: translation and yaw against the truth.
       EXPECT_LT(loop.distance, 0.35);

@@ -39,6 +39,7 @@ struct Evaluation {
   bool verification = false;  ///< Config::verify was on: verified_* fields and metrics are filled
   VerifiedMetrics verified;
   std::size_t rejected = 0;  ///< keyframes the detector refused (see errors)
+  std::size_t loops_dropped = 0;  ///< verified loops the consistency check dropped
   std::vector<std::string> errors;
 };
 

@@ -27,6 +27,7 @@ struct QueryOutcome {
   double fitness = 0.0, inlier_ratio = 0.0;
   double translation_error = 0.0;  ///< |t_est - t_true| of the refined T_query<-match [m]
   double yaw_error = 0.0;          ///< |yaw_est - yaw_true| of the refined pose [rad]
+  bool reported_late = false;      ///< the loop was reported after its query (consistency check)
 };
 
 /// Verified loop decisions: each query is a detection when a candidate was accepted.
@@ -38,6 +39,7 @@ struct VerifiedMetrics {
   double yaw_error_median = 0.0, yaw_error_p90 = 0.0;  ///< [deg]
   double candidates_mean = 0.0;
   int candidates_max = 0;
+  std::size_t reported_late = 0;  ///< loops reported after their own keyframe (consistency check)
 };
 
 VerifiedMetrics computeVerifiedMetrics(const std::vector<QueryOutcome>& outcomes);

@@ -58,9 +58,9 @@ class LoopClosureRos {
   void process(Item item);
   bool lookUpPose(Item* item);
   bool selectKeyframe(const Eigen::Isometry3d& pose);
-  void publishLoop(const Detection& detection, const Item& item);
-  scan_context_loop::LoopClosure makeLoop(const Detection& detection, const Item& item, std::size_t match,
-                                          const Alignment& alignment, const VerificationResult* verification) const;
+  void publishLoops(const Detection& detection, const std::string& frame);
+  void publishRejected(const Loop& rejected, const std::string& frame);
+  scan_context_loop::LoopClosure makeLoop(const Loop& loop, const std::string& frame) const;
   void publishMarkers(const std::string& frame);
   void checkSynchronisation(const ros::WallTimerEvent&);
   void diagnose(diagnostic_updater::DiagnosticStatusWrapper& status);

@@ -1,0 +1,74 @@
+// Pairwise consistency of loop closures, in the spirit of PCM (pairwise consistent measurement sets):
+// a loop is trusted only once other loops agree with it through the odometry.
+#pragma once
+
+#include <cstddef>
+#include <deque>
+#include <vector>
+
+#include <Eigen/Geometry>
+
+#include "scan_context_loop/alignment.h"
+#include "scan_context_loop/config.h"
+#include "scan_context_loop/verification.h"
+
+namespace scan_context_loop {
+
+class Database;
+
+/// A loop-closure constraint between keyframe `query` and the earlier keyframe `match`.
+struct Loop {
+  std::size_t query = 0, match = 0;
+  /// The virtual viewpoint (query frame, metres) the match was found from; zero for the real one.
+  Eigen::Vector2d viewpoint = Eigen::Vector2d::Zero();
+  Alignment alignment;
+  /// Geometric verification accepted it; `verification` then holds the registered pose.
+  bool verified = false;
+  VerificationResult verification;
+  /// Other loops that agreed with it (consistency check), when it was reported.
+  int support = 0;
+
+  /// T_query<-match: the registered pose when verified, else the descriptor prior
+  /// (priorPose(alignment.yaw, viewpoint)).
+  Eigen::Isometry3d relative() const;
+};
+
+/// Two loops a = (i <- j) and b = (k <- l) agree when the cycle
+/// T_i<-k (odometry) * T_k<-l (loop b) * T_l<-j (odometry) * T_j<-i (loop a, inverted)
+/// is the identity within Config::consistency_translation + consistency_drift * (odometry path i..k +
+/// path j..l) metres and consistency_rotation degrees. Keyframes without an odometry pose never agree.
+/// `translation_error` / `rotation_error` (metres, radians) receive the cycle's residual when given.
+bool loopsAgree(const Loop& a, const Loop& b, const Database& database, double* translation_error = nullptr,
+                double* rotation_error = nullptr);
+
+/// Online pairwise consistency check. Each verified loop waits, for up to Config::consistency_window
+/// keyframes, until Config::consistency_min_support other loops (earlier or later ones, whose queries
+/// lie within the window) agree with it; it is then confirmed and reported, possibly a few keyframes
+/// after its query. One that finds no support in time is dropped. A single wrong loop, which nothing
+/// else confirms, is never reported; a revisit, which gives a run of loops, is reported from its second
+/// loop on, together with the first. Not thread-safe (one owner, like Database).
+class ConsistencyFilter {
+ public:
+  explicit ConsistencyFilter(const Config& config) : config_(config) {}
+
+  /// Offers the loop of a new keyframe (queries in increasing order). Loops confirmed by it, earlier
+  /// waiting ones first and then possibly itself, are appended to `confirmed`.
+  void offer(const Loop& loop, const Database& database, std::vector<Loop>* confirmed);
+
+  /// Ends the wait of the loops too old for keyframe `query` to support; the unconfirmed ones are
+  /// appended to `dropped`. Call once per keyframe, before offer().
+  void advance(std::size_t query, std::vector<Loop>* dropped);
+
+  /// Loops still waiting for support.
+  std::size_t waiting() const;
+
+ private:
+  struct Entry {
+    Loop loop;
+    bool confirmed = false;
+  };
+  Config config_;
+  std::deque<Entry> recent_;  // loops whose query is within the window, oldest first
+};
+
+}  // namespace scan_context_loop

@@ -1,0 +1,135 @@
+// Pairwise consistency of loops through the odometry (ConsistencyFilter, loopsAgree).
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+#include "scan_context_loop/consistency.h"
+#include "scan_context_loop/database.h"
+#include "test_scenes.h"
+
+namespace scan_context_loop {
+namespace {
+
+/// A drive along x with a keyframe every 2 m, odometry poses given, and the descriptor of one scene
+/// (the consistency check reads only poses and path lengths).
+struct Drive {
+  explicit Drive(Config c) : config(c), database(c) {
+    const Descriptor d = makeDescriptor(test::streetScene(5), config);
+    for (int k = 0; k < 60; ++k) {
+      KeyframeInfo info;
+      info.stamp = k;
+      info.pose = pose(k);
+      EXPECT_TRUE(database.add(info, d));
+    }
+  }
+  static Eigen::Isometry3d pose(int k) {
+    Eigen::Isometry3d p = Eigen::Isometry3d::Identity();
+    p.translation() = Eigen::Vector3d(2.0 * k, 0.0, 0.0);
+    return p;
+  }
+  /// A loop whose relative pose is the odometry's, moved by (dx, dy) and turned by yaw_deg.
+  static Loop loop(int query, int match, double dx = 0.0, double dy = 0.0, double yaw_deg = 0.0) {
+    Loop l;
+    l.query = query;
+    l.match = match;
+    l.verified = true;
+    Eigen::Isometry3d error = Eigen::Isometry3d::Identity();
+    error.linear() = Eigen::AngleAxisd(yaw_deg * M_PI / 180.0, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+    error.translation() = Eigen::Vector3d(dx, dy, 0.0);
+    l.verification.relative = pose(query).inverse() * pose(match) * error;
+    return l;
+  }
+  Config config;
+  Database database;
+};
+
+Config checked() {
+  Config c;
+  c.verify = true;
+  c.consistency_min_support = 1;
+  c.consistency_window = 5;
+  return c;
+}
+
+TEST(Consistency, LoopsAgreeWhenTheCycleClosesWithinTheTolerances) {
+  Drive drive(checked());
+  double t = 0.0, r = 0.0;
+  EXPECT_TRUE(loopsAgree(Drive::loop(40, 2), Drive::loop(41, 3), drive.database, &t, &r));
+  EXPECT_NEAR(t, 0.0, 1e-9);
+  // Half a metre off: inside 1 m.
+  EXPECT_TRUE(loopsAgree(Drive::loop(40, 2, 0.5), Drive::loop(41, 3), drive.database, &t));
+  EXPECT_NEAR(t, 0.5, 1e-9);
+  // 3 m off, 1.5 deg: too far for keyframes 2 m apart (1 m + 5% of 4 m of path).
+  EXPECT_FALSE(loopsAgree(Drive::loop(40, 2, 3.0), Drive::loop(41, 3), drive.database));
+  // Turned by 5 deg: over 2 deg.
+  EXPECT_FALSE(loopsAgree(Drive::loop(40, 2, 0.0, 0.0, 5.0), Drive::loop(41, 3), drive.database, &t, &r));
+  EXPECT_NEAR(r, 5.0 * M_PI / 180.0, 1e-6);
+  // The drift allowance grows with the path the cycle runs along: 3 m off between loops 20 keyframes
+  // (40 m + 40 m of path) apart is within 1 m + 5% of 80 m.
+  EXPECT_TRUE(loopsAgree(Drive::loop(40, 2, 3.0), Drive::loop(20, 22), drive.database));
+  // A loop to the wrong place (it claims keyframe 20 sits where 2 is) agrees with nothing true.
+  Loop wrong = Drive::loop(41, 3);
+  wrong.match = 20;
+  EXPECT_FALSE(loopsAgree(Drive::loop(40, 2), wrong, drive.database));
+}
+
+TEST(Consistency, KeyframesWithoutPosesNeverAgree) {
+  Config c = checked();
+  Database database(c);
+  const Descriptor d = makeDescriptor(test::streetScene(5), c);
+  for (int k = 0; k < 10; ++k) {
+    KeyframeInfo info;
+    info.stamp = k;
+    ASSERT_TRUE(database.add(info, d));
+  }
+  EXPECT_FALSE(loopsAgree(Drive::loop(8, 1), Drive::loop(9, 2), database));
+}
+
+TEST(Consistency, FilterReportsARunOfAgreeingLoopsFromItsSecondLoopOnAndDropsALoneWrongOne) {
+  Drive drive(checked());
+  ConsistencyFilter filter(drive.config);
+  std::vector<Loop> confirmed, dropped;
+  const auto step = [&](const Loop& loop) {
+    confirmed.clear();
+    filter.advance(loop.query, &dropped);
+    filter.offer(loop, drive.database, &confirmed);
+  };
+  step(Drive::loop(40, 2));  // a true loop: waits for support
+  EXPECT_TRUE(confirmed.empty());
+  EXPECT_EQ(filter.waiting(), 1u);
+  Loop wrong = Drive::loop(41, 3);  // claims keyframe 20 stands where 3 does
+  wrong.match = 20;
+  step(wrong);
+  EXPECT_TRUE(confirmed.empty());
+  EXPECT_EQ(filter.waiting(), 2u);
+  step(Drive::loop(42, 4));  // agrees with the first: both are reported, the earlier one first
+  ASSERT_EQ(confirmed.size(), 2u);
+  EXPECT_EQ(confirmed[0].query, 40u);
+  EXPECT_EQ(confirmed[1].query, 42u);
+  EXPECT_EQ(confirmed[1].support, 1);
+  step(Drive::loop(43, 5));  // agrees with both at once
+  ASSERT_EQ(confirmed.size(), 1u);
+  EXPECT_EQ(confirmed[0].support, 2);
+  EXPECT_TRUE(dropped.empty());
+  // The wrong loop's wait ends after consistency_window keyframes, unconfirmed.
+  filter.advance(47, &dropped);
+  ASSERT_EQ(dropped.size(), 1u);
+  EXPECT_EQ(dropped[0].query, 41u);
+  EXPECT_EQ(dropped[0].match, 20u);
+  EXPECT_EQ(filter.waiting(), 0u);
+  // Loops further apart than the window are not compared: a true loop much later waits again.
+  step(Drive::loop(55, 17));
+  EXPECT_TRUE(confirmed.empty());
+  EXPECT_EQ(filter.waiting(), 1u);
+}
+
+TEST(Consistency, DetectorWithoutVerificationRefusesTheCheck) {
+  Config c;
+  c.consistency_min_support = 1;
+  EXPECT_FALSE(c.validate().empty());
+  c.verify = true;
+  EXPECT_TRUE(c.validate().empty());
+}
+
+}  // namespace
+}  // namespace scan_context_loop

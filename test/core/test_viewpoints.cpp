@@ -1,0 +1,99 @@
+// Virtual lateral viewpoints: the grid seen from a point beside the sensor, and the detector finding a
+// revisit one lane over through them.
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+#include "scan_context_loop/alignment.h"
+#include "scan_context_loop/detector.h"
+#include "test_scenes.h"
+
+namespace scan_context_loop {
+namespace {
+
+constexpr double kDeg = M_PI / 180.0;
+
+double yawOf(const Eigen::Isometry3d& t) { return std::atan2(t(1, 0), t(0, 0)); }
+
+TEST(Viewpoints, GridFromAViewpointIsTheGridOfTheShiftedCloud) {
+  Config config;
+  const auto cloud = test::streetScene(3);
+  const HeightGrid from_view = makeHeightGrid(cloud, config, Eigen::Vector2f(1.5f, -3.0f));
+  const HeightGrid shifted = makeHeightGrid(test::rotateTranslate(cloud, 0.0, -1.5, 3.0), config);
+  ASSERT_EQ(from_view.points_used, shifted.points_used);
+  EXPECT_LT((from_view.heights - shifted.heights).cwiseAbs().maxCoeff(), 1e-4f);
+  EXPECT_EQ(from_view.occupied, shifted.occupied);
+  // And it is not the grid of the real viewpoint.
+  EXPECT_GT((from_view.heights - makeHeightGrid(cloud, config).heights).cwiseAbs().maxCoeff(), 1.0f);
+}
+
+TEST(Viewpoints, LateralViewpointsAreNearestFirstOnBothSides) {
+  Config config;
+  EXPECT_TRUE(lateralViewpoints(config).empty());  // off by default in Config
+  config.lateral_offset_step = 2.5;
+  config.lateral_offset_count = 2;
+  const auto views = lateralViewpoints(config);
+  ASSERT_EQ(views.size(), 4u);
+  EXPECT_EQ(views[0], Eigen::Vector2f(0.0f, 2.5f));
+  EXPECT_EQ(views[1], Eigen::Vector2f(0.0f, -2.5f));
+  EXPECT_EQ(views[2], Eigen::Vector2f(0.0f, 5.0f));
+  EXPECT_EQ(views[3], Eigen::Vector2f(0.0f, -5.0f));
+}
+
+/// The street seen at the first visit, then again 4 m to the left and turned by 30 degrees.
+struct LaneChange {
+  pcl::PointCloud<pcl::PointXYZ> first = test::streetScene(11);
+  // T_query<-match = (Rz(30 deg), (0, 4)): the match's sensor stood 4 m to the query's left.
+  pcl::PointCloud<pcl::PointXYZ> again = test::rotateTranslate(first, 30.0 * kDeg, 0.0, 4.0);
+
+  Detection run(Config config) const {
+    config.exclude_recent_frames = 0;
+    LoopDetector detector(config);
+    KeyframeInfo info;
+    info.stamp = 0.0;
+    detector.process(first, info);
+    info.stamp = 1.0;
+    return detector.process(again, info);
+  }
+};
+
+TEST(Viewpoints, DetectorFindsARevisitOneLaneOverFromTheMatchingViewpoint) {
+  const LaneChange scene;
+  Config plain;
+  const Detection without = scene.run(plain);
+  ASSERT_NE(without.query.best(), nullptr);
+  Config config;
+  config.lateral_offset_step = 4.0;
+  const Detection with = scene.run(config);
+  ASSERT_NE(with.query.best(), nullptr);
+  const Candidate& best = *with.query.best();
+  EXPECT_EQ(best.index, 0u);
+  EXPECT_NEAR(best.viewpoint.x(), 0.0, 1e-9);
+  EXPECT_NEAR(best.viewpoint.y(), 4.0, 1e-9);
+  EXPECT_LT(best.alignment.distance, 0.5 * without.query.best()->alignment.distance)
+      << "from the viewpoint " << best.alignment.distance << ", from the sensor "
+      << without.query.best()->alignment.distance;
+  EXPECT_TRUE(with.query.matched);
+  EXPECT_NEAR(best.alignment.yaw, 30.0 * kDeg, 3.0 * kDeg);
+  // The loop carries the viewpoint as its translation prior.
+  ASSERT_EQ(with.loops.size(), 1u);
+  EXPECT_NEAR(with.loops[0].relative().translation().y(), 4.0, 1e-9);
+}
+
+TEST(Viewpoints, VerificationStartsFromTheViewpointAndRecoversTheLaneChange) {
+  const LaneChange scene;
+  Config config;
+  config.lateral_offset_step = 4.0;
+  config.verify = true;
+  config.verify_threshold = 0.5;
+  const Detection d = scene.run(config);
+  ASSERT_TRUE(d.verified) << (d.verifications.empty() ? "nothing verified" : d.verifications.back().result.reason);
+  ASSERT_EQ(d.loops.size(), 1u);
+  const Eigen::Isometry3d relative = d.loops[0].relative();
+  EXPECT_LT((relative.translation() - Eigen::Vector3d(0.0, 4.0, 0.0)).norm(), 0.1)
+      << relative.translation().transpose();
+  EXPECT_NEAR(yawOf(relative), 30.0 * kDeg, 0.5 * kDeg);
+}
+
+}  // namespace
+}  // namespace scan_context_loop
