@@ -88,6 +88,8 @@ class Database {
   /// Number of keyframes (a prefix) eligible for a query with this info.
   std::size_t eligibleCount(const KeyframeInfo& info) const;
   double pathLengthAt(const KeyframeInfo& info) const;
+  /// Config::gate_odometry_distance / gate_odometry_drift: whether keyframe `index` may be a candidate.
+  bool withinOdometryGate(const KeyframeInfo& info, std::size_t index) const;
   void indexUpTo(std::size_t count);
 
   Config config_;

@@ -77,6 +77,8 @@ std::vector<std::string> Config::validate() const {
           "exclude_recent_distance", exclude_recent_distance, "must be finite and >= 0 (0 disables)");
   require(&e, std::isfinite(gate_odometry_distance) && gate_odometry_distance >= 0.0, "gate_odometry_distance",
           gate_odometry_distance, "must be finite and >= 0 (0 disables)");
+  require(&e, std::isfinite(gate_odometry_drift) && gate_odometry_drift >= 0.0, "gate_odometry_drift",
+          gate_odometry_drift, "must be finite and >= 0 (0 disables)");
   require(&e, std::isfinite(verify_threshold) && verify_threshold > 0.0 && verify_threshold <= 2.0,
           "verify_threshold", verify_threshold, "must be in (0, 2]");
   require(&e, verify_max_candidates >= 1 && verify_max_candidates <= 100, "verify_max_candidates",
@@ -93,8 +95,6 @@ std::vector<std::string> Config::validate() const {
           verify_max_fitness, "must be positive");
   require(&e, consistency_min_support >= 0 && consistency_min_support <= 100, "consistency_min_support",
           consistency_min_support, "must be in [0, 100] (0 disables)");
-  require(&e, consistency_min_support == 0 || verify, "consistency_min_support", consistency_min_support,
-          "needs verify: true (it compares the registered relative poses)");
   require(&e, consistency_window >= 1 && consistency_window <= 100000, "consistency_window", consistency_window,
           "must be in [1, 100000]");
   require(&e, std::isfinite(consistency_translation) && consistency_translation > 0.0, "consistency_translation",
@@ -145,7 +145,7 @@ const std::vector<std::string>& configKeys() {
       "num_rings",      "num_sectors",        "max_radius",           "min_range",
       "lidar_height",   "ring_key",           "num_candidates",       "search_ratio",
       "distance_threshold", "lateral_offset_step", "lateral_offset_count", "exclude_recent_frames", "exclude_recent_seconds", "exclude_recent_distance",
-      "gate_odometry_distance", "verify", "verify_threshold",   "verify_max_candidates", "verify_max_bytes",
+      "gate_odometry_distance", "gate_odometry_drift", "verify", "verify_threshold",   "verify_max_candidates", "verify_max_bytes",
       "verify_voxel_leaf", "verify_max_range", "verify_min_inlier_ratio", "verify_max_fitness",
       "verify_method", "consistency_min_support", "consistency_window", "consistency_translation",
       "consistency_rotation", "consistency_drift"};
@@ -170,6 +170,7 @@ bool setConfigValue(Config* config, const std::string& key, const std::string& v
   else if (key == "exclude_recent_seconds") ok = parseDouble(value, &c.exclude_recent_seconds);
   else if (key == "exclude_recent_distance") ok = parseDouble(value, &c.exclude_recent_distance);
   else if (key == "gate_odometry_distance") ok = parseDouble(value, &c.gate_odometry_distance);
+  else if (key == "gate_odometry_drift") ok = parseDouble(value, &c.gate_odometry_drift);
   else if (key == "verify") ok = parseBool(value, &c.verify);
   else if (key == "verify_threshold") ok = parseDouble(value, &c.verify_threshold);
   else if (key == "verify_max_candidates") ok = parseInt(value, &c.verify_max_candidates);

@@ -159,11 +159,7 @@ QueryResult Database::query(const Descriptor& descriptor, const KeyframeInfo& in
   for (const auto& [d2, index] : tree_->nearest(descriptor.ring_key.data(), want)) {
     if (index >= eligible) continue;
     if (result.candidates.size() >= static_cast<std::size_t>(config_.num_candidates)) break;
-    if (config_.gate_odometry_distance > 0.0 && info.pose && keyframes_[index].info.pose &&
-        (info.pose->translation() - keyframes_[index].info.pose->translation()).norm() >
-            config_.gate_odometry_distance) {
-      continue;  // too far away by odometry
-    }
+    if (!withinOdometryGate(info, index)) continue;
     Candidate c;
     c.index = index;
     c.ring_key_distance = std::sqrt(std::max(0.0f, d2));
@@ -177,6 +173,15 @@ QueryResult Database::query(const Descriptor& descriptor, const KeyframeInfo& in
   result.matched = !result.candidates.empty() &&
                    result.candidates.front().alignment.distance < config_.distance_threshold;
   return result;
+}
+
+bool Database::withinOdometryGate(const KeyframeInfo& info, std::size_t index) const {
+  if (!(config_.gate_odometry_distance > 0.0 || config_.gate_odometry_drift > 0.0)) return true;
+  const Keyframe& candidate = keyframes_[index];
+  if (!info.pose || !candidate.info.pose) return true;  // nothing to gate on
+  const double travelled = std::max(0.0, pathLengthAt(info) - candidate.path_length);
+  const double radius = config_.gate_odometry_distance + config_.gate_odometry_drift * travelled;
+  return (info.pose->translation() - candidate.info.pose->translation()).norm() <= radius;
 }
 
 std::size_t Database::bytesPerKeyframe() const {

@@ -21,6 +21,7 @@ std::vector<std::string> readParameters(const ros::NodeHandle& pnh, Config* c, R
   pnh.param("exclude_recent_seconds", c->exclude_recent_seconds, c->exclude_recent_seconds);
   pnh.param("exclude_recent_distance", c->exclude_recent_distance, c->exclude_recent_distance);
   pnh.param("gate_odometry_distance", c->gate_odometry_distance, c->gate_odometry_distance);
+  pnh.param("gate_odometry_drift", c->gate_odometry_drift, c->gate_odometry_drift);
   pnh.param("verify", c->verify, c->verify);
   pnh.param("verify_threshold", c->verify_threshold, c->verify_threshold);
   pnh.param("verify_max_candidates", c->verify_max_candidates, c->verify_max_candidates);

@@ -98,7 +98,8 @@ TEST(BadInput, ConfigValidationNamesEachImpossibleValue) {
       {[](Config* c) { c->exclude_recent_distance = NAN; }, "exclude_recent_distance"},
       {[](Config* c) { c->lateral_offset_step = -2; }, "lateral_offset_step"},
       {[](Config* c) { c->lateral_offset_count = 0; }, "lateral_offset_count"},
-      {[](Config* c) { c->consistency_min_support = 1; }, "consistency_min_support"},  // without verify
+      {[](Config* c) { c->consistency_min_support = -1; }, "consistency_min_support"},
+      {[](Config* c) { c->gate_odometry_drift = -0.1; }, "gate_odometry_drift"},
       {[](Config* c) { c->consistency_window = 0; }, "consistency_window"},
       {[](Config* c) { c->consistency_drift = NAN; }, "consistency_drift"},
   };

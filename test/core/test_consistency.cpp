@@ -5,6 +5,7 @@
 
 #include "scan_context_loop/consistency.h"
 #include "scan_context_loop/database.h"
+#include "scan_context_loop/detector.h"
 #include "test_scenes.h"
 
 namespace scan_context_loop {
@@ -123,12 +124,53 @@ TEST(Consistency, FilterReportsARunOfAgreeingLoopsFromItsSecondLoopOnAndDropsALo
   EXPECT_EQ(filter.waiting(), 1u);
 }
 
-TEST(Consistency, DetectorWithoutVerificationRefusesTheCheck) {
+TEST(Consistency, WithoutVerificationDescriptorMatchesAreReportedAtOnce) {
   Config c;
-  c.consistency_min_support = 1;
-  EXPECT_FALSE(c.validate().empty());
-  c.verify = true;
+  ASSERT_GT(c.consistency_min_support, 0);  // on by default, but it only looks at verified loops
+  ASSERT_FALSE(c.verify);
   EXPECT_TRUE(c.validate().empty());
+  c.exclude_recent_frames = 0;
+  LoopDetector detector(c);
+  KeyframeInfo info;
+  info.pose = Eigen::Isometry3d::Identity();
+  detector.process(test::streetScene(9), info);
+  info.stamp = 1.0;
+  const Detection d = detector.process(test::streetScene(9), info);
+  ASSERT_EQ(d.loops.size(), 1u);
+  EXPECT_EQ(d.loops[0].query, 1u);
+  EXPECT_FALSE(d.loops[0].verified);
+}
+
+TEST(Consistency, VerifiedLoopWaitsForASecondOneThroughTheDetector) {
+  Config c;
+  c.exclude_recent_frames = 2;
+  c.verify = true;
+  LoopDetector detector(c);
+  KeyframeInfo info;
+  const auto feed = [&](std::uint32_t scene, double x) {
+    Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+    pose.translation().x() = x;
+    info.pose = pose;
+    info.stamp += 1.0;
+    // Each scene seen from the keyframe's own position (the street moves by -x in the sensor frame).
+    return detector.process(test::rotateTranslate(test::streetScene(scene), 0.0, 0.0, 0.0), info);
+  };
+  feed(21, 0.0);
+  feed(22, 30.0);
+  feed(23, 60.0);
+  feed(24, 90.0);
+  // The drive comes back: 21 again (query 4), then 22 again (query 5), at the odometry positions of
+  // the first visits, so both loops agree through the odometry.
+  const Detection first = feed(21, 0.0);
+  EXPECT_TRUE(first.verified);
+  EXPECT_TRUE(first.loops.empty()) << "a lone verified loop waits for support";
+  const Detection second = feed(22, 30.0);
+  ASSERT_EQ(second.loops.size(), 2u);
+  EXPECT_EQ(second.loops[0].query, 4u);
+  EXPECT_EQ(second.loops[0].match, 0u);
+  EXPECT_EQ(second.loops[1].query, 5u);
+  EXPECT_EQ(second.loops[1].match, 1u);
+  EXPECT_EQ(second.loops[1].support, 1);
 }
 
 }  // namespace

@@ -160,6 +160,25 @@ TEST(Database, OdometryGateDropsFarCandidates) {
   }
 }
 
+TEST(Database, OdometryGateAllowsForDriftAlongThePathBetween) {
+  Config config = windows(0, 0.0, 0.0);
+  const Descriptor d = descriptorWithKey(std::vector<float>(20, 0.5f), config);
+  for (double drift : {0.5, 1.1}) {
+    config.gate_odometry_drift = drift;
+    Database db(config);
+    ASSERT_TRUE(db.add(at(0, 0.0), d));    // path 0 m
+    ASSERT_TRUE(db.add(at(1, 100.0), d));  // path 100 m
+    // The query at 10 m has driven 190 m: keyframe 0 is 10 m away after 190 m of path (allowance
+    // 95 m at 0.5), keyframe 1 is 90 m away after 90 m (allowance 45 m at 0.5, 99 m at 1.1).
+    const QueryResult r = db.query(d, at(2, 10.0));
+    if (drift < 1.0) {
+      EXPECT_EQ(candidateSet(r), (std::set<std::size_t>{0}));
+    } else {
+      EXPECT_EQ(candidateSet(r), (std::set<std::size_t>{0, 1}));
+    }
+  }
+}
+
 TEST(Database, RejectsBadKeyframesAndKeepsItsContents) {
   Config config;
   Database db(config);

@@ -29,7 +29,9 @@ TEST(Viewpoints, GridFromAViewpointIsTheGridOfTheShiftedCloud) {
 
 TEST(Viewpoints, LateralViewpointsAreNearestFirstOnBothSides) {
   Config config;
-  EXPECT_TRUE(lateralViewpoints(config).empty());  // off by default in Config
+  EXPECT_EQ(lateralViewpoints(config).size(), 2u);  // one a side by default
+  config.lateral_offset_step = 0.0;
+  EXPECT_TRUE(lateralViewpoints(config).empty());
   config.lateral_offset_step = 2.5;
   config.lateral_offset_count = 2;
   const auto views = lateralViewpoints(config);
@@ -60,6 +62,7 @@ struct LaneChange {
 TEST(Viewpoints, DetectorFindsARevisitOneLaneOverFromTheMatchingViewpoint) {
   const LaneChange scene;
   Config plain;
+  plain.lateral_offset_step = 0.0;
   const Detection without = scene.run(plain);
   ASSERT_NE(without.query.best(), nullptr);
   Config config;
@@ -86,6 +89,7 @@ TEST(Viewpoints, VerificationStartsFromTheViewpointAndRecoversTheLaneChange) {
   config.lateral_offset_step = 4.0;
   config.verify = true;
   config.verify_threshold = 0.5;
+  config.consistency_min_support = 0;  // a single loop: report it at once
   const Detection d = scene.run(config);
   ASSERT_TRUE(d.verified) << (d.verifications.empty() ? "nothing verified" : d.verifications.back().result.reason);
   ASSERT_EQ(d.loops.size(), 1u);
