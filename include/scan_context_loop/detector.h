@@ -19,6 +19,9 @@ struct VerifiedCandidate {
   Alignment alignment;    ///< its descriptor alignment (distance, yaw prior)
   Eigen::Vector2d viewpoint = Eigen::Vector2d::Zero();  ///< the viewpoint it was found from
   VerificationResult result;
+
+  /// The loop it makes with query keyframe `query` (verified when the registration accepted it).
+  Loop toLoop(std::size_t query) const;
 };
 
 struct Detection {

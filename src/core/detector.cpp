@@ -10,6 +10,17 @@ using Clock = std::chrono::steady_clock;
 double secondsSince(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 }  // namespace
 
+Loop VerifiedCandidate::toLoop(std::size_t query) const {
+  Loop loop;
+  loop.query = query;
+  loop.match = index;
+  loop.viewpoint = viewpoint;
+  loop.alignment = alignment;
+  loop.verified = result.accepted;
+  loop.verification = result;
+  return loop;
+}
+
 std::vector<Eigen::Vector2f> lateralViewpoints(const Config& config) {
   std::vector<Eigen::Vector2f> views;
   if (!(config.lateral_offset_step > 0.0)) return views;
@@ -120,14 +131,7 @@ void LoopDetector::decide(Detection* detection) {
   const bool check = config.consistency_min_support > 0;
   if (check) consistency_.advance(detection->index, &detection->dropped);
   if (!detection->verified) return;
-  const VerifiedCandidate& v = detection->verifications.back();
-  Loop loop;
-  loop.query = detection->index;
-  loop.match = v.index;
-  loop.viewpoint = v.viewpoint;
-  loop.alignment = v.alignment;
-  loop.verified = true;
-  loop.verification = v.result;
+  const Loop loop = detection->verifications.back().toLoop(detection->index);
   if (check) {
     consistency_.offer(loop, database_, &detection->loops);
   } else {

@@ -244,6 +244,7 @@ void LoopClosureRos::process(Item item) {
   stamps_.push_back(msg.header.stamp);
   database_size_ = detector_->database().size();
   last_query_ms_ = (detection.descriptor_seconds + detection.query_seconds) * 1e3;
+  loops_waiting_ = detector_->consistency().waiting();
   publishLoops(detection, item.pose_frame);
   if (marker_pub_.getNumSubscribers() > 0) publishMarkers(item.pose_frame);
 }
@@ -290,14 +291,7 @@ void LoopClosureRos::publishLoops(const Detection& detection, const std::string&
   // Candidates that verification turned down, and verified loops the consistency check dropped, for
   // diagnosis and RViz.
   for (const auto& v : detection.verifications) {
-    if (v.result.accepted) continue;
-    Loop rejected;
-    rejected.query = detection.index;
-    rejected.match = v.index;
-    rejected.viewpoint = v.viewpoint;
-    rejected.alignment = v.alignment;
-    rejected.verification = v.result;
-    publishRejected(rejected, frame);
+    if (!v.result.accepted) publishRejected(v.toLoop(detection.index), frame);
   }
   for (Loop dropped : detection.dropped) {
     dropped.verified = false;
@@ -338,6 +332,7 @@ void LoopClosureRos::diagnose(diagnostic_updater::DiagnosticStatusWrapper& statu
   status.add("queue length", queue_length_.load());
   status.add("last query time [ms]", last_query_ms_.load());
   status.add("loops found", loops_found_.load());
+  status.add("verified loops waiting for support", loops_waiting_.load());
   status.add("keyframes dropped", dropped);
   status.add("keyframes rejected", rejected_.load());
 }

@@ -91,7 +91,8 @@ class LoopClosureRos {
   std::thread worker_;
 
   // Counters read by diagnostics and the synchronisation check; written by callbacks and the worker.
-  std::atomic<std::size_t> dropped_{0}, rejected_{0}, loops_found_{0}, database_size_{0}, queue_length_{0};
+  std::atomic<std::size_t> dropped_{0}, rejected_{0}, loops_found_{0}, database_size_{0}, queue_length_{0},
+      loops_waiting_{0};
   std::atomic<double> last_query_ms_{0.0};
   std::atomic<double> last_cloud_wall_{0.0}, last_pair_wall_{0.0}, first_unpaired_wall_{0.0};
 
