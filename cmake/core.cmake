@@ -6,6 +6,9 @@ add_library(scan_context_loop_core
   src/core/database.cpp
   src/core/detector.cpp
   src/core/kitti_io.cpp
+  src/core/registration.cpp
+  src/core/coarse_search.cpp
+  src/core/pcl_refinement.cpp
   src/core/verification.cpp
   src/core/consistency.cpp
 )

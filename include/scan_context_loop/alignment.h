@@ -1,6 +1,8 @@
 // Column-shift cosine distance between two descriptors and the yaw prior it implies.
 #pragma once
 
+#include <vector>
+
 #include "scan_context_loop/config.h"
 #include "scan_context_loop/descriptor.h"
 
@@ -33,6 +35,14 @@ int coarseShift(const Descriptor& query, const Descriptor& match);
 /// (every shift when search_ratio >= 1), then a parabola through the distances at the best shift and
 /// its two neighbours for the sub-sector yaw. Descriptors of different grid sizes give distance 1.
 Alignment align(const Descriptor& query, const Descriptor& match, const Config& config);
+
+/// Yaw hypotheses for verification: the distance at every column shift, then its local minima, best
+/// first, at most `max_count`, each at least `min_separation` columns from the ones before it, each with
+/// its sub-sector refinement. The sector keys' coarse shift can pick the wrong column (a tilted sensor,
+/// a changed scene); registering the few best distinct shifts recovers it. Empty for incompatible or
+/// empty descriptors.
+std::vector<Alignment> alignHypotheses(const Descriptor& query, const Descriptor& match, int max_count,
+                                       int min_separation);
 
 /// Wraps an angle to (-pi, pi].
 double wrapAngle(double radians);

@@ -55,7 +55,7 @@ class LoopDetector {
  public:
   explicit LoopDetector(const Config& config)
       : database_(config), store_(static_cast<std::size_t>(config.verify_max_bytes)),
-        verification_(verificationConfig(config)), consistency_(config) {}
+        verification_(verificationConfig(config)), verifier_(verification_), consistency_(config) {}
 
   Detection process(const PointView& points, const KeyframeInfo& info);
 
@@ -73,11 +73,15 @@ class LoopDetector {
   /// Searches from the virtual viewpoints too and merges their candidates into detection->query.
   void queryViewpoints(const PointView& points, const KeyframeInfo& info, Detection* detection);
   void verifyCandidates(const PointView& points, Detection* detection);
+  /// Registration guesses for a candidate (T_query<-match): its alignment, then other yaw hypotheses.
+  std::vector<Eigen::Isometry3d> hypotheses(const Candidate& candidate, const Descriptor& query) const;
+  static constexpr int kYawHypotheses = 3;
   void decide(Detection* detection);
 
   Database database_;
   CloudStore store_;
   VerificationConfig verification_;
+  Verifier verifier_;
   ConsistencyFilter consistency_;
 };
 

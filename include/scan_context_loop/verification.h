@@ -1,6 +1,7 @@
-// Geometric verification of a loop candidate: registration of the candidate's cloud onto the query's,
-// seeded with the Scan Context yaw prior, giving an accept/reject decision, the refined relative pose
-// and its covariance.
+// Geometric verification of a loop candidate: a coarse search over the descriptor's yaw hypotheses and
+// a window of translations on the bird's-eye view of vertical structure, voxelised GICP from the best
+// hypotheses, and an acceptance test built for a world that changed between the two visits. Gives an
+// accept/reject decision with its reason, the refined relative pose and its covariance.
 #pragma once
 
 #include <memory>
@@ -8,48 +9,61 @@
 #include <vector>
 
 #include <Eigen/Geometry>
-#include <pcl/point_cloud.h>
-#include <pcl/point_types.h>
 
 #include "scan_context_loop/descriptor.h"
+#include "scan_context_loop/registration.h"
 
 namespace scan_context_loop {
 
 struct VerificationConfig {
-  /// Voxel size both clouds are reduced to before registration [m].
-  double voxel_leaf = 0.6;
-  /// Points beyond this horizontal range are dropped before registration [m].
+  /// Voxel edge of the registration data [m] (Config::verify_voxel_leaf).
+  double voxel_leaf = 1.0;
+  /// Points beyond this horizontal range are not used [m] (Config::verify_max_range).
   double max_range = 40.0;
-  /// Clouds with fewer points (after preparation) are rejected as unverifiable.
-  int min_points = 200;
-  /// Correspondence distance of the coarse stage [m]: the yaw prior carries no translation, and
-  /// revisits are often a lane or two to the side.
-  double coarse_correspondence = 4.0;
-  /// Correspondence distance of the fine stage [m].
-  double fine_correspondence = 1.0;
-  /// Iterations per stage.
-  int max_iterations = 40;
-  /// A query point whose nearest aligned candidate point is closer than this is an inlier [m].
-  double inlier_distance = 0.5;
-  /// Accept only when at least this fraction of the query's points are inliers (false pairs: 0.16-0.28
-  /// on the real KITTI scans, up to 0.69 in repetitive simulated streets; true ones 0.7-0.98).
-  double min_inlier_ratio = 0.7;
-  /// Accept only when the inliers' mean squared distance is below this [m^2]. It grows with the voxel
-  /// size (0.035-0.05 for true pairs at 0.4 m voxels, 0.055-0.07 at 0.6 m), so the inlier ratio is the
-  /// main test (true pairs 0.69-0.98, false ones 0.16-0.28 on the real KITTI scans).
-  double max_fitness = 0.15;
-  /// Floors on the reported variances of x, y, z [m^2] and of roll, pitch, yaw [rad^2]. The
-  /// point-to-point Hessian alone is far too confident: it ignores correspondence errors and does not
-  /// see the slide along a corridor (on the Apollo pair it gives 1e-5 m^2 along a road where the
-  /// registration moves 2 m), so a backend should never be told centimetres.
+  /// Either keyframe with fewer vertical-structure voxels (facades, poles, trunks) is unverifiable.
+  int min_structure = 150;
+  /// Half-width of the coarse translation search around each hypothesis [m]: the descriptor prior has
+  /// no translation beyond its viewpoint, and true revisits lie up to a few metres to the side.
+  double search_radius = 6.0;
+  /// Cell of the bird's-eye coarse search [m].
+  double search_cell = 1.0;
+  /// Hypotheses whose coarse score is at least this fraction of the best one's are registered too,
+  /// best first, until one is accepted (at most max_hypotheses).
+  double hypothesis_ratio = 0.85;
+  int max_hypotheses = 2;
+  /// Correspondence distance of the coarse and the fine GICP stage [m].
+  double coarse_correspondence = 2.0;
+  double fine_correspondence = 0.8;
+  int max_iterations = 15;
+  /// Source voxels GICP uses per iteration (the cost bound; vertical structure first).
+  int max_source_voxels = 1200;
+  /// A moved structure voxel agrees with the other keyframe when a voxel of it lies within
+  /// `inlier_distance` [m] and the point-to-plane distance is below `inlier_plane_distance` [m].
+  double inlier_distance = 1.0;
+  double inlier_plane_distance = 0.25;
+  /// Accept only when the symmetric structure overlap (the smaller of the two directions' fractions
+  /// of vertical-structure voxels, within the region both sensors cover, that agree) is at least this
+  /// (Config::verify_min_inlier_ratio).
+  double min_inlier_ratio = 0.4;
+  /// Accept only when the agreeing voxels' mean squared point-to-plane distance is below this [m^2]
+  /// (Config::verify_max_fitness).
+  double max_fitness = 0.02;
+  /// Reject when the registration cannot fix the position in some horizontal direction: the smallest
+  /// eigenvalue of the point-to-plane information over the translation is below this fraction of the
+  /// largest (a straight corridor or an open road seen along its axis), unless allow_degenerate.
+  double min_constraint_ratio = 0.02;
+  bool allow_degenerate = false;
+  /// Floors on the reported variances of x, y, z [m^2] and of roll, pitch, yaw [rad^2].
   double min_translation_variance = 0.01;
   double min_rotation_variance = 7.6e-5;  // (0.5 deg)^2
-  /// The registration (Config::verify_method).
-  RegistrationMethod method = RegistrationMethod::kGicp;
+  /// The fine registration (Config::verify_method): the built-in voxel GICP (vgicp), or PCL's GICP,
+  /// ICP or NDT over the voxel means (slower; kept for comparison).
+  RegistrationMethod method = RegistrationMethod::kVgicp;
   /// NDT voxel resolution [m] (method ndt only).
   double ndt_resolution = 2.0;
 
   std::vector<std::string> validate() const;
+  VoxelOptions voxelOptions() const;
 };
 
 struct VerificationResult {
@@ -57,66 +71,89 @@ struct VerificationResult {
   std::string reason;  ///< why it was rejected; empty when accepted
   /// T_query<-match after registration.
   Eigen::Isometry3d relative = Eigen::Isometry3d::Identity();
-  /// Mean squared distance of the inlier correspondences [m^2].
+  /// Mean squared point-to-plane distance of the agreeing structure voxels [m^2].
   double fitness = 0.0;
-  /// Fraction of query points with an aligned candidate point within inlier_distance.
+  /// Symmetric structure overlap: min(overlap_query, overlap_match).
   double inlier_ratio = 0.0;
-  std::size_t query_points = 0, match_points = 0;
+  /// Fractions of the query's / the candidate's structure voxels in the common region that agree.
+  double overlap_query = 0.0, overlap_match = 0.0;
+  /// Smallest over largest eigenvalue of the horizontal translation information (1: well constrained).
+  double constraint_ratio = 0.0;
+  /// Coarse bird's-eye score of the registered hypothesis (fraction of structure columns that land on
+  /// structure), and how many hypotheses were registered.
+  double coarse_score = 0.0;
+  int hypotheses = 0;
+  std::size_t query_points = 0, match_points = 0;  ///< structure voxels of each
   double seconds = 0.0;
   /// Covariance of `relative` in (x, y, z, roll, pitch, yaw), row-major like ROS: the inverse of the
-  /// point-to-point Gauss-Newton Hessian at the solution over the inlier correspondences, scaled by the
-  /// residual variance, with the diagonal raised to the configured floors.
+  /// point-to-plane information over the agreeing voxels scaled by their residual variance, with the
+  /// diagonal raised to the configured floors. A direction the scene does not constrain (along a
+  /// corridor) keeps a large variance.
   Eigen::Matrix<double, 6, 6> covariance = Eigen::Matrix<double, 6, 6>::Identity();
 };
-
-using VerificationCloud = pcl::PointCloud<pcl::PointXYZ>;
 
 /// The registration settings held in the core Config (verify_* keys).
 VerificationConfig verificationConfig(const Config& config);
 
-/// Keeps the prepared cloud of every keyframe for later verification, within a byte budget. When a
-/// new cloud would exceed it, the store keeps only every second keyframe (then every fourth, ...),
-/// old and new alike: the whole map stays verifiable at a uniform, coarser spacing instead of its
-/// oldest part vanishing, which matters because loop candidates are old keyframes. A candidate whose
-/// cloud is not kept is reported as unverifiable. At 0.6 m voxels and 40 m range an HDL-64E
-/// keyframe keeps about 7,000 points (112 KB): the default 1 GiB holds about 9,000 keyframes at full
-/// density.
+/// Keeps the prepared registration data of every keyframe for later verification, within a byte
+/// budget. When a new keyframe would exceed it, the store keeps only every second keyframe (then every
+/// fourth, ...), old and new alike: the whole map stays verifiable at a uniform, coarser spacing instead
+/// of its oldest part vanishing, which matters because loop candidates are old keyframes. A candidate
+/// whose data is not kept is reported as unverifiable. At 1 m voxels and 40 m an HDL-64E keyframe keeps
+/// about 8,000 voxels (130 KB): the default 1 GiB holds about 8,000 keyframes at full density.
 class CloudStore {
  public:
   explicit CloudStore(std::size_t max_bytes) : max_bytes_(max_bytes) {}
-  /// Stores the cloud of keyframe `index` (indices arrive in increasing order) if the current density
-  /// keeps it.
-  void add(std::size_t index, VerificationCloud cloud);
-  /// The cloud of keyframe `index`, or nullptr when it was never stored or was dropped.
-  const VerificationCloud* get(std::size_t index) const;
+  /// Stores keyframe `index` (indices arrive in increasing order) if the current density keeps it.
+  void add(std::size_t index, VoxelCloud cloud);
+  /// The data of keyframe `index`, or nullptr when it was never stored or was dropped.
+  const VoxelCloud* get(std::size_t index) const;
   std::size_t bytes() const { return bytes_; }
   std::size_t stored() const;
   std::size_t dropped() const { return dropped_; }
 
  private:
-  static std::size_t bytesOf(const VerificationCloud& c) { return c.size() * sizeof(pcl::PointXYZ); }
   std::size_t max_bytes_;
   std::size_t bytes_ = 0;
   std::size_t dropped_ = 0;
-  std::size_t stride_ = 1;  // clouds are kept for keyframe numbers that are multiples of this
-  std::vector<std::unique_ptr<VerificationCloud>> clouds_;  // by keyframe index; null = none
+  std::size_t stride_ = 1;  // data are kept for keyframe numbers that are multiples of this
+  std::vector<std::unique_ptr<VoxelCloud>> clouds_;  // by keyframe index; null = none
 };
 
-/// Drops NaN/Inf and far points and reduces to voxel_leaf voxels.
-VerificationCloud prepareCloud(const PointView& points, const VerificationConfig& config);
+/// The registration data of a keyframe: finite points within max_range, rotated by `levelling`
+/// (identity when the cloud is not levelled), in voxels.
+VoxelCloud prepareCloud(const PointView& points, const VerificationConfig& config,
+                        const Eigen::Matrix3f& levelling = Eigen::Matrix3f::Identity());
 
-/// Registers `match` onto `query` starting from `initial` (T_query<-match) and judges the result.
-/// Either cloud below min_points gives a rejection with a reason, never an exception.
-VerificationResult verify(const VerificationCloud& query, const VerificationCloud& match,
-                          const Eigen::Isometry3d& initial, const VerificationConfig& config);
+/// Verifies candidates against one query. Holds the query's index, built once in setQuery() and
+/// reused for every candidate and hypothesis, and a scratch index for the candidate side. Not
+/// thread-safe; the query must outlive its use.
+class Verifier {
+ public:
+  explicit Verifier(const VerificationConfig& config) : config_(config) {}
+  void setQuery(const VoxelCloud& query);
+  /// Registers `match` onto the query from the best of `hypotheses` (T_query<-match guesses: the
+  /// descriptor's yaw candidates with their viewpoints) and judges the result.
+  VerificationResult verify(const VoxelCloud& match, const std::vector<Eigen::Isometry3d>& hypotheses);
+  const VerificationConfig& config() const { return config_; }
+
+ private:
+  /// GICP from one coarse pose, then the acceptance test; returns the rejection reason or "".
+  std::string refineAndJudge(const VoxelCloud& match, const Eigen::Isometry3d& initial, VerificationResult* r);
+
+  VerificationConfig config_;
+  const VoxelCloud* query_ = nullptr;
+  VoxelIndex query_index_, match_index_;
+  std::vector<float> query_view_;  // bird's-eye structure map of the query, see coarse_search.h
+  std::size_t query_structure_ = 0;
+};
+
+/// One-off verification from a single guess (builds the query's index itself).
+VerificationResult verify(const VoxelCloud& query, const VoxelCloud& match, const Eigen::Isometry3d& initial,
+                          const VerificationConfig& config);
 
 /// The pose a descriptor match implies, T_query<-match: the match's sensor stands at `viewpoint` (the
 /// virtual viewpoint it was found from, zero for the real one) in the query's frame, turned by `yaw`.
 Eigen::Isometry3d priorPose(double yaw, const Eigen::Vector2d& viewpoint = Eigen::Vector2d::Zero());
-
-/// The same, starting from the descriptor prior: initial = priorPose(yaw, viewpoint).
-VerificationResult verifyWithYaw(const VerificationCloud& query, const VerificationCloud& match, double yaw,
-                                 const VerificationConfig& config,
-                                 const Eigen::Vector2d& viewpoint = Eigen::Vector2d::Zero());
 
 }  // namespace scan_context_loop

@@ -1,5 +1,6 @@
 #include "scan_context_loop/alignment.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -86,6 +87,22 @@ int coarseShift(const Descriptor& query, const Descriptor& match) {
   return best_shift;
 }
 
+namespace {
+
+/// Yaw of a shift with the sub-sector refinement: the vertex of the parabola through the distances at
+/// the shift and its two neighbours.
+double refinedYaw(const Descriptor& query, const Descriptor& match, int shift, double at_shift) {
+  const int sectors = query.num_sectors;
+  double offset = 0.0;
+  const double before = distanceAtShift(query, match, shift - 1);
+  const double after = distanceAtShift(query, match, shift + 1);
+  const double curvature = before - 2.0 * at_shift + after;
+  if (curvature > 1e-9) offset = std::clamp(0.5 * (before - after) / curvature, -0.5, 0.5);
+  return wrapAngle((shift + offset) * kTwoPi / sectors);
+}
+
+}  // namespace
+
 Alignment align(const Descriptor& query, const Descriptor& match, const Config& config) {
   Alignment result;
   if (!compatible(query, match) || query.empty() || match.empty()) return result;
@@ -110,22 +127,45 @@ Alignment align(const Descriptor& query, const Descriptor& match, const Config& 
     }
   }
 
-  // Sub-sector refinement: vertex of the parabola through the best shift and its neighbours.
-  double offset = 0.0;
-  const double before = distanceAtShift(query, match, best_shift - 1);
-  const double after = distanceAtShift(query, match, best_shift + 1);
-  const double curvature = before - 2.0 * best + after;
-  if (curvature > 1e-9) {
-    offset = 0.5 * (before - after) / curvature;
-    if (offset > 0.5) offset = 0.5;
-    if (offset < -0.5) offset = -0.5;
-  }
-
   result.distance = best;
   result.shift = best_shift > sectors / 2 ? best_shift - sectors : best_shift;
-  result.yaw = wrapAngle((best_shift + offset) * kTwoPi / sectors);
+  result.yaw = refinedYaw(query, match, best_shift, best);
   result.shared_columns = best_shared;
   return result;
+}
+
+}  // namespace scan_context_loop
+
+namespace scan_context_loop {
+
+std::vector<Alignment> alignHypotheses(const Descriptor& query, const Descriptor& match, int max_count,
+                                       int min_separation) {
+  std::vector<Alignment> out;
+  if (!compatible(query, match) || query.empty() || match.empty() || max_count < 1) return out;
+  const int sectors = query.num_sectors;
+  std::vector<double> d(sectors);
+  std::vector<int> shared(sectors);
+  for (int s = 0; s < sectors; ++s) d[s] = distanceAtShift(query, match, s, &shared[s]);
+  std::vector<int> minima;
+  for (int s = 0; s < sectors; ++s) {
+    if (d[s] <= d[wrapIndex(s - 1, sectors)] && d[s] <= d[wrapIndex(s + 1, sectors)]) minima.push_back(s);
+  }
+  std::sort(minima.begin(), minima.end(), [&](int a, int b) { return d[a] < d[b]; });
+  for (int s : minima) {
+    if (static_cast<int>(out.size()) >= max_count) break;
+    const bool near = std::any_of(out.begin(), out.end(), [&](const Alignment& a) {
+      const int gap = std::abs(wrapIndex(s - a.shift, sectors));
+      return std::min(gap, sectors - gap) < min_separation;
+    });
+    if (near) continue;
+    Alignment a;
+    a.distance = d[s];
+    a.shift = s > sectors / 2 ? s - sectors : s;
+    a.yaw = refinedYaw(query, match, s, d[s]);
+    a.shared_columns = shared[s];
+    out.push_back(a);
+  }
+  return out;
 }
 
 }  // namespace scan_context_loop

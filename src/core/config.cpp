@@ -22,7 +22,8 @@ const char* ringKeyTypeName(RingKeyType type) {
 }
 
 bool parseRegistrationMethod(const std::string& text, RegistrationMethod* out) {
-  if (text == "gicp") *out = RegistrationMethod::kGicp;
+  if (text == "vgicp") *out = RegistrationMethod::kVgicp;
+  else if (text == "gicp") *out = RegistrationMethod::kGicp;
   else if (text == "icp") *out = RegistrationMethod::kIcp;
   else if (text == "ndt") *out = RegistrationMethod::kNdt;
   else return false;
@@ -33,7 +34,8 @@ const char* registrationMethodName(RegistrationMethod method) {
   switch (method) {
     case RegistrationMethod::kIcp: return "icp";
     case RegistrationMethod::kNdt: return "ndt";
-    default: return "gicp";
+    case RegistrationMethod::kGicp: return "gicp";
+    default: return "vgicp";
   }
 }
 

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 
 namespace scan_context_loop {
 
@@ -86,11 +87,28 @@ void LoopDetector::queryViewpoints(const PointView& points, const KeyframeInfo& 
   detection->query.matched = !merged.empty() && merged.front().alignment.distance < config.distance_threshold;
 }
 
+std::vector<Eigen::Isometry3d> LoopDetector::hypotheses(const Candidate& c, const Descriptor& query) const {
+  // The candidate's own alignment first (its viewpoint and the sector-key shift), then the other
+  // distinct column shifts of the real view, best first: a wrong coarse shift is then only a wrong
+  // first guess.
+  std::vector<Eigen::Isometry3d> poses = {priorPose(c.alignment.yaw, c.viewpoint)};
+  const Descriptor& match = database_.keyframe(c.index).descriptor;
+  const int separation = std::max(1, query.num_sectors / 20);
+  for (const Alignment& a : alignHypotheses(query, match, kYawHypotheses, separation)) {
+    const double gap = std::fabs(wrapAngle(a.yaw - c.alignment.yaw));
+    if (gap * query.num_sectors < 2.0 * M_PI * separation) continue;  // the same as the first
+    poses.push_back(priorPose(a.yaw));
+  }
+  return poses;
+}
+
 void LoopDetector::verifyCandidates(const PointView& points, Detection* detection) {
   const auto start = Clock::now();
   const Config& config = database_.config();
   detection->verifications_enabled = true;
-  VerificationCloud cloud = prepareCloud(points, verification_);
+  VoxelCloud cloud = prepareCloud(points, verification_);
+  verifier_.setQuery(cloud);
+  const Descriptor& query = database_.keyframe(detection->index).descriptor;
   int tried = 0;
   for (const Candidate& c : detection->query.candidates) {
     if (tried >= config.verify_max_candidates || !(c.alignment.distance < config.verify_threshold)) break;
@@ -99,11 +117,11 @@ void LoopDetector::verifyCandidates(const PointView& points, Detection* detectio
     v.index = c.index;
     v.alignment = c.alignment;
     v.viewpoint = c.viewpoint;
-    const VerificationCloud* stored = store_.get(c.index);
+    const VoxelCloud* stored = store_.get(c.index);
     if (stored == nullptr) {
       v.result.reason = "unverifiable: the candidate's cloud was dropped to stay within verify_max_bytes";
     } else {
-      v.result = verifyWithYaw(cloud, *stored, c.alignment.yaw, verification_, c.viewpoint);
+      v.result = verifier_.verify(*stored, hypotheses(c, query));
     }
     detection->verifications.push_back(v);
     if (v.result.accepted) {

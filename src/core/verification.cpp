@@ -1,16 +1,15 @@
 #include "scan_context_loop/verification.h"
 
+#include <algorithm>
 #include <chrono>
-#include <cstring>
-#include <limits>
 #include <cmath>
+#include <limits>
 #include <sstream>
 
-#include <pcl/filters/voxel_grid.h>
-#include <pcl/kdtree/kdtree_flann.h>
-#include <pcl/registration/gicp.h>
-#include <pcl/registration/icp.h>
-#include <pcl/registration/ndt.h>
+#include <Eigen/Eigenvalues>
+
+#include "scan_context_loop/coarse_search.h"
+#include "scan_context_loop/pcl_refinement.h"
 
 namespace scan_context_loop {
 
@@ -21,151 +20,228 @@ std::vector<std::string> VerificationConfig::validate() const {
   };
   positive(voxel_leaf, "verify_voxel_leaf");
   positive(max_range, "verify_max_range");
-  positive(coarse_correspondence, "verify_coarse_correspondence");
-  positive(fine_correspondence, "verify_fine_correspondence");
-  positive(inlier_distance, "verify_inlier_distance");
+  positive(search_cell, "search_cell");
+  positive(coarse_correspondence, "coarse_correspondence");
+  positive(fine_correspondence, "fine_correspondence");
+  positive(inlier_distance, "inlier_distance");
+  positive(inlier_plane_distance, "inlier_plane_distance");
   positive(max_fitness, "verify_max_fitness");
-  positive(ndt_resolution, "verify_ndt_resolution");
-  positive(min_translation_variance, "verify_min_translation_variance");
-  positive(min_rotation_variance, "verify_min_rotation_variance");
-  if (min_points < 3) e.push_back("verify_min_points must be >= 3");
-  if (max_iterations < 1) e.push_back("verify_max_iterations must be >= 1");
+  positive(ndt_resolution, "ndt_resolution");
+  positive(min_translation_variance, "min_translation_variance");
+  positive(min_rotation_variance, "min_rotation_variance");
+  if (!(std::isfinite(search_radius) && search_radius >= 0.0)) e.push_back("search_radius must be >= 0");
+  if (min_structure < 3) e.push_back("min_structure must be >= 3");
+  if (max_iterations < 1) e.push_back("max_iterations must be >= 1");
+  if (max_hypotheses < 1) e.push_back("max_hypotheses must be >= 1");
+  if (max_source_voxels < 10) e.push_back("max_source_voxels must be >= 10");
   if (!(min_inlier_ratio >= 0.0 && min_inlier_ratio <= 1.0)) e.push_back("verify_min_inlier_ratio must be in [0, 1]");
+  if (!(hypothesis_ratio >= 0.0 && hypothesis_ratio <= 1.0)) e.push_back("hypothesis_ratio must be in [0, 1]");
+  if (!(min_constraint_ratio >= 0.0 && min_constraint_ratio <= 1.0)) e.push_back("min_constraint_ratio must be in [0, 1]");
   return e;
 }
 
-VerificationCloud prepareCloud(const PointView& points, const VerificationConfig& config) {
-  VerificationCloud kept;
-  kept.reserve(points.count);
-  const double max2 = config.max_range * config.max_range;
-  for (std::size_t i = 0; i < points.count && points.data != nullptr; ++i) {
-    const std::uint8_t* p = points.data + i * points.stride;
-    float x, y, z;
-    std::memcpy(&x, p + points.offset_x, 4);
-    std::memcpy(&y, p + points.offset_y, 4);
-    std::memcpy(&z, p + points.offset_z, 4);
-    if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(z)) continue;
-    if (static_cast<double>(x) * x + static_cast<double>(y) * y > max2) continue;
-    kept.push_back(pcl::PointXYZ(x, y, z));
-  }
-  VerificationCloud out;
-  if (kept.empty()) return out;
-  pcl::VoxelGrid<pcl::PointXYZ> grid;
-  const float leaf = static_cast<float>(config.voxel_leaf);
-  grid.setLeafSize(leaf, leaf, leaf);
-  grid.setInputCloud(kept.makeShared());
-  grid.filter(out);
-  return out;
+VoxelOptions VerificationConfig::voxelOptions() const {
+  VoxelOptions o;
+  o.resolution = static_cast<float>(voxel_leaf);
+  o.max_range = static_cast<float>(max_range);
+  return o;
+}
+
+VoxelCloud prepareCloud(const PointView& points, const VerificationConfig& config, const Eigen::Matrix3f& levelling) {
+  return makeVoxelCloud(points, config.voxelOptions(), levelling);
 }
 
 namespace {
 
-Eigen::Matrix3d skew(const Eigen::Vector3d& v) {
-  Eigen::Matrix3d m;
-  m << 0, -v.z(), v.y(), v.z(), 0, -v.x(), -v.y(), v.x(), 0;
-  return m;
+using Clock = std::chrono::steady_clock;
+
+std::size_t structureCount(const VoxelCloud& c) {
+  std::size_t n = 0;
+  for (std::size_t i = 0; i < c.size(); ++i) n += c.vertical(i);
+  return n;
 }
 
-/// Inlier statistics and the covariance at the solution, from nearest-neighbour correspondences of
-/// the query points in the aligned candidate cloud.
-void judge(const VerificationCloud& query, const VerificationCloud& aligned, const VerificationConfig& config,
-           VerificationResult* r) {
-  pcl::KdTreeFLANN<pcl::PointXYZ> tree;
-  tree.setInputCloud(aligned.makeShared());
-  std::vector<int> index(1);
-  std::vector<float> d2(1);
-  const double limit2 = config.inlier_distance * config.inlier_distance;
-  Eigen::Matrix<double, 6, 6> hessian = Eigen::Matrix<double, 6, 6>::Zero();
-  double sum2 = 0.0;
-  std::size_t inliers = 0;
-  for (const auto& q : query) {
-    if (tree.nearestKSearch(q, 1, index, d2) < 1 || d2[0] > limit2) continue;
-    ++inliers;
-    sum2 += d2[0];
-    // Residual e = p' - q with p' = exp(xi) * p: de/dxi = [I, -[p']x] for xi = (t, theta).
-    const Eigen::Vector3d p = aligned[index[0]].getVector3fMap().cast<double>();
-    Eigen::Matrix<double, 3, 6> j;
-    j.leftCols<3>() = Eigen::Matrix3d::Identity();
-    j.rightCols<3>() = -skew(p);
-    hessian += j.transpose() * j;
+bool close(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b, double metres, double radians) {
+  const Eigen::Isometry3d d = a.inverse() * b;
+  return d.translation().norm() < metres && Eigen::AngleAxisd(d.linear()).angle() < radians;
+}
+
+/// How many of `from`'s structure voxels inside `to`'s crop (after moving them by T_to<-from) have a
+/// voxel of `to` near them on the same plane. With `information`, also accumulates the point-to-plane
+/// information of the agreeing pairs in `to`'s frame, (rx, ry, rz, tx, ty, tz), and their squared
+/// residuals.
+struct Agreement {
+  std::size_t covered = 0, agreeing = 0;
+  double residual2 = 0.0;
+};
+
+Agreement agreement(const VoxelCloud& from, const VoxelIndex& to, const Eigen::Isometry3d& to_from,
+                    const VerificationConfig& config, bool structure_only, int stride,
+                    Eigen::Matrix<double, 6, 6>* information) {
+  Agreement a;
+  const VoxelCloud& target = *to.cloud();
+  const Eigen::Matrix3f R = to_from.linear().cast<float>();
+  const Eigen::Vector3f t = to_from.translation().cast<float>();
+  const float reach = target.max_range - static_cast<float>(config.inlier_distance);
+  const float reach2 = reach * reach;
+  const float plane = static_cast<float>(config.inlier_plane_distance);
+  for (std::size_t i = 0; i < from.size(); i += stride) {
+    if (structure_only ? !from.vertical(i) : from.vertical(i)) continue;
+    const Eigen::Vector3f p = R * from.means[i] + t;
+    if (p.x() * p.x() + p.y() * p.y() > reach2) continue;
+    ++a.covered;
+    const int j = to.nearest(p, static_cast<float>(config.inlier_distance));
+    if (j < 0) continue;
+    const Eigen::Vector3f n = target.normal(j);
+    const float d = n.dot(p - target.means[j]);
+    if (std::fabs(d) > plane) continue;
+    ++a.agreeing;
+    a.residual2 += static_cast<double>(d) * d;
+    if (information != nullptr) {
+      Eigen::Matrix<double, 1, 6> row;
+      row.head<3>() = (p.cast<double>().cross(n.cast<double>())).transpose();
+      row.tail<3>() = n.cast<double>().transpose();
+      *information += row.transpose() * row;
+    }
   }
-  r->inlier_ratio = query.empty() ? 0.0 : static_cast<double>(inliers) / query.size();
-  r->fitness = inliers > 0 ? sum2 / inliers : std::numeric_limits<double>::infinity();
-  if (inliers > 6) {
-    const double sigma2 = sum2 / std::max<double>(1.0, 3.0 * inliers - 6.0);
-    // Guard against a degenerate geometry (a straight corridor): floor the Hessian's eigenvalues.
-    Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> eig(hessian);
-    Eigen::Matrix<double, 6, 1> values = eig.eigenvalues().cwiseMax(1e-6);
-    r->covariance = sigma2 * eig.eigenvectors() * values.cwiseInverse().asDiagonal() * eig.eigenvectors().transpose();
-  }
-  for (int i = 0; i < 6; ++i) {
-    const double floor = i < 3 ? config.min_translation_variance : config.min_rotation_variance;
-    r->covariance(i, i) = std::max(r->covariance(i, i), floor);
-  }
+  return a;
 }
 
 }  // namespace
 
-VerificationResult verify(const VerificationCloud& query, const VerificationCloud& match,
-                          const Eigen::Isometry3d& initial, const VerificationConfig& config) {
-  const auto start = std::chrono::steady_clock::now();
-  VerificationResult r;
-  r.query_points = query.size();
-  r.match_points = match.size();
-  r.relative = initial;
-  const auto finish = [&](const std::string& reason) {
-    r.reason = reason;
-    r.accepted = reason.empty();
-    r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    return r;
-  };
-  if (query.size() < static_cast<std::size_t>(config.min_points) ||
-      match.size() < static_cast<std::size_t>(config.min_points)) {
-    std::ostringstream why;
-    why << "too few points to verify (query " << query.size() << ", candidate " << match.size() << ", need "
-        << config.min_points << ")";
-    return finish(why.str());
-  }
-  if (!initial.matrix().allFinite()) return finish("initial guess is not finite");
+void Verifier::setQuery(const VoxelCloud& query) {
+  query_ = &query;
+  query_index_.build(query);
+  const StructureMap map = structureMap(query, static_cast<float>(config_.search_cell));
+  query_view_ = map.value;
+  query_structure_ = structureCount(query);
+}
 
-  // Coarse, then fine: the first stage pulls in a translation the prior lacks (a wide correspondence
-  // distance, or NDT's coarser cells), the second settles on the local surfaces.
-  pcl::GeneralizedIterativeClosestPoint<pcl::PointXYZ, pcl::PointXYZ> gicp;
-  pcl::IterativeClosestPoint<pcl::PointXYZ, pcl::PointXYZ> icp;
-  pcl::NormalDistributionsTransform<pcl::PointXYZ, pcl::PointXYZ> ndt;
-  pcl::Registration<pcl::PointXYZ, pcl::PointXYZ>* registration = &gicp;
-  if (config.method == RegistrationMethod::kIcp) registration = &icp;
-  if (config.method == RegistrationMethod::kNdt) {
-    ndt.setStepSize(0.5);
-    registration = &ndt;
+VerificationResult Verifier::verify(const VoxelCloud& match, const std::vector<Eigen::Isometry3d>& hypotheses) {
+  const auto start = Clock::now();
+  VerificationResult r;
+  const auto finish = [&](VerificationResult result, const std::string& reason) {
+    result.reason = reason;
+    result.accepted = reason.empty();
+    result.seconds = std::chrono::duration<double>(Clock::now() - start).count();
+    return result;
+  };
+  if (query_ == nullptr) return finish(r, "no query set");
+  r.query_points = query_structure_;
+  r.match_points = structureCount(match);
+  if (r.query_points < static_cast<std::size_t>(config_.min_structure) ||
+      r.match_points < static_cast<std::size_t>(config_.min_structure)) {
+    std::ostringstream why;
+    why << "too few points to verify: structure voxels (query " << r.query_points << ", candidate " << r.match_points
+        << ", need " << config_.min_structure << ")";
+    return finish(r, why.str());
   }
-  registration->setInputSource(match.makeShared());
-  registration->setInputTarget(query.makeShared());
-  registration->setMaximumIterations(config.max_iterations);
-  registration->setTransformationEpsilon(1e-6);
-  VerificationCloud aligned;
-  Eigen::Matrix4f guess = initial.matrix().cast<float>();
-  for (int stage = 0; stage < 2; ++stage) {
-    if (config.method == RegistrationMethod::kNdt) {
-      ndt.setResolution(static_cast<float>(stage == 0 ? 2.0 * config.ndt_resolution : config.ndt_resolution));
-    } else {
-      registration->setMaxCorrespondenceDistance(stage == 0 ? config.coarse_correspondence
-                                                            : config.fine_correspondence);
+  std::vector<Eigen::Isometry3d> guesses;
+  for (const auto& h : hypotheses) {
+    if (h.matrix().allFinite()) guesses.push_back(h);
+  }
+  if (guesses.empty()) return finish(r, "initial guess is not finite");
+  r.relative = guesses.front();
+
+  StructureMap map;
+  map.cell = static_cast<float>(config_.search_cell);
+  map.radius = query_->max_range + map.cell;
+  map.size = static_cast<int>(std::ceil(2.0f * map.radius / map.cell));
+  map.value = query_view_;
+  const std::vector<CoarseHit> hits =
+      coarseSearch(map, structureColumns(match, map.cell), guesses, config_.search_radius, 3.0 * M_PI / 180.0);
+  match_index_.build(match);
+
+  VerificationResult best_rejected = r;
+  best_rejected.reason = "no hypothesis";
+  std::vector<Eigen::Isometry3d> tried;
+  for (const CoarseHit& hit : hits) {
+    if (static_cast<int>(tried.size()) >= config_.max_hypotheses) break;
+    if (!tried.empty() && hit.score < config_.hypothesis_ratio * hits.front().score) break;
+    if (std::any_of(tried.begin(), tried.end(), [&](const Eigen::Isometry3d& t) { return close(t, hit.pose, 1.5, 0.05); }))
+      continue;
+    tried.push_back(hit.pose);
+    VerificationResult candidate = r;
+    candidate.coarse_score = hit.score;
+    candidate.hypotheses = static_cast<int>(tried.size());
+    std::string reason = refineAndJudge(match, hit.pose, &candidate);
+    if (reason.empty()) return finish(candidate, "");
+    candidate.reason = reason;
+    if (best_rejected.reason == "no hypothesis" || candidate.inlier_ratio > best_rejected.inlier_ratio) {
+      best_rejected = candidate;
     }
-    registration->align(aligned, guess);
-    if (!registration->hasConverged()) return finish("registration did not converge");
-    guess = registration->getFinalTransformation();
   }
-  r.relative.matrix() = guess.cast<double>();
-  if (!r.relative.matrix().allFinite()) return finish("registration diverged");
-  judge(query, aligned, config, &r);
+  best_rejected.hypotheses = static_cast<int>(tried.size());
+  return finish(best_rejected, best_rejected.reason);
+}
+
+std::string Verifier::refineAndJudge(const VoxelCloud& match, const Eigen::Isometry3d& initial,
+                                     VerificationResult* r) {
+  Eigen::Isometry3d pose = initial;
+  if (config_.method == RegistrationMethod::kVgicp) {
+    GicpOptions options;
+    options.max_iterations = config_.max_iterations;
+    options.max_source_voxels = config_.max_source_voxels;
+    for (double distance : {config_.coarse_correspondence, config_.fine_correspondence}) {
+      options.max_correspondence = static_cast<float>(distance);
+      const GicpResult g = alignVoxels(match, query_index_, pose, options);
+      if (g.correspondences < 6) return "registration found no correspondences";
+      pose = g.transform;
+    }
+  } else if (!refineWithPcl(*query_, match, config_, &pose)) {
+    return "registration did not converge";
+  }
+  if (!pose.matrix().allFinite()) return "registration diverged";
+  r->relative = pose;
+
+  // Agreement both ways, over the region both sensors cover: a changed world moves cars and trees, not
+  // facades, so the structure that is still there must be where the pose puts it, from either side.
+  Eigen::Matrix<double, 6, 6> information = Eigen::Matrix<double, 6, 6>::Zero();
+  const Agreement forward = agreement(match, query_index_, pose, config_, true, 1, &information);
+  const Agreement backward = agreement(*query_, match_index_, pose.inverse(), config_, true, 1, nullptr);
+  agreement(match, query_index_, pose, config_, false, 2, &information);  // ground: z, roll, pitch
+  r->overlap_match = forward.covered > 0 ? static_cast<double>(forward.agreeing) / forward.covered : 0.0;
+  r->overlap_query = backward.covered > 0 ? static_cast<double>(backward.agreeing) / backward.covered : 0.0;
+  r->inlier_ratio = std::min(r->overlap_match, r->overlap_query);
+  r->fitness = forward.agreeing > 0 ? forward.residual2 / forward.agreeing : std::numeric_limits<double>::infinity();
+
+  // Covariance in the query frame from the point-to-plane information, reordered to (x, y, z, roll,
+  // pitch, yaw), scaled by the residual variance (never below 5 cm squared: voxel means are not points).
+  const double sigma2 = std::max(r->fitness, 0.0025);
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> eig(information);
+  const Eigen::Matrix<double, 6, 1> values = eig.eigenvalues().cwiseMax(1e-9);
+  const Eigen::Matrix<double, 6, 6> cov_rt =
+      sigma2 * eig.eigenvectors() * values.cwiseInverse().asDiagonal() * eig.eigenvectors().transpose();
+  Eigen::Matrix<int, 6, 1> order;
+  order << 3, 4, 5, 0, 1, 2;
+  for (int i = 0; i < 6; ++i) {
+    for (int j = 0; j < 6; ++j) r->covariance(i, j) = cov_rt(order[i], order[j]);
+  }
+  for (int i = 0; i < 6; ++i) {
+    const double floor = i < 3 ? config_.min_translation_variance : config_.min_rotation_variance;
+    r->covariance(i, i) = std::max(r->covariance(i, i), floor);
+  }
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> horizontal(r->covariance.topLeftCorner<2, 2>());
+  r->constraint_ratio = horizontal.eigenvalues()(0) / std::max(horizontal.eigenvalues()(1), 1e-12);
+
   std::ostringstream why;
-  if (r.inlier_ratio < config.min_inlier_ratio) {
-    why << "inlier ratio " << r.inlier_ratio << " below " << config.min_inlier_ratio;
-  } else if (!(r.fitness <= config.max_fitness)) {
-    why << "fitness " << r.fitness << " m^2 above " << config.max_fitness;
+  if (r->inlier_ratio < config_.min_inlier_ratio) {
+    why << "inlier ratio (structure overlap) " << r->inlier_ratio << " below " << config_.min_inlier_ratio
+        << " (query " << r->overlap_query << ", candidate " << r->overlap_match << ")";
+  } else if (!(r->fitness <= config_.max_fitness)) {
+    why << "fitness " << r->fitness << " m^2 above " << config_.max_fitness;
+  } else if (!config_.allow_degenerate && r->constraint_ratio < config_.min_constraint_ratio) {
+    why << "degenerate: the position along one horizontal direction is unconstrained (ratio " << r->constraint_ratio
+        << " below " << config_.min_constraint_ratio << ")";
   }
-  return finish(why.str());
+  return why.str();
+}
+
+VerificationResult verify(const VoxelCloud& query, const VoxelCloud& match, const Eigen::Isometry3d& initial,
+                          const VerificationConfig& config) {
+  Verifier verifier(config);
+  verifier.setQuery(query);
+  return verifier.verify(match, {initial});
 }
 
 VerificationConfig verificationConfig(const Config& c) {
@@ -178,15 +254,15 @@ VerificationConfig verificationConfig(const Config& c) {
   return v;
 }
 
-void CloudStore::add(std::size_t index, VerificationCloud cloud) {
+void CloudStore::add(std::size_t index, VoxelCloud cloud) {
   if (index % stride_ != 0) return;  // between the kept keyframes at the current density
-  const std::size_t size = bytesOf(cloud);
+  const std::size_t size = cloud.bytes();
   while (bytes_ + size > max_bytes_ && stride_ < (std::size_t(1) << 30)) {
     // Halve the density everywhere: keep only multiples of the doubled stride.
     stride_ *= 2;
     for (std::size_t i = 0; i < clouds_.size(); ++i) {
       if (clouds_[i] && i % stride_ != 0) {
-        bytes_ -= bytesOf(*clouds_[i]);
+        bytes_ -= clouds_[i]->bytes();
         clouds_[i].reset();
         ++dropped_;
       }
@@ -195,10 +271,10 @@ void CloudStore::add(std::size_t index, VerificationCloud cloud) {
   }
   if (clouds_.size() <= index) clouds_.resize(index + 1);
   bytes_ += size;
-  clouds_[index].reset(new VerificationCloud(std::move(cloud)));
+  clouds_[index].reset(new VoxelCloud(std::move(cloud)));
 }
 
-const VerificationCloud* CloudStore::get(std::size_t index) const {
+const VoxelCloud* CloudStore::get(std::size_t index) const {
   return index < clouds_.size() ? clouds_[index].get() : nullptr;
 }
 
@@ -213,11 +289,6 @@ Eigen::Isometry3d priorPose(double yaw, const Eigen::Vector2d& viewpoint) {
   pose.linear() = Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
   pose.translation() << viewpoint.x(), viewpoint.y(), 0.0;
   return pose;
-}
-
-VerificationResult verifyWithYaw(const VerificationCloud& query, const VerificationCloud& match, double yaw,
-                                 const VerificationConfig& config, const Eigen::Vector2d& viewpoint) {
-  return verify(query, match, priorPose(yaw, viewpoint), config);
 }
 
 }  // namespace scan_context_loop

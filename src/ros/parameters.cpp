@@ -59,7 +59,7 @@ std::vector<std::string> readParameters(const ros::NodeHandle& pnh, Config* c, R
     problems.push_back("ring_key = " + ring_key + ": must be mean_height or occupancy");
   }
   if (!parseRegistrationMethod(verify_method, &c->verify_method)) {
-    problems.push_back("verify_method = " + verify_method + ": must be gicp, icp or ndt");
+    problems.push_back("verify_method = " + verify_method + ": must be vgicp, gicp, icp or ndt");
   }
   for (const auto& p : c->validate()) problems.push_back(p);
   const auto check = [&](bool ok, const std::string& text) {

@@ -1,0 +1,112 @@
+// Fast registration data and voxelised GICP for verifying loop candidates.
+//
+// A keyframe's registration data are prepared once, when it is processed: its points are accumulated
+// into `resolution`-sized voxels (one pass, a dense index grid), and each voxel keeps its mean and the
+// normal of its points (the GICP plane model). That is all a stored keyframe holds (16 bytes a voxel),
+// so the map stays verifiable within a small budget. Registration aligns a candidate's voxels (source)
+// onto the query's (target) through a dense index grid built once per query: correspondences are O(1)
+// look-ups, not tree searches, and nothing is recomputed per attempt.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include <Eigen/Geometry>
+
+#include "scan_context_loop/descriptor.h"
+
+namespace scan_context_loop {
+
+/// The prepared registration data of one keyframe, in its (levelled) sensor frame.
+struct VoxelCloud {
+  float resolution = 1.0f;
+  /// Horizontal crop radius the voxels were made with [m].
+  float max_range = 40.0f;
+  std::vector<Eigen::Vector3f> means;
+  /// Unit normal of the voxel's points, quantised to int8 (x, y, z), and in [3] the point count
+  /// clamped to 127. A voxel whose points are not planar (a pole, a canopy) keeps the normal of its
+  /// smallest spread all the same; GICP's plane model treats every voxel as a small plane.
+  std::vector<std::array<std::int8_t, 4>> normals;
+
+  std::size_t size() const { return means.size(); }
+  bool empty() const { return means.empty(); }
+  std::size_t bytes() const { return means.size() * (sizeof(Eigen::Vector3f) + 4); }
+  Eigen::Vector3f normal(std::size_t i) const {
+    return Eigen::Vector3f(normals[i][0], normals[i][1], normals[i][2]) * (1.0f / 127.0f);
+  }
+  /// Vertical structure (facades, poles, trunks, car sides): normal within 30 deg of horizontal.
+  bool vertical(std::size_t i) const { return std::abs(normals[i][2]) < 64; }
+  /// Ground-like (normal within about 25 deg of vertical).
+  bool ground(std::size_t i) const { return std::abs(normals[i][2]) > 115; }
+};
+
+struct VoxelOptions {
+  float resolution = 1.0f;   ///< voxel edge [m]
+  float max_range = 40.0f;   ///< horizontal crop [m]
+  float min_z = -8.0f;       ///< vertical extent kept, sensor frame [m]
+  float max_z = 24.0f;
+  int min_points = 3;        ///< voxels with fewer points are dropped (no plane)
+};
+
+/// Accumulates the finite points within the crop, after rotating them by `rotation` (a levelling
+/// rotation; identity for none), into voxels. Reuses an internal scratch grid per thread.
+VoxelCloud makeVoxelCloud(const PointView& points, const VoxelOptions& options,
+                          const Eigen::Matrix3f& rotation = Eigen::Matrix3f::Identity());
+
+/// A dense index over a VoxelCloud's voxels for O(1) look-ups by position: a grid of cells of the
+/// cloud's resolution over its crop, each holding the index of the voxel whose mean falls in it.
+/// Cells are stamped with a generation, so rebuilding it for the next cloud costs only that cloud's
+/// voxels, not a clear of the whole grid.
+class VoxelIndex {
+ public:
+  void build(const VoxelCloud& cloud);
+  /// Index of the voxel in the cell holding p, or -1.
+  int at(const Eigen::Vector3f& p) const;
+  /// The voxel among p's cell and its 6 face neighbours whose mean is nearest to p, within
+  /// `max_distance`, or -1.
+  int nearest(const Eigen::Vector3f& p, float max_distance) const;
+  const VoxelCloud* cloud() const { return cloud_; }
+
+ private:
+  int cell(int ix, int iy, int iz) const;
+  const VoxelCloud* cloud_ = nullptr;
+  float inv_res_ = 1.0f, min_xy_ = 0.0f, min_z_ = 0.0f;
+  int nx_ = 0, nz_ = 0;
+  std::uint32_t generation_ = 0;
+  std::vector<std::uint32_t> stamp_;
+  std::vector<std::int32_t> index_;
+};
+
+struct GicpOptions {
+  int max_iterations = 20;
+  float max_correspondence = 1.0f;  ///< [m], between a moved source mean and a target mean
+  /// Source voxels used (vertical structure first, then an even share of the rest): the cost bound.
+  int max_source_voxels = 1500;
+  /// GICP plane model: the variance along the normal relative to the in-plane one.
+  float plane_epsilon = 1e-2f;
+  /// Stop when the update is below these [m], [rad].
+  double translation_epsilon = 1e-3, rotation_epsilon = 1e-4;
+};
+
+struct GicpResult {
+  Eigen::Isometry3d transform = Eigen::Isometry3d::Identity();  ///< target <- source
+  int iterations = 0;
+  int correspondences = 0;
+  bool converged = false;
+  /// Gauss-Newton Hessian of the point-to-plane cost at the solution in (rx, ry, rz, tx, ty, tz),
+  /// weighted by the plane model's information.
+  Eigen::Matrix<double, 6, 6> hessian = Eigen::Matrix<double, 6, 6>::Zero();
+  double cost = 0.0;  ///< mean Mahalanobis cost over the correspondences
+};
+
+/// Voxelised GICP: aligns `source` onto the cloud indexed by `target`, starting from `initial`
+/// (target <- source). 6-DoF Gauss-Newton with the plane model on both sides.
+GicpResult alignVoxels(const VoxelCloud& source, const VoxelIndex& target, const Eigen::Isometry3d& initial,
+                       const GicpOptions& options);
+
+/// Picks up to `max_count` source voxels: every vertical one first (structure), then an even stride
+/// over the others.
+std::vector<int> sampleVoxels(const VoxelCloud& cloud, int max_count);
+
+}  // namespace scan_context_loop

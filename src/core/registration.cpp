@@ -1,0 +1,256 @@
+#include "scan_context_loop/registration.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+#include <Eigen/Eigenvalues>
+
+namespace scan_context_loop {
+
+namespace {
+
+/// Running sums of one voxel's points, relative to the voxel's corner for precision.
+struct Accumulator {
+  int count = 0;
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d outer = Eigen::Matrix3d::Zero();
+  Eigen::Vector3f corner = Eigen::Vector3f::Zero();
+};
+
+/// Per-thread scratch: a dense grid of accumulator indices stamped with a generation.
+struct Scratch {
+  std::vector<std::uint32_t> stamp;
+  std::vector<std::int32_t> slot;
+  std::vector<Accumulator> acc;
+  std::uint32_t generation = 0;
+};
+
+std::int8_t quantise(float v) { return static_cast<std::int8_t>(std::lround(std::clamp(v, -1.0f, 1.0f) * 127.0f)); }
+
+Eigen::Matrix3f skew(const Eigen::Vector3f& v) {
+  Eigen::Matrix3f m;
+  m << 0, -v.z(), v.y(), v.z(), 0, -v.x(), -v.y(), v.x(), 0;
+  return m;
+}
+
+Eigen::Matrix3f planeCovariance(const Eigen::Vector3f& n, float epsilon) {
+  return Eigen::Matrix3f::Identity() - (1.0f - epsilon) * n * n.transpose();
+}
+
+}  // namespace
+
+VoxelCloud makeVoxelCloud(const PointView& points, const VoxelOptions& options, const Eigen::Matrix3f& rotation) {
+  VoxelCloud out;
+  out.resolution = options.resolution;
+  out.max_range = options.max_range;
+  if (points.data == nullptr || points.count == 0 || !(options.resolution > 0.0f)) return out;
+  const float inv = 1.0f / options.resolution;
+  const int nxy = static_cast<int>(std::ceil(2.0f * options.max_range * inv)) + 1;
+  const int nz = static_cast<int>(std::ceil((options.max_z - options.min_z) * inv)) + 1;
+  const std::size_t cells = static_cast<std::size_t>(nxy) * nxy * nz;
+  thread_local Scratch s;
+  if (s.stamp.size() != cells) {
+    s.stamp.assign(cells, 0);
+    s.slot.assign(cells, -1);
+    s.generation = 0;
+  }
+  if (++s.generation == 0) {  // wrapped: clear once every 4 billion clouds
+    std::fill(s.stamp.begin(), s.stamp.end(), 0);
+    s.generation = 1;
+  }
+  s.acc.clear();
+  const float r2 = options.max_range * options.max_range;
+  const bool rotate = !rotation.isIdentity();
+  for (std::size_t i = 0; i < points.count; ++i) {
+    const std::uint8_t* p = points.data + i * points.stride;
+    Eigen::Vector3f v;
+    std::memcpy(&v.x(), p + points.offset_x, 4);
+    std::memcpy(&v.y(), p + points.offset_y, 4);
+    std::memcpy(&v.z(), p + points.offset_z, 4);
+    if (!v.allFinite()) continue;
+    if (rotate) v = rotation * v;
+    if (v.x() * v.x() + v.y() * v.y() > r2 || v.z() < options.min_z || v.z() >= options.max_z) continue;
+    const int ix = static_cast<int>((v.x() + options.max_range) * inv);
+    const int iy = static_cast<int>((v.y() + options.max_range) * inv);
+    const int iz = static_cast<int>((v.z() - options.min_z) * inv);
+    if (ix < 0 || iy < 0 || iz < 0 || ix >= nxy || iy >= nxy || iz >= nz) continue;
+    const std::size_t c = (static_cast<std::size_t>(iz) * nxy + iy) * nxy + ix;
+    if (s.stamp[c] != s.generation) {
+      s.stamp[c] = s.generation;
+      s.slot[c] = static_cast<std::int32_t>(s.acc.size());
+      Accumulator a;
+      a.corner = Eigen::Vector3f(ix * options.resolution - options.max_range, iy * options.resolution - options.max_range,
+                                 iz * options.resolution + options.min_z);
+      s.acc.push_back(a);
+    }
+    Accumulator& a = s.acc[s.slot[c]];
+    const Eigen::Vector3d d = (v - a.corner).cast<double>();
+    ++a.count;
+    a.sum += d;
+    a.outer.noalias() += d * d.transpose();
+  }
+  out.means.reserve(s.acc.size());
+  out.normals.reserve(s.acc.size());
+  for (const Accumulator& a : s.acc) {
+    if (a.count < options.min_points) continue;
+    const Eigen::Vector3d mean = a.sum / a.count;
+    const Eigen::Matrix3d cov = a.outer / a.count - mean * mean.transpose();
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig;
+    eig.computeDirect(cov);
+    Eigen::Vector3d n = eig.eigenvectors().col(0);  // smallest spread
+    if (!n.allFinite()) continue;
+    if (n.dot(-(mean + a.corner.cast<double>())) < 0.0) n = -n;  // towards the sensor
+    out.means.push_back(a.corner + mean.cast<float>());
+    out.normals.push_back({quantise(static_cast<float>(n.x())), quantise(static_cast<float>(n.y())),
+                           quantise(static_cast<float>(n.z())), static_cast<std::int8_t>(std::min(a.count, 127))});
+  }
+  return out;
+}
+
+void VoxelIndex::build(const VoxelCloud& cloud) {
+  cloud_ = &cloud;
+  inv_res_ = 1.0f / cloud.resolution;
+  min_xy_ = -cloud.max_range - cloud.resolution;
+  min_z_ = -12.0f;
+  nx_ = static_cast<int>(std::ceil(2.0f * (cloud.max_range + cloud.resolution) * inv_res_)) + 1;
+  nz_ = static_cast<int>(std::ceil(40.0f * inv_res_)) + 1;
+  const std::size_t cells = static_cast<std::size_t>(nx_) * nx_ * nz_;
+  if (stamp_.size() != cells) {
+    stamp_.assign(cells, 0);
+    index_.assign(cells, -1);
+    generation_ = 0;
+  }
+  if (++generation_ == 0) {
+    std::fill(stamp_.begin(), stamp_.end(), 0);
+    generation_ = 1;
+  }
+  for (std::size_t i = 0; i < cloud.size(); ++i) {
+    const Eigen::Vector3f& m = cloud.means[i];
+    const int ix = static_cast<int>(std::floor((m.x() - min_xy_) * inv_res_));
+    const int iy = static_cast<int>(std::floor((m.y() - min_xy_) * inv_res_));
+    const int iz = static_cast<int>(std::floor((m.z() - min_z_) * inv_res_));
+    const int c = cell(ix, iy, iz);
+    if (c < 0) continue;
+    stamp_[c] = generation_;
+    index_[c] = static_cast<std::int32_t>(i);
+  }
+}
+
+int VoxelIndex::cell(int ix, int iy, int iz) const {
+  if (ix < 0 || iy < 0 || iz < 0 || ix >= nx_ || iy >= nx_ || iz >= nz_) return -1;
+  return (iz * nx_ + iy) * nx_ + ix;
+}
+
+int VoxelIndex::at(const Eigen::Vector3f& p) const {
+  if (cloud_ == nullptr) return -1;
+  const int c = cell(static_cast<int>(std::floor((p.x() - min_xy_) * inv_res_)),
+                     static_cast<int>(std::floor((p.y() - min_xy_) * inv_res_)),
+                     static_cast<int>(std::floor((p.z() - min_z_) * inv_res_)));
+  return c >= 0 && stamp_[c] == generation_ ? index_[c] : -1;
+}
+
+int VoxelIndex::nearest(const Eigen::Vector3f& p, float max_distance) const {
+  if (cloud_ == nullptr) return -1;
+  static const int kOffsets[7][3] = {{0, 0, 0}, {1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+  const int ix = static_cast<int>(std::floor((p.x() - min_xy_) * inv_res_));
+  const int iy = static_cast<int>(std::floor((p.y() - min_xy_) * inv_res_));
+  const int iz = static_cast<int>(std::floor((p.z() - min_z_) * inv_res_));
+  int best = -1;
+  float best2 = max_distance * max_distance;
+  for (const auto& o : kOffsets) {
+    const int c = cell(ix + o[0], iy + o[1], iz + o[2]);
+    if (c < 0 || stamp_[c] != generation_) continue;
+    const int i = index_[c];
+    const float d2 = (cloud_->means[i] - p).squaredNorm();
+    if (d2 < best2) {
+      best2 = d2;
+      best = i;
+    }
+  }
+  return best;
+}
+
+std::vector<int> sampleVoxels(const VoxelCloud& cloud, int max_count) {
+  std::vector<int> picked, rest;
+  for (std::size_t i = 0; i < cloud.size(); ++i) (cloud.vertical(i) ? picked : rest).push_back(static_cast<int>(i));
+  if (static_cast<int>(picked.size()) > max_count) {
+    // Even stride over the vertical ones alone.
+    std::vector<int> thinned;
+    const double step = static_cast<double>(picked.size()) / max_count;
+    for (int k = 0; k < max_count; ++k) thinned.push_back(picked[static_cast<std::size_t>(k * step)]);
+    return thinned;
+  }
+  const int room = max_count - static_cast<int>(picked.size());
+  if (!rest.empty() && room > 0) {
+    const double step = std::max(1.0, static_cast<double>(rest.size()) / room);
+    for (double k = 0; k < rest.size() && static_cast<int>(picked.size()) < max_count; k += step) {
+      picked.push_back(rest[static_cast<std::size_t>(k)]);
+    }
+  }
+  return picked;
+}
+
+GicpResult alignVoxels(const VoxelCloud& source, const VoxelIndex& target, const Eigen::Isometry3d& initial,
+                       const GicpOptions& options) {
+  GicpResult result;
+  result.transform = initial;
+  const VoxelCloud* tc = target.cloud();
+  if (tc == nullptr || source.empty() || tc->empty()) return result;
+  const std::vector<int> sample = sampleVoxels(source, options.max_source_voxels);
+  // Source plane covariances are fixed in the source frame; compute them once.
+  std::vector<Eigen::Matrix3f> source_cov(sample.size());
+  for (std::size_t k = 0; k < sample.size(); ++k) {
+    source_cov[k] = planeCovariance(source.normal(sample[k]), options.plane_epsilon);
+  }
+  const float robust2 = 4.0f;  // Cauchy scale on the Mahalanobis cost
+  Eigen::Isometry3d T = initial;
+  for (int it = 0; it < options.max_iterations; ++it) {
+    const Eigen::Matrix3f R = T.linear().cast<float>();
+    const Eigen::Vector3f t = T.translation().cast<float>();
+    Eigen::Matrix<double, 6, 6> H = Eigen::Matrix<double, 6, 6>::Zero();
+    Eigen::Matrix<double, 6, 1> g = Eigen::Matrix<double, 6, 1>::Zero();
+    double cost = 0.0;
+    int n = 0;
+    for (std::size_t k = 0; k < sample.size(); ++k) {
+      const Eigen::Vector3f p = R * source.means[sample[k]] + t;
+      const int j = target.nearest(p, options.max_correspondence);
+      if (j < 0) continue;
+      const Eigen::Matrix3f C = planeCovariance(tc->normal(j), options.plane_epsilon) +
+                                R * source_cov[k] * R.transpose();
+      const Eigen::Matrix3f M = C.inverse();
+      const Eigen::Vector3f r = tc->means[j] - p;
+      const float e = r.dot(M * r);
+      const float w = robust2 / (robust2 + e);
+      Eigen::Matrix<float, 3, 6> J;
+      J.leftCols<3>() = skew(p);
+      J.rightCols<3>() = -Eigen::Matrix3f::Identity();
+      const Eigen::Matrix<float, 6, 3> JtM = J.transpose() * M;
+      H += (w * JtM * J).cast<double>();
+      g += (w * JtM * r).cast<double>();
+      cost += e;
+      ++n;
+    }
+    result.iterations = it + 1;
+    result.correspondences = n;
+    result.hessian = H;
+    result.cost = n > 0 ? cost / n : 0.0;
+    if (n < 6) break;
+    const Eigen::Matrix<double, 6, 1> delta = H.ldlt().solve(-g);
+    if (!delta.allFinite()) break;
+    Eigen::Isometry3d step = Eigen::Isometry3d::Identity();
+    const Eigen::Vector3d w = delta.head<3>();
+    if (w.norm() > 1e-12) step.linear() = Eigen::AngleAxisd(w.norm(), w.normalized()).toRotationMatrix();
+    step.translation() = delta.tail<3>();
+    T = step * T;
+    if (delta.tail<3>().norm() < options.translation_epsilon && w.norm() < options.rotation_epsilon) {
+      result.converged = true;
+      break;
+    }
+  }
+  if (result.correspondences >= 6 && !result.converged) result.converged = result.iterations >= 1;
+  result.transform = T;
+  return result;
+}
+
+}  // namespace scan_context_loop
