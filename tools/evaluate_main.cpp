@@ -15,7 +15,8 @@ const char* kUsage = R"(usage: scan_context_evaluate SEQUENCE_DIR OUT_DIR [optio
 
 Runs the Scan Context detector frame by frame over a KITTI-format sequence (velodyne/*.bin, poses.txt,
 calib.txt, optional times.txt and odom_poses.txt) exactly as the node does, and writes OUT_DIR/results.csv,
-metrics.json and trajectory.csv (scripts/evaluate adds pr.png and map.png).
+metrics.json and trajectory.csv (scripts/evaluate adds pr.png and map.png); with verification also
+verifications.csv, one row per candidate registered, scored against the truth.
 
   --config FILE            YAML with the node's configuration keys (config/default.yaml)
   --set KEY=VALUE          override one configuration key (repeatable)
@@ -102,7 +103,8 @@ int main(int argc, char** argv) {
   mkdir(out_dir.c_str(), 0755);
   if (!eval::writeResultsCsv(out_dir + "/results.csv", result, &error) ||
       !eval::writeMetricsJson(out_dir + "/metrics.json", result, sequence, config, radius, &error) ||
-      !eval::writeTrajectoryCsv(out_dir + "/trajectory.csv", sequence, &error)) {
+      !eval::writeTrajectoryCsv(out_dir + "/trajectory.csv", sequence, &error) ||
+      (result.verification && !eval::writeVerificationsCsv(out_dir + "/verifications.csv", result, &error))) {
     std::fprintf(stderr, "scan_context_evaluate: %s\n", error.c_str());
     return 1;
   }

@@ -24,10 +24,18 @@ struct VoxelCloud {
   /// Horizontal crop radius the voxels were made with [m].
   float max_range = 40.0f;
   std::vector<Eigen::Vector3f> means;
-  /// Unit normal of the voxel's points, quantised to int8 (x, y, z), and in [3] the point count
-  /// clamped to 127. A voxel whose points are not planar (a pole, a canopy) keeps the normal of its
-  /// smallest spread all the same; GICP's plane model treats every voxel as a small plane.
+  /// Unit normal of the voxel's points (the direction of least spread, towards the sensor), quantised
+  /// to int8 (x, y, z), and in [3] the shape of the points (VoxelShape).
   std::vector<std::array<std::int8_t, 4>> normals;
+
+  /// How a voxel's points spread, from the eigenvalues l0 <= l1 <= l2 of their covariance.
+  enum Shape : std::int8_t {
+    kPlanar = 1,          ///< l0 small against l1: a surface (facade, ground, car side); GICP's plane model
+    kVerticalLine = 2,    ///< l1 small against l2 along z: a pole or a trunk
+    kHorizontalLine = 3,  ///< l1 small against l2, not along z: one scan line, an edge; no direction
+                          ///< to trust across, so it takes part in nothing
+    kScatter = 4,         ///< no dominant direction: foliage; registered, but never structure
+  };
 
   std::size_t size() const { return means.size(); }
   bool empty() const { return means.empty(); }
@@ -35,10 +43,16 @@ struct VoxelCloud {
   Eigen::Vector3f normal(std::size_t i) const {
     return Eigen::Vector3f(normals[i][0], normals[i][1], normals[i][2]) * (1.0f / 127.0f);
   }
-  /// Vertical structure (facades, poles, trunks, car sides): normal within 30 deg of horizontal.
-  bool vertical(std::size_t i) const { return std::abs(normals[i][2]) < 64; }
-  /// Ground-like (normal within about 25 deg of vertical).
-  bool ground(std::size_t i) const { return std::abs(normals[i][2]) > 115; }
+  Shape shape(std::size_t i) const { return static_cast<Shape>(normals[i][3]); }
+  /// Vertical structure, what a changed world keeps (facades, walls, poles, trunks; car sides too): a
+  /// planar voxel whose normal is within 30 deg of horizontal, or a vertical line.
+  bool vertical(std::size_t i) const {
+    return (shape(i) == kPlanar && std::abs(normals[i][2]) < 64) || shape(i) == kVerticalLine;
+  }
+  /// Ground-like: planar, normal within about 25 deg of vertical.
+  bool ground(std::size_t i) const { return shape(i) == kPlanar && std::abs(normals[i][2]) > 115; }
+  /// Usable for registration (everything but horizontal lines).
+  bool registrable(std::size_t i) const { return shape(i) != kHorizontalLine; }
 };
 
 struct VoxelOptions {

@@ -101,9 +101,16 @@ VoxelCloud makeVoxelCloud(const PointView& points, const VoxelOptions& options, 
     Eigen::Vector3d n = eig.eigenvectors().col(0);  // smallest spread
     if (!n.allFinite()) continue;
     if (n.dot(-(mean + a.corner.cast<double>())) < 0.0) n = -n;  // towards the sensor
+    const Eigen::Vector3d l = eig.eigenvalues().cwiseMax(0.0);
+    VoxelCloud::Shape shape = VoxelCloud::kScatter;
+    if (l(1) < 0.1 * l(2)) {
+      shape = std::fabs(eig.eigenvectors()(2, 2)) > 0.85 ? VoxelCloud::kVerticalLine : VoxelCloud::kHorizontalLine;
+    } else if (l(0) < 0.25 * l(1)) {
+      shape = VoxelCloud::kPlanar;
+    }
     out.means.push_back(a.corner + mean.cast<float>());
     out.normals.push_back({quantise(static_cast<float>(n.x())), quantise(static_cast<float>(n.y())),
-                           quantise(static_cast<float>(n.z())), static_cast<std::int8_t>(std::min(a.count, 127))});
+                           quantise(static_cast<float>(n.z())), static_cast<std::int8_t>(shape)});
   }
   return out;
 }
@@ -173,7 +180,9 @@ int VoxelIndex::nearest(const Eigen::Vector3f& p, float max_distance) const {
 
 std::vector<int> sampleVoxels(const VoxelCloud& cloud, int max_count) {
   std::vector<int> picked, rest;
-  for (std::size_t i = 0; i < cloud.size(); ++i) (cloud.vertical(i) ? picked : rest).push_back(static_cast<int>(i));
+  for (std::size_t i = 0; i < cloud.size(); ++i) {
+    if (cloud.registrable(i)) (cloud.vertical(i) ? picked : rest).push_back(static_cast<int>(i));
+  }
   if (static_cast<int>(picked.size()) > max_count) {
     // Even stride over the vertical ones alone.
     std::vector<int> thinned;
@@ -215,7 +224,7 @@ GicpResult alignVoxels(const VoxelCloud& source, const VoxelIndex& target, const
     for (std::size_t k = 0; k < sample.size(); ++k) {
       const Eigen::Vector3f p = R * source.means[sample[k]] + t;
       const int j = target.nearest(p, options.max_correspondence);
-      if (j < 0) continue;
+      if (j < 0 || !tc->registrable(j)) continue;
       const Eigen::Matrix3f C = planeCovariance(tc->normal(j), options.plane_epsilon) +
                                 R * source_cov[k] * R.transpose();
       const Eigen::Matrix3f M = C.inverse();

@@ -86,12 +86,12 @@ Agreement agreement(const VoxelCloud& from, const VoxelIndex& to, const Eigen::I
   const float reach2 = reach * reach;
   const float plane = static_cast<float>(config.inlier_plane_distance);
   for (std::size_t i = 0; i < from.size(); i += stride) {
-    if (structure_only ? !from.vertical(i) : from.vertical(i)) continue;
+    if (structure_only ? !from.vertical(i) : !from.ground(i)) continue;
     const Eigen::Vector3f p = R * from.means[i] + t;
     if (p.x() * p.x() + p.y() * p.y() > reach2) continue;
     ++a.covered;
     const int j = to.nearest(p, static_cast<float>(config.inlier_distance));
-    if (j < 0) continue;
+    if (j < 0 || !target.registrable(j)) continue;
     const Eigen::Vector3f n = target.normal(j);
     const float d = n.dot(p - target.means[j]);
     if (std::fabs(d) > plane) continue;

@@ -114,6 +114,28 @@ Evaluation evaluate(const Sequence& s, const Config& config, double revisit_radi
     if (d.verifications_enabled) {
       e.verify_ms.push_back(d.verify_seconds * 1e3);
       o.candidates_verified = static_cast<int>(d.verifications.size());
+      for (const VerifiedCandidate& v : d.verifications) {
+        const std::size_t mk = keyframe_of[v.index];
+        const Eigen::Isometry3d truth = s.truth[k].inverse() * s.truth[mk];
+        const VerificationResult& r = v.result;
+        VerificationAttempt a;
+        a.query = s.frames[k];
+        a.match = s.frames[mk];
+        a.distance = v.alignment.distance;
+        a.gap = truth.translation().norm();
+        a.accepted = r.accepted;
+        a.reason = r.reason;
+        a.overlap_query = r.overlap_query;
+        a.overlap_match = r.overlap_match;
+        a.fitness = r.fitness;
+        a.constraint_ratio = r.constraint_ratio;
+        a.coarse_score = r.coarse_score;
+        a.hypotheses = r.hypotheses;
+        a.translation_error = (r.relative.translation() - truth.translation()).norm();
+        a.yaw_error = std::fabs(wrapAngle(yawOf(r.relative) - yawOf(truth)));
+        a.ms = r.seconds * 1e3;
+        e.attempts.push_back(a);
+      }
     }
     outcome_of.resize(d.index + 1, -1);
     outcome_of[d.index] = static_cast<long>(e.outcomes.size());
@@ -216,6 +238,26 @@ bool writeMetricsJson(const std::string& path, const Evaluation& e, const Sequen
         << ", \"max\": " << percentile(e.verify_ms, 1.0) << "}}";
   }
   out << "\n}\n";
+  return out.good();
+}
+
+bool writeVerificationsCsv(const std::string& path, const Evaluation& e, std::string* error) {
+  std::ofstream out(path);
+  if (!out) {
+    *error = "cannot create " + path;
+    return false;
+  }
+  out << "query,match,distance,gap_m,accepted,overlap_query,overlap_match,fitness,constraint_ratio,coarse_score,"
+         "hypotheses,trans_err_m,yaw_err_deg,ms,reason\n";
+  out.precision(6);
+  for (const auto& a : e.attempts) {
+    std::string reason = a.reason;
+    for (char& c : reason) if (c == ',' || c == '"') c = ';';
+    out << a.query << ',' << a.match << ',' << a.distance << ',' << a.gap << ',' << int(a.accepted) << ','
+        << a.overlap_query << ',' << a.overlap_match << ',' << a.fitness << ',' << a.constraint_ratio << ','
+        << a.coarse_score << ',' << a.hypotheses << ',' << a.translation_error << ',' << a.yaw_error * 180.0 / M_PI
+        << ',' << a.ms << ',' << reason << '\n';
+  }
   return out.good();
 }
 

@@ -228,7 +228,7 @@ TEST(Verification, EmptyTinyAndNaNCloudsAreRejectedCleanly) {
 VoxelCloud cloudOf(std::size_t voxels) {
   VoxelCloud c;
   c.means.assign(voxels, Eigen::Vector3f::Zero());
-  c.normals.assign(voxels, {0, 0, 127, 3});
+  c.normals.assign(voxels, {0, 0, 127, VoxelCloud::kPlanar});
   return c;
 }
 

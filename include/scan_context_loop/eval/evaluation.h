@@ -32,7 +32,22 @@ struct Sequence {
 /// keyframes among the frames whose scan exists.
 bool loadSequence(const std::string& dir, const SequenceOptions& options, Sequence* sequence, std::string* error);
 
+/// One candidate that went through verification, scored against the truth (verifications.csv): what
+/// the acceptance thresholds are chosen on.
+struct VerificationAttempt {
+  int query = -1, match = -1;   ///< frame indices
+  double distance = 1.0;        ///< descriptor distance
+  double gap = 0.0;             ///< true distance between the two keyframes [m]
+  bool accepted = false;
+  std::string reason;
+  double overlap_query = 0.0, overlap_match = 0.0, fitness = 0.0, constraint_ratio = 0.0, coarse_score = 0.0;
+  int hypotheses = 0;
+  double translation_error = 0.0, yaw_error = 0.0;  ///< of the registered pose against the truth [m], [rad]
+  double ms = 0.0;
+};
+
 struct Evaluation {
+  std::vector<VerificationAttempt> attempts;
   std::vector<QueryOutcome> outcomes;
   std::vector<double> descriptor_ms, query_ms, verify_ms;
   Metrics metrics;
@@ -50,6 +65,7 @@ Evaluation evaluate(const Sequence& sequence, const Config& config, double revis
 bool writeResultsCsv(const std::string& path, const Evaluation& evaluation, std::string* error);
 bool writeMetricsJson(const std::string& path, const Evaluation& evaluation, const Sequence& sequence,
                       const Config& config, double revisit_radius, std::string* error);
+bool writeVerificationsCsv(const std::string& path, const Evaluation& evaluation, std::string* error);
 bool writeTrajectoryCsv(const std::string& path, const Sequence& sequence, std::string* error);
 
 }  // namespace eval
