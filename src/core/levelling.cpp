@@ -203,10 +203,8 @@ bool levellingFromGround(const PointView& points, const GroundFitOptions& option
 
   const std::vector<Eigen::Vector3f> pts = candidatePoints(points, options);
   result.considered = pts.size();
-  const std::size_t needed =
-      std::max<std::size_t>({options.min_inliers, static_cast<std::size_t>(std::ceil(options.min_inlier_ratio *
-                                                                                     static_cast<double>(pts.size()))),
-                             3});
+  const auto ratio_needed = static_cast<std::size_t>(std::ceil(options.min_inlier_ratio * pts.size()));
+  const std::size_t needed = std::max<std::size_t>({options.min_inliers, ratio_needed, 3});
   const PlaneLimits limits{std::cos(options.max_tilt_deg * kRadPerDeg), options.min_height, options.max_height};
   const float threshold = static_cast<float>(options.inlier_distance);
   if (pts.size() < needed) {
