@@ -11,6 +11,7 @@ add_library(scan_context_loop_core
   src/core/pcl_refinement.cpp
   src/core/verification.cpp
   src/core/consistency.cpp
+  src/core/levelling.cpp
 )
 target_include_directories(scan_context_loop_core PUBLIC
   include ${EIGEN3_INCLUDE_DIRS} ${PCL_INCLUDE_DIRS} ${FLANN_INCLUDE_DIRS})
@@ -46,6 +47,7 @@ if(CATKIN_ENABLE_TESTING)
     test/core/test_verification.cpp
     test/core/test_consistency.cpp
     test/core/test_viewpoints.cpp
+    test/core/test_levelling.cpp
   )
   target_link_libraries(test_core scan_context_loop_core ${PCL_IO_LIBRARIES})
   target_compile_definitions(test_core PRIVATE SCL_SHARED_DATA="${SCL_SHARED_DATA}")
