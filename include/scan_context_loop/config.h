@@ -28,6 +28,20 @@ enum class RegistrationMethod { kVgicp, kGicp, kIcp, kNdt };
 bool parseRegistrationMethod(const std::string& text, RegistrationMethod* out);
 const char* registrationMethodName(RegistrationMethod method);
 
+/// Where the levelling (gravity alignment) of each keyframe comes from (levelling.h).
+enum class LevellingMode {
+  /// The pose's roll and pitch when the keyframe has a pose whose tilt is within levelling_max_tilt
+  /// (a larger one means a world frame that is not z-up), else a ground-plane fit, else none.
+  kAuto,
+  kPose,    ///< the pose's roll and pitch only (keyframes without a pose are not levelled)
+  kGround,  ///< a ground-plane fit only
+  kOff,
+};
+
+/// Parses "auto" / "pose" / "ground" / "off"; returns false for anything else.
+bool parseLevellingMode(const std::string& text, LevellingMode* out);
+const char* levellingModeName(LevellingMode mode);
+
 /// Every tunable of the core. Members carry the documented defaults; call validate() before use.
 struct Config {
   // ---- descriptor -------------------------------------------------------------------------
@@ -45,6 +59,14 @@ struct Config {
   double lidar_height = 2.0;
   /// Ring key content, see RingKeyType.
   RingKeyType ring_key = RingKeyType::kMeanHeight;
+
+  /// Levelling: each keyframe is rotated into a gravity-aligned frame (same heading) before it is
+  /// described and registered, so a sensor tilted 10-20 degrees (hand-held, backpack, legged) still
+  /// matches a level pass. Tilts below 0.5 degrees are left alone. Loop poses are reported in the
+  /// sensor frames all the same; the yaw prior is that of the levelled frames.
+  LevellingMode levelling = LevellingMode::kAuto;
+  /// kAuto: a pose tilted more than this [deg] is not trusted for levelling (ground fit instead).
+  double levelling_max_tilt = 30.0;
 
   // ---- search -----------------------------------------------------------------------------
   /// Nearest ring keys fetched from the kd-tree and scored with the full descriptor distance.
@@ -108,6 +130,12 @@ struct Config {
   double verify_max_fitness = 0.02;
   /// The registration verification runs.
   RegistrationMethod verify_method = RegistrationMethod::kVgicp;
+  /// Register against the candidate and this many keyframes on each side of it, moved into the
+  /// candidate's frame through the odometry (0: the candidate alone). For sparse sensors (VLP-16).
+  int verify_submap = 0;
+  /// Accept loops whose position along one horizontal direction the scene does not fix (a corridor,
+  /// an open road); their covariance then says so. Off: such loops are rejected.
+  bool verify_allow_degenerate = false;
 
   // ---- pairwise consistency of verified loops (consistency.h) ---------------------------------
   /// With verify: a verified loop is published only once at least this many other verified loops agree

@@ -31,6 +31,10 @@ struct Detection {
   /// Candidates among the earlier keyframes, from every viewpoint (Config::lateral_offset_step), best
   /// first, at most Config::num_candidates.
   QueryResult query;
+  /// Levelling of this keyframe: "pose", "ground" or "none", and the tilt it removed [deg] (tilts
+  /// below 0.5 deg are left alone).
+  const char* levelled_by = "none";
+  double tilt_deg = 0.0;
   std::size_t points_used = 0;
   std::size_t points_skipped = 0;
   double descriptor_seconds = 0.0;  ///< making the descriptors (one per viewpoint)
@@ -76,12 +80,19 @@ class LoopDetector {
   /// Registration guesses for a candidate (T_query<-match): its alignment, then other yaw hypotheses.
   std::vector<Eigen::Isometry3d> hypotheses(const Candidate& candidate, const Descriptor& query) const;
   static constexpr int kYawHypotheses = 3;
+  /// L_R_sensor of a new keyframe (Config::levelling), identity when it is not levelled.
+  Eigen::Matrix3f levellingOf(const PointView& points, const KeyframeInfo& info, Detection* detection) const;
+  /// The candidate's data with its Config::verify_submap neighbours on each side (older than `query`).
+  VoxelCloud submapOf(std::size_t index, std::size_t query) const;
+  /// Registration results are in the levelled frames; loops are reported in the sensor frames.
+  void toSensorFrames(std::size_t query, std::size_t match, VerificationResult* result) const;
   void decide(Detection* detection);
 
   Database database_;
   CloudStore store_;
   VerificationConfig verification_;
   Verifier verifier_;
+  std::vector<Eigen::Matrix3f> levelling_;  // L_R_sensor per keyframe
   ConsistencyFilter consistency_;
 };
 

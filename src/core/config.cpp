@@ -39,6 +39,24 @@ const char* registrationMethodName(RegistrationMethod method) {
   }
 }
 
+bool parseLevellingMode(const std::string& text, LevellingMode* out) {
+  if (text == "auto") *out = LevellingMode::kAuto;
+  else if (text == "pose") *out = LevellingMode::kPose;
+  else if (text == "ground") *out = LevellingMode::kGround;
+  else if (text == "off") *out = LevellingMode::kOff;
+  else return false;
+  return true;
+}
+
+const char* levellingModeName(LevellingMode mode) {
+  switch (mode) {
+    case LevellingMode::kPose: return "pose";
+    case LevellingMode::kGround: return "ground";
+    case LevellingMode::kOff: return "off";
+    default: return "auto";
+  }
+}
+
 namespace {
 
 template <typename T>
@@ -61,6 +79,8 @@ std::vector<std::string> Config::validate() const {
   require(&e, std::isfinite(min_range) && min_range >= 0.0 && min_range < max_radius, "min_range",
           min_range, "must be finite, >= 0 and below max_radius");
   require(&e, std::isfinite(lidar_height), "lidar_height", lidar_height, "must be finite");
+  require(&e, std::isfinite(levelling_max_tilt) && levelling_max_tilt >= 0.0 && levelling_max_tilt <= 90.0,
+          "levelling_max_tilt", levelling_max_tilt, "must be in [0, 90] degrees");
   require(&e, num_candidates >= 1 && num_candidates <= 10000, "num_candidates", num_candidates,
           "must be in [1, 10000]");
   require(&e, std::isfinite(search_ratio) && search_ratio >= 0.0 && search_ratio <= 1.0,
@@ -95,6 +115,7 @@ std::vector<std::string> Config::validate() const {
           verify_min_inlier_ratio, "must be in [0, 1]");
   require(&e, std::isfinite(verify_max_fitness) && verify_max_fitness > 0.0, "verify_max_fitness",
           verify_max_fitness, "must be positive");
+  require(&e, verify_submap >= 0 && verify_submap <= 20, "verify_submap", verify_submap, "must be in [0, 20]");
   require(&e, consistency_min_support >= 0 && consistency_min_support <= 100, "consistency_min_support",
           consistency_min_support, "must be in [0, 100] (0 disables)");
   require(&e, consistency_window >= 1 && consistency_window <= 100000, "consistency_window", consistency_window,
@@ -145,11 +166,11 @@ bool parseDouble(const std::string& text, double* out) {
 const std::vector<std::string>& configKeys() {
   static const std::vector<std::string> keys = {
       "num_rings",      "num_sectors",        "max_radius",           "min_range",
-      "lidar_height",   "ring_key",           "num_candidates",       "search_ratio",
+      "lidar_height",   "ring_key", "levelling", "levelling_max_tilt",           "num_candidates",       "search_ratio",
       "distance_threshold", "lateral_offset_step", "lateral_offset_count", "exclude_recent_frames", "exclude_recent_seconds", "exclude_recent_distance",
       "gate_odometry_distance", "gate_odometry_drift", "verify", "verify_threshold",   "verify_max_candidates", "verify_max_bytes",
       "verify_voxel_leaf", "verify_max_range", "verify_min_inlier_ratio", "verify_max_fitness",
-      "verify_method", "consistency_min_support", "consistency_window", "consistency_translation",
+      "verify_method", "verify_submap", "verify_allow_degenerate", "consistency_min_support", "consistency_window", "consistency_translation",
       "consistency_rotation", "consistency_drift"};
   return keys;
 }
@@ -163,6 +184,8 @@ bool setConfigValue(Config* config, const std::string& key, const std::string& v
   else if (key == "min_range") ok = parseDouble(value, &c.min_range);
   else if (key == "lidar_height") ok = parseDouble(value, &c.lidar_height);
   else if (key == "ring_key") ok = parseRingKeyType(value, &c.ring_key);
+  else if (key == "levelling") ok = parseLevellingMode(value, &c.levelling);
+  else if (key == "levelling_max_tilt") ok = parseDouble(value, &c.levelling_max_tilt);
   else if (key == "num_candidates") ok = parseInt(value, &c.num_candidates);
   else if (key == "search_ratio") ok = parseDouble(value, &c.search_ratio);
   else if (key == "distance_threshold") ok = parseDouble(value, &c.distance_threshold);
@@ -182,6 +205,8 @@ bool setConfigValue(Config* config, const std::string& key, const std::string& v
   else if (key == "verify_min_inlier_ratio") ok = parseDouble(value, &c.verify_min_inlier_ratio);
   else if (key == "verify_max_fitness") ok = parseDouble(value, &c.verify_max_fitness);
   else if (key == "verify_method") ok = parseRegistrationMethod(value, &c.verify_method);
+  else if (key == "verify_submap") ok = parseInt(value, &c.verify_submap);
+  else if (key == "verify_allow_degenerate") ok = parseBool(value, &c.verify_allow_degenerate);
   else if (key == "consistency_min_support") ok = parseInt(value, &c.consistency_min_support);
   else if (key == "consistency_window") ok = parseInt(value, &c.consistency_window);
   else if (key == "consistency_translation") ok = parseDouble(value, &c.consistency_translation);

@@ -4,6 +4,8 @@
 #include <chrono>
 #include <cmath>
 
+#include "scan_context_loop/levelling.h"
+
 namespace scan_context_loop {
 
 namespace {
@@ -33,11 +35,19 @@ std::vector<Eigen::Vector2f> lateralViewpoints(const Config& config) {
   return views;
 }
 
-Detection LoopDetector::process(const PointView& points, const KeyframeInfo& info) {
+Detection LoopDetector::process(const PointView& raw, const KeyframeInfo& info) {
   Detection detection;
   const Config& config = database_.config();
   if (!database_.acceptable(info, &detection.error)) return detection;
   const auto t0 = Clock::now();
+  // Levelled keyframes are described and registered in their gravity-aligned frame.
+  const Eigen::Matrix3f level = levellingOf(raw, info, &detection);
+  pcl::PointCloud<pcl::PointXYZ> levelled;
+  PointView points = raw;
+  if (!level.isIdentity()) {
+    levelled = rotatedCloud(raw, level);
+    points = viewOf(levelled);
+  }
   const HeightGrid grid = makeHeightGrid(points, config);
   detection.points_used = grid.points_used;
   detection.points_skipped = grid.points_skipped;
@@ -53,9 +63,35 @@ Detection LoopDetector::process(const PointView& points, const KeyframeInfo& inf
   detection.accepted = database_.add(info, std::move(descriptor), &detection.error);
   detection.query_seconds += secondsSince(t2);
   if (!detection.accepted) return detection;
+  levelling_.push_back(level);
   if (config.verify) verifyCandidates(points, &detection);
   decide(&detection);
   return detection;
+}
+
+Eigen::Matrix3f LoopDetector::levellingOf(const PointView& points, const KeyframeInfo& info, Detection* detection) const {
+  const Config& config = database_.config();
+  const LevellingMode mode = config.levelling;
+  Eigen::Matrix3d level = Eigen::Matrix3d::Identity();
+  bool found = false;
+  if ((mode == LevellingMode::kAuto || mode == LevellingMode::kPose) && info.pose) {
+    const Eigen::Matrix3d from_pose = levellingFromOrientation(info.pose->linear());
+    const double tilt = Eigen::AngleAxisd(from_pose).angle() * 180.0 / M_PI;
+    if (mode == LevellingMode::kPose || tilt <= config.levelling_max_tilt) {
+      level = from_pose;
+      found = true;
+      detection->levelled_by = "pose";
+    }
+  }
+  if (!found && (mode == LevellingMode::kAuto || mode == LevellingMode::kGround) &&
+      levellingFromGround(points, GroundFitOptions(), &level, nullptr)) {
+    found = true;
+    detection->levelled_by = "ground";
+  }
+  detection->tilt_deg = found ? Eigen::AngleAxisd(level).angle() * 180.0 / M_PI : 0.0;
+  // Below half a degree the rotation changes nothing a descriptor or a registration would notice.
+  if (!found || detection->tilt_deg < 0.5) return Eigen::Matrix3f::Identity();
+  return level.cast<float>();
 }
 
 void LoopDetector::queryViewpoints(const PointView& points, const KeyframeInfo& info, Detection* detection) {
@@ -120,9 +156,12 @@ void LoopDetector::verifyCandidates(const PointView& points, Detection* detectio
     const VoxelCloud* stored = store_.get(c.index);
     if (stored == nullptr) {
       v.result.reason = "unverifiable: the candidate's cloud was dropped to stay within verify_max_bytes";
+    } else if (config.verify_submap > 0) {
+      v.result = verifier_.verify(submapOf(c.index, detection->index), hypotheses(c, query));
     } else {
       v.result = verifier_.verify(*stored, hypotheses(c, query));
     }
+    toSensorFrames(detection->index, c.index, &v.result);
     detection->verifications.push_back(v);
     if (v.result.accepted) {
       detection->verified = true;
@@ -131,6 +170,46 @@ void LoopDetector::verifyCandidates(const PointView& points, Detection* detectio
   }
   store_.add(detection->index, std::move(cloud));
   detection->verify_seconds = secondsSince(start);
+}
+
+VoxelCloud LoopDetector::submapOf(std::size_t index, std::size_t query) const {
+  VoxelCloud merged = *store_.get(index);
+  const auto& centre = database_.keyframe(index).info.pose;
+  if (!centre) return merged;
+  const int n = database_.config().verify_submap;
+  for (long k = static_cast<long>(index) - n; k <= static_cast<long>(index) + n; ++k) {
+    if (k < 0 || static_cast<std::size_t>(k) == index || static_cast<std::size_t>(k) >= query) continue;
+    const VoxelCloud* other = store_.get(static_cast<std::size_t>(k));
+    const auto& pose = database_.keyframe(static_cast<std::size_t>(k)).info.pose;
+    if (other == nullptr || !pose) continue;
+    // Levelled candidate frame <- levelled neighbour frame, through the odometry.
+    Eigen::Isometry3d moved = centre->inverse() * *pose;
+    moved.linear() = levelling_[index].cast<double>() * moved.linear() * levelling_[k].transpose().cast<double>();
+    moved.translation() = levelling_[index].cast<double>() * moved.translation();
+    const Eigen::Matrix3f R = moved.linear().cast<float>();
+    const Eigen::Vector3f t = moved.translation().cast<float>();
+    for (std::size_t i = 0; i < other->size(); ++i) {
+      merged.means.push_back(R * other->means[i] + t);
+      const Eigen::Vector3f normal = R * other->normal(i);
+      merged.normals.push_back({static_cast<std::int8_t>(std::lround(normal.x() * 127.0f)),
+                                static_cast<std::int8_t>(std::lround(normal.y() * 127.0f)),
+                                static_cast<std::int8_t>(std::lround(normal.z() * 127.0f)), other->normals[i][3]});
+    }
+  }
+  return merged;
+}
+
+void LoopDetector::toSensorFrames(std::size_t query, std::size_t match, VerificationResult* result) const {
+  const Eigen::Matrix3d lq = levelling_[query].cast<double>(), lm = levelling_[match].cast<double>();
+  if (lq.isIdentity() && lm.isIdentity()) return;
+  // T_query<-match = Lq^T * T_Lq<-Lm * Lm, and the covariance turned with Lq^T.
+  Eigen::Isometry3d& t = result->relative;
+  t.linear() = lq.transpose() * t.linear() * lm;
+  t.translation() = lq.transpose() * t.translation();
+  Eigen::Matrix<double, 6, 6> turn = Eigen::Matrix<double, 6, 6>::Zero();
+  turn.topLeftCorner<3, 3>() = lq.transpose();
+  turn.bottomRightCorner<3, 3>() = lq.transpose();
+  result->covariance = turn * result->covariance * turn.transpose();
 }
 
 void LoopDetector::decide(Detection* detection) {

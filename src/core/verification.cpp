@@ -251,6 +251,7 @@ VerificationConfig verificationConfig(const Config& c) {
   v.min_inlier_ratio = c.verify_min_inlier_ratio;
   v.max_fitness = c.verify_max_fitness;
   v.method = c.verify_method;
+  v.allow_degenerate = c.verify_allow_degenerate;
   return v;
 }
 

@@ -12,6 +12,9 @@ std::vector<std::string> readParameters(const ros::NodeHandle& pnh, Config* c, R
   pnh.param("lidar_height", c->lidar_height, c->lidar_height);
   std::string ring_key = ringKeyTypeName(c->ring_key);
   pnh.param("ring_key", ring_key, ring_key);
+  std::string levelling = levellingModeName(c->levelling);
+  pnh.param("levelling", levelling, levelling);
+  pnh.param("levelling_max_tilt", c->levelling_max_tilt, c->levelling_max_tilt);
   pnh.param("num_candidates", c->num_candidates, c->num_candidates);
   pnh.param("search_ratio", c->search_ratio, c->search_ratio);
   pnh.param("distance_threshold", c->distance_threshold, c->distance_threshold);
@@ -32,6 +35,8 @@ std::vector<std::string> readParameters(const ros::NodeHandle& pnh, Config* c, R
   pnh.param("verify_max_fitness", c->verify_max_fitness, c->verify_max_fitness);
   std::string verify_method = registrationMethodName(c->verify_method);
   pnh.param("verify_method", verify_method, verify_method);
+  pnh.param("verify_submap", c->verify_submap, c->verify_submap);
+  pnh.param("verify_allow_degenerate", c->verify_allow_degenerate, c->verify_allow_degenerate);
   pnh.param("consistency_min_support", c->consistency_min_support, c->consistency_min_support);
   pnh.param("consistency_window", c->consistency_window, c->consistency_window);
   pnh.param("consistency_translation", c->consistency_translation, c->consistency_translation);
@@ -57,6 +62,9 @@ std::vector<std::string> readParameters(const ros::NodeHandle& pnh, Config* c, R
   std::vector<std::string> problems;
   if (!parseRingKeyType(ring_key, &c->ring_key)) {
     problems.push_back("ring_key = " + ring_key + ": must be mean_height or occupancy");
+  }
+  if (!parseLevellingMode(levelling, &c->levelling)) {
+    problems.push_back("levelling = " + levelling + ": must be auto, pose, ground or off");
   }
   if (!parseRegistrationMethod(verify_method, &c->verify_method)) {
     problems.push_back("verify_method = " + verify_method + ": must be vgicp, gicp, icp or ndt");
