@@ -113,6 +113,7 @@ bool parse(int argc, char** argv, Options* o, std::string* error) {
     const std::string arg = argv[i];
     if (arg == "--procedural") {
       o->kitti.clear();
+      o->city = false;
       continue;
     }
     if (arg == "--city") {

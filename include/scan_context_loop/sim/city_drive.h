@@ -25,13 +25,14 @@ struct CityOptions {
 
 /// About 2.5 km (2.2-3 km depending on the seed), sampled about every 0.5 m. Three long streets cross
 /// four shorter ones at 55-70 degrees (or the supplement), each street's heading a few degrees off its
-/// family's and half of the shorter ones curved (radius 500-900 m), so the junctions meet at 35-145
-/// degrees and parallel streets stay 70 m or more apart. The first half is a loop around the six
-/// blocks. After a stop of `pause` seconds, the second half drives the loop's first street again one
-/// lane to the right (same direction, a lane to the side), the next two streets of the loop in its own
-/// lane (same direction), a middle street not driven before, and the last two streets of the loop the
-/// other way in the opposite lane (reverse, a lane to the side). Corners are rounded (about 10 m
-/// radius). Deterministic from the seed.
+/// family's and half of the shorter ones curved (radius 600-1000 m), so the junctions meet at about
+/// 35-145 degrees and parallel streets stay about 60 m or more apart. The first half is a loop around
+/// the six blocks. After a stop of `pause` seconds, the second half drives the loop's first street
+/// again one lane to the right (same direction, a lane to the side), the loop's second street and a
+/// third of its third in the loop's lane (same direction), through the middle of the blocks on streets
+/// not driven before, and up the second half of the loop's last street and along two thirds of its
+/// third street the other way, in the opposite lane (reverse, a lane to the side). Corners are rounded
+/// (about 10 m radius). Deterministic from the seed.
 TimedPath cityDrive(const CityOptions& options);
 
 }  // namespace sim
