@@ -55,15 +55,17 @@ def read_scan(seq, k):
     return np.fromfile(scan_path(seq, k), dtype=np.float32).reshape(-1, 4)
 
 
-def world_points(seq, poses, frames, keep, mount, rng):
+def world_points(seq, poses, frames, keep, mount, rng, tilted=False):
     """Points of the given keyframes in the world frame (a random fraction `keep` of each scan) and
-    their heights above the ground under the sensor that saw them (ground: below 0.25 m)."""
+    their heights above the ground under the sensor that saw them (ground: below 0.25 m). A level
+    sensor's z is the height; a tilted one's (--tilt) is measured along the world's vertical."""
     points, heights = [], []
     for k in frames:
         pts = read_scan(seq, k)[:, :3]
         pts = pts[rng.random(len(pts)) < keep]
-        heights.append(pts[:, 2] + mount)
-        points.append(pts @ poses[k][:3, :3].T + poses[k][:3, 3])
+        rotated = pts @ poses[k][:3, :3].T
+        heights.append((rotated if tilted else pts)[:, 2] + mount)
+        points.append(rotated + poses[k][:3, 3])
     if not points:
         return np.zeros((0, 3)), np.zeros(0)
     return np.concatenate(points), np.concatenate(heights)
@@ -98,6 +100,7 @@ def main():
     seq = args.sequence
     info = read_info(seq)
     mount = args.mount_height or float(info.get("mount_height_m", 1.73))
+    tilted = float(info.get("tilt_deg", 0)) > 0
     tr = read_tr(os.path.join(seq, "calib.txt"))
     poses = np.linalg.inv(tr) @ read_poses(os.path.join(seq, "poses.txt")) @ tr
     available = [k for k in range(len(poses)) if os.path.exists(scan_path(seq, k))]
@@ -111,7 +114,7 @@ def main():
     outputs = []
 
     # The whole map.
-    points, heights = world_points(seq, poses, available[::args.every], 0.06, mount, rng)
+    points, heights = world_points(seq, poses, available[::args.every], 0.06, mount, rng, tilted)
     fig, ax = plt.subplots(figsize=(14, 11))
     sc = draw_map(ax, points, heights, poses, 0.2)
     ax.set_title("%s %s: %d keyframes; ground grey, other points by height above the ground" %
@@ -125,7 +128,7 @@ def main():
     centre = poses[args.scan][:3, 3]
     half = args.detail / 2
     near = [k for k in available if np.max(np.abs(poses[k][:2, 3] - centre[:2])) < half + 60]
-    points, heights = world_points(seq, poses, near, 0.25, mount, rng)
+    points, heights = world_points(seq, poses, near, 0.25, mount, rng, tilted)
     inside = np.all(np.abs(points[:, :2] - centre[:2]) < half, axis=1)
     fig, ax = plt.subplots(figsize=(12, 11))
     sc = draw_map(ax, points[inside], heights[inside], poses, 0.6)

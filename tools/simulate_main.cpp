@@ -11,6 +11,8 @@
 
 
 #include "scan_context_loop/kitti_io.h"
+#include "scan_context_loop/sim/city_drive.h"
+#include "scan_context_loop/sim/platform_tilt.h"
 #include "scan_context_loop/sim/sequence_writer.h"
 #include "scan_context_loop/sim/trajectory.h"
 #include "sim_bag.h"
@@ -29,6 +31,9 @@ calib.txt (Tr: identity, so poses.txt holds LiDAR poses), sequence.txt (what was
 trajectory (one of):
   --procedural               a 2.1 km city drive with same-direction, reverse and one-lane-offset
                              revisits (default)
+  --city                     a 2.2-3 km drive through oblique, partly curved streets: a loop, then after
+                             an hour's stop the same streets again one lane over, in the same lane and
+                             the other way
   --kitti-poses DIR          a real KITTI trajectory: DIR/poses.txt, DIR/calib.txt, DIR/times.txt
   --first N, --last N        frame window of the KITTI trajectory (default: all)
   --keyframe-spacing M       one keyframe every M metres of travel (default 2)
@@ -39,6 +44,9 @@ sensor:
   --dropout P                probability a return is lost (default 0.02)
   --max-range M              maximum range [m] (default: the sensor's, 100-120)
   --mount-height M           sensor height above the ground [m] (default 1.73)
+  --tilt DEG                 hand-held or legged platform: the sensor rolls and pitches (a slow sway and
+                             a gait), |tilt| median about 0.7 x DEG, 90th percentile 1.25 x DEG
+                             (default 0: level)
   --dim-range M              range at which a dim return (10 % reflectivity, head-on) is detected half
                              the time; brighter surfaces reach further, grazing ground fades sooner
                              (default: the sensor's, 55-80; 0: no fading)
@@ -78,6 +86,8 @@ struct Options {
   double spacing = 2.0;
   std::string sensor = "hdl64";
   double noise = -1, dropout = -1, max_range = -1, mount = -1, dim_range = -1, voxel = 0;
+  bool city = false;
+  double tilt = 0;
   std::uint32_t seed = 1;
   double dynamic_cars = 0.3;
   sim::DriftOptions drift;
@@ -94,6 +104,7 @@ bool parse(int argc, char** argv, Options* o, std::string* error) {
       {"--keyframe-spacing", &o->spacing}, {"--noise", &o->noise}, {"--dropout", &o->dropout},
       {"--max-range", &o->max_range}, {"--mount-height", &o->mount}, {"--dim-range", &o->dim_range},
       {"--voxel", &o->voxel},
+      {"--tilt", &o->tilt},
       {"--dynamic-cars", &o->dynamic_cars}, {"--drift-trans", &o->drift.translation_per_metre},
       {"--drift-yaw-per-m", &o->drift.yaw_per_metre}, {"--drift-yaw-per-deg", &o->drift.yaw_per_degree},
       {"--drift-yaw", &o->drift.yaw_per_degree}, {"--drift-correlation", &o->drift.correlation_length}};
@@ -102,6 +113,11 @@ bool parse(int argc, char** argv, Options* o, std::string* error) {
     const std::string arg = argv[i];
     if (arg == "--procedural") {
       o->kitti.clear();
+      o->city = false;
+      continue;
+    }
+    if (arg == "--city") {
+      o->city = true;
       continue;
     }
     const bool has_value = i + 1 < argc;
@@ -131,6 +147,8 @@ bool parse(int argc, char** argv, Options* o, std::string* error) {
   else if (o->drift.translation_per_metre < 0 || o->drift.yaw_per_metre < 0 || o->drift.yaw_per_degree < 0)
     *error = "drift rates must be >= 0";
   else if (o->voxel < 0.0) *error = "--voxel must be >= 0";
+  else if (o->city && !o->kitti.empty()) *error = "--city and --kitti-poses exclude each other";
+  else if (o->tilt < 0.0) *error = "--tilt must be >= 0";
   return error->empty();
 }
 
@@ -179,6 +197,12 @@ int main(int argc, char** argv) {
         source_times.push_back(frame < times.size() ? times[frame] : 0.1 * frame);
       }
     }
+  } else if (o.city) {
+    sim::CityOptions city;
+    city.seed = o.seed;
+    const sim::TimedPath drive = sim::cityDrive(city);
+    path = drive.path;
+    source_times = drive.times;
   } else {
     path = sim::proceduralPath();
   }
@@ -203,8 +227,13 @@ int main(int argc, char** argv) {
   const sim::World world = sim::generateWorld(path, world_options);
 
   sim::SequenceData data;
+  sim::TiltOptions tilt;
+  tilt.typical_deg = o.tilt;
+  tilt.seed = o.seed;
+  const std::vector<Eigen::Vector2d> roll_pitch = sim::platformTilt(path, tilt);
   for (std::size_t k : keyframes) {
     data.truth.push_back(sim::sensorPose(world, path[k], sensor.mount_height));
+    if (o.tilt > 0) data.truth.back() = sim::tiltPose(data.truth.back(), roll_pitch[k]);
     data.times.push_back(source_times[k] - source_times.front());
   }
   o.drift.seed = o.seed;
@@ -220,7 +249,7 @@ int main(int argc, char** argv) {
   for (std::size_t k = 1; k < truth.size(); ++k) length += (truth[k].translation() - truth[k - 1].translation()).norm();
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   std::ofstream info(o.out + "/sequence.txt");
-  info << "trajectory: " << (o.kitti.empty() ? std::string("procedural") : o.kitti) << "\n"
+  info << "trajectory: " << (!o.kitti.empty() ? o.kitti : o.city ? "city" : "procedural") << "\n"
        << "frames: " << o.first << " .. " << (o.last < 0 ? std::string("end") : std::to_string(o.last)) << "\n"
        << "keyframes: " << keyframes.size() << "\nkeyframe_spacing_m: " << o.spacing << "\nlength_m: " << length
        << "\nsensor: " << sensor.name << "\nbeams: " << sensor.elevations_deg.size() << "\ncolumns: " << sensor.columns
@@ -233,6 +262,7 @@ int main(int argc, char** argv) {
        << o.drift.translation_per_metre << "\ndrift_yaw_deg_per_m: " << o.drift.yaw_per_metre
        << "\ndrift_yaw_per_deg: " << o.drift.yaw_per_degree
        << "\ndrift_correlation_m: " << o.drift.correlation_length << "\nseconds: " << seconds << "\n";
+  if (o.tilt > 0) info << "tilt_deg: " << o.tilt << "\n";
 
   if (!o.bag.path.empty()) {
     if (!sim::writeBag(o.out, truth, data.odometry, data.times, o.bag, &error)) {

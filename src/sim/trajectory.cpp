@@ -78,6 +78,14 @@ std::vector<PathPoint> proceduralPath() {
   return roundedPolyline(waypoints, 8.0, 0.5);
 }
 
+std::vector<double> distanceAlong(const std::vector<PathPoint>& path) {
+  std::vector<double> along(path.size(), 0.0);
+  for (std::size_t k = 1; k < path.size(); ++k) {
+    along[k] = along[k - 1] + std::hypot(path[k].x - path[k - 1].x, path[k].y - path[k - 1].y);
+  }
+  return along;
+}
+
 std::vector<std::size_t> keyframesEvery(const std::vector<PathPoint>& path, double spacing) {
   std::vector<std::size_t> keep;
   double travelled = 0.0;

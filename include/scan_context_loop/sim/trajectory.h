@@ -23,6 +23,9 @@ std::vector<PathPoint> pathFromPoses(const std::vector<Eigen::Isometry3d>& lidar
 /// revisits, as real traffic makes them).
 std::vector<PathPoint> proceduralPath();
 
+/// Distance travelled from the first path point to each one [m].
+std::vector<double> distanceAlong(const std::vector<PathPoint>& path);
+
 /// Indices of the path points that become keyframes: the first, then each one at least `spacing`
 /// metres of travel after the previous keyframe.
 std::vector<std::size_t> keyframesEvery(const std::vector<PathPoint>& path, double spacing);
