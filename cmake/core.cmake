@@ -8,6 +8,7 @@ add_library(scan_context_loop_core
   src/core/kitti_io.cpp
   src/core/registration.cpp
   src/core/coarse_search.cpp
+  src/core/free_space.cpp
   src/core/pcl_refinement.cpp
   src/core/verification.cpp
   src/core/consistency.cpp
@@ -45,6 +46,7 @@ if(CATKIN_ENABLE_TESTING)
     test/core/test_real_data.cpp
     test/core/test_scenes.cpp
     test/core/test_verification.cpp
+    test/core/test_free_space.cpp
     test/core/test_consistency.cpp
     test/core/test_viewpoints.cpp
     test/core/test_levelling.cpp

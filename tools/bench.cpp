@@ -14,9 +14,11 @@
 #include <pcl/filters/voxel_grid.h>
 #include <unistd.h>
 
+#include "scan_context_loop/alignment.h"
 #include "scan_context_loop/database.h"
 #include "scan_context_loop/kitti_io.h"
 #include "scan_context_loop/levelling.h"
+#include "scan_context_loop/verification.h"
 
 namespace scl = scan_context_loop;
 using Clock = std::chrono::steady_clock;
@@ -154,6 +156,41 @@ int main(int argc, char** argv) {
     for (double& x : t) x /= 1000.0;
     row(pass == 0 ? "ground-plane levelling, raw scan" : "ground-plane levelling, raw scan tilted 20 deg roll + pitch",
         std::to_string(points / raw.size()), summarise(t), "ms");
+  }
+
+  // Verification: the registration data every keyframe prepares once, and one candidate's
+  // verification against a query (its index built, the coarse search over three yaw hypotheses, GICP,
+  // the acceptance test), on the real pairs: the reverse revisit, consecutive scans, 58 m apart.
+  const scl::VerificationConfig verification = scl::verificationConfig(config);
+  std::vector<scl::VoxelCloud> prepared;
+  {
+    std::vector<double> t;
+    std::size_t points = 0;
+    for (const auto& c : raw) {
+      points += c.size();
+      const auto v = timeIt(50, [&] { volatile std::size_t n = scl::prepareCloud(scl::viewOf(c), verification).size(); (void)n; });
+      t.insert(t.end(), v.begin(), v.end());
+      prepared.push_back(scl::prepareCloud(scl::viewOf(c), verification));
+    }
+    for (double& x : t) x /= 1000.0;
+    row("verification data (1 m voxels, 40 m), raw scan", std::to_string(points / raw.size()), summarise(t), "ms");
+    std::vector<double> u;
+    const std::vector<std::pair<int, int>> pairs = {{4, 5}, {5, 4}, {0, 1}, {2, 3}, {0, 2}, {2, 0}};
+    for (const auto& p : pairs) {
+      const double yaw = scl::align(scl::makeDescriptor(raw[p.first], config), scl::makeDescriptor(raw[p.second], config),
+                                    config).yaw;
+      const std::vector<Eigen::Isometry3d> guesses = {scl::priorPose(yaw), scl::priorPose(yaw + 1.2),
+                                                      scl::priorPose(yaw - 2.0)};
+      const auto v = timeIt(30, [&] {
+        scl::Verifier verifier(verification);
+        verifier.setQuery(prepared[p.first]);
+        volatile bool ok = verifier.verify(prepared[p.second], guesses).accepted;
+        (void)ok;
+      });
+      u.insert(u.end(), v.begin(), v.end());
+    }
+    for (double& x : u) x /= 1000.0;
+    row("verification of one candidate, 3 yaw hypotheses (6 real pairs)", "~8k voxels", summarise(u), "ms");
   }
 
   std::vector<scl::Descriptor> descriptors;

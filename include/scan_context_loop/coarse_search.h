@@ -33,7 +33,8 @@ struct StructureMap {
 
 StructureMap structureMap(const VoxelCloud& cloud, float cell);
 
-/// The distinct cell centres of a cloud's vertical-structure voxels (x, y), in its own frame.
+/// The distinct cell centres of a cloud's vertical-structure voxels (x, y), in its own frame; an even
+/// share of at most 600 of them.
 std::vector<Eigen::Vector2f> structureColumns(const VoxelCloud& cloud, float cell);
 
 struct CoarseHit {

@@ -128,6 +128,8 @@ struct Config {
   double verify_max_range = 40.0;
   double verify_min_inlier_ratio = 0.4;
   double verify_max_fitness = 0.02;
+  /// Largest share of either keyframe's structure that may stand where the other saw through.
+  double verify_max_violation = 0.15;
   /// The registration verification runs.
   RegistrationMethod verify_method = RegistrationMethod::kVgicp;
   /// Register against the candidate and this many keyframes on each side of it, moved into the

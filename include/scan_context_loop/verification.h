@@ -10,7 +10,9 @@
 
 #include <Eigen/Geometry>
 
+#include "scan_context_loop/coarse_search.h"
 #include "scan_context_loop/descriptor.h"
+#include "scan_context_loop/free_space.h"
 #include "scan_context_loop/registration.h"
 
 namespace scan_context_loop {
@@ -45,6 +47,9 @@ struct VerificationConfig {
   /// of vertical-structure voxels, within the region both sensors cover, that agree) is at least this
   /// (Config::verify_min_inlier_ratio).
   double min_inlier_ratio = 0.4;
+  /// Accept only when at most this fraction of either side's structure stands in space the other saw
+  /// through (Config::verify_max_violation).
+  double max_violation = 0.15;
   /// Accept only when the agreeing voxels' mean squared point-to-plane distance is below this [m^2]
   /// (Config::verify_max_fitness).
   double max_fitness = 0.02;
@@ -77,6 +82,9 @@ struct VerificationResult {
   double inlier_ratio = 0.0;
   /// Fractions of the query's / the candidate's structure voxels in the common region that agree.
   double overlap_query = 0.0, overlap_match = 0.0;
+  /// Fractions of the candidate's / the query's structure, moved into the other's frame, that stand where
+  /// the other saw through to something farther (free_space.h); `violation` is the larger.
+  double violation_query = 0.0, violation_match = 0.0, violation = 0.0;
   /// Smallest over largest eigenvalue of the horizontal translation information (1: well constrained).
   double constraint_ratio = 0.0;
   /// Coarse bird's-eye score of the registered hypothesis (fraction of structure columns that land on
@@ -144,7 +152,8 @@ class Verifier {
   VerificationConfig config_;
   const VoxelCloud* query_ = nullptr;
   VoxelIndex query_index_, match_index_;
-  std::vector<float> query_view_;  // bird's-eye structure map of the query, see coarse_search.h
+  StructureMap query_map_;  // bird's-eye structure of the query (coarse_search.h)
+  FreeSpace query_free_, match_free_;  // what each side saw through (free_space.h)
   std::size_t query_structure_ = 0;
 };
 

@@ -45,9 +45,14 @@ std::vector<Eigen::Vector2f> structureColumns(const VoxelCloud& cloud, float cel
   }
   std::sort(keys.begin(), keys.end());
   keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
+  // An even share of at most kMaxColumns: the score is a mean, and the search cost is linear in it.
+  constexpr std::size_t kMaxColumns = 600;
+  const double step = std::max(1.0, static_cast<double>(keys.size()) / kMaxColumns);
   std::vector<Eigen::Vector2f> columns;
-  columns.reserve(keys.size());
-  for (const auto& k : keys) columns.emplace_back((k.first + 0.5f) * cell, (k.second + 0.5f) * cell);
+  for (double i = 0; i < keys.size(); i += step) {
+    const auto& k = keys[static_cast<std::size_t>(i)];
+    columns.emplace_back((k.first + 0.5f) * cell, (k.second + 0.5f) * cell);
+  }
   return columns;
 }
 

@@ -13,10 +13,13 @@ namespace {
 /// Running sums of one voxel's points, relative to the voxel's corner for precision.
 struct Accumulator {
   int count = 0;
-  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-  Eigen::Matrix3d outer = Eigen::Matrix3d::Zero();
+  float sx = 0, sy = 0, sz = 0, sxx = 0, sxy = 0, sxz = 0, syy = 0, syz = 0, szz = 0;
   Eigen::Vector3f corner = Eigen::Vector3f::Zero();
 };
+
+/// Points a voxel cloud is made from at most: dense scans hold far more points near the sensor than a
+/// metre-sized voxel needs for its mean and normal, so larger clouds are read with a stride.
+constexpr std::size_t kMaxPoints = 60000;
 
 /// Per-thread scratch: a dense grid of accumulator indices stamped with a generation.
 struct Scratch {
@@ -62,7 +65,8 @@ VoxelCloud makeVoxelCloud(const PointView& points, const VoxelOptions& options, 
   s.acc.clear();
   const float r2 = options.max_range * options.max_range;
   const bool rotate = !rotation.isIdentity();
-  for (std::size_t i = 0; i < points.count; ++i) {
+  const std::size_t stride = std::max<std::size_t>(1, (points.count + kMaxPoints - 1) / kMaxPoints);
+  for (std::size_t i = 0; i < points.count; i += stride) {
     const std::uint8_t* p = points.data + i * points.stride;
     Eigen::Vector3f v;
     std::memcpy(&v.x(), p + points.offset_x, 4);
@@ -85,17 +89,28 @@ VoxelCloud makeVoxelCloud(const PointView& points, const VoxelOptions& options, 
       s.acc.push_back(a);
     }
     Accumulator& a = s.acc[s.slot[c]];
-    const Eigen::Vector3d d = (v - a.corner).cast<double>();
+    // Relative to the voxel's corner (under a metre), so float sums keep their precision.
+    const float x = v.x() - a.corner.x(), y = v.y() - a.corner.y(), z = v.z() - a.corner.z();
     ++a.count;
-    a.sum += d;
-    a.outer.noalias() += d * d.transpose();
+    a.sx += x;
+    a.sy += y;
+    a.sz += z;
+    a.sxx += x * x;
+    a.sxy += x * y;
+    a.sxz += x * z;
+    a.syy += y * y;
+    a.syz += y * z;
+    a.szz += z * z;
   }
   out.means.reserve(s.acc.size());
   out.normals.reserve(s.acc.size());
   for (const Accumulator& a : s.acc) {
     if (a.count < options.min_points) continue;
-    const Eigen::Vector3d mean = a.sum / a.count;
-    const Eigen::Matrix3d cov = a.outer / a.count - mean * mean.transpose();
+    const double inv_n = 1.0 / a.count;
+    const Eigen::Vector3d mean(a.sx * inv_n, a.sy * inv_n, a.sz * inv_n);
+    Eigen::Matrix3d outer;
+    outer << a.sxx, a.sxy, a.sxz, a.sxy, a.syy, a.syz, a.sxz, a.syz, a.szz;
+    const Eigen::Matrix3d cov = outer * inv_n - mean * mean.transpose();
     Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig;
     eig.computeDirect(cov);
     Eigen::Vector3d n = eig.eigenvectors().col(0);  // smallest spread

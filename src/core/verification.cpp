@@ -8,7 +8,6 @@
 
 #include <Eigen/Eigenvalues>
 
-#include "scan_context_loop/coarse_search.h"
 #include "scan_context_loop/pcl_refinement.h"
 
 namespace scan_context_loop {
@@ -112,8 +111,8 @@ Agreement agreement(const VoxelCloud& from, const VoxelIndex& to, const Eigen::I
 void Verifier::setQuery(const VoxelCloud& query) {
   query_ = &query;
   query_index_.build(query);
-  const StructureMap map = structureMap(query, static_cast<float>(config_.search_cell));
-  query_view_ = map.value;
+  query_map_ = structureMap(query, static_cast<float>(config_.search_cell));
+  query_free_ = freeSpace(query);
   query_structure_ = structureCount(query);
 }
 
@@ -143,14 +142,10 @@ VerificationResult Verifier::verify(const VoxelCloud& match, const std::vector<E
   if (guesses.empty()) return finish(r, "initial guess is not finite");
   r.relative = guesses.front();
 
-  StructureMap map;
-  map.cell = static_cast<float>(config_.search_cell);
-  map.radius = query_->max_range + map.cell;
-  map.size = static_cast<int>(std::ceil(2.0f * map.radius / map.cell));
-  map.value = query_view_;
-  const std::vector<CoarseHit> hits =
-      coarseSearch(map, structureColumns(match, map.cell), guesses, config_.search_radius, 3.0 * M_PI / 180.0);
+  const std::vector<CoarseHit> hits = coarseSearch(query_map_, structureColumns(match, query_map_.cell), guesses,
+                                                   config_.search_radius, 3.0 * M_PI / 180.0);
   match_index_.build(match);
+  match_free_ = freeSpace(match);
 
   VerificationResult best_rejected = r;
   best_rejected.reason = "no hypothesis";
@@ -203,6 +198,9 @@ std::string Verifier::refineAndJudge(const VoxelCloud& match, const Eigen::Isome
   r->overlap_match = forward.covered > 0 ? static_cast<double>(forward.agreeing) / forward.covered : 0.0;
   r->overlap_query = backward.covered > 0 ? static_cast<double>(backward.agreeing) / backward.covered : 0.0;
   r->inlier_ratio = std::min(r->overlap_match, r->overlap_query);
+  r->violation_match = checkFreeSpace(match, query_free_, pose).ratio();
+  r->violation_query = checkFreeSpace(*query_, match_free_, pose.inverse()).ratio();
+  r->violation = std::max(r->violation_match, r->violation_query);
   r->fitness = forward.agreeing > 0 ? forward.residual2 / forward.agreeing : std::numeric_limits<double>::infinity();
 
   // Covariance in the query frame from the point-to-plane information, reordered to (x, y, z, roll,
@@ -228,6 +226,9 @@ std::string Verifier::refineAndJudge(const VoxelCloud& match, const Eigen::Isome
   if (r->inlier_ratio < config_.min_inlier_ratio) {
     why << "inlier ratio (structure overlap) " << r->inlier_ratio << " below " << config_.min_inlier_ratio
         << " (query " << r->overlap_query << ", candidate " << r->overlap_match << ")";
+  } else if (r->violation > config_.max_violation) {
+    why << "free-space violation " << r->violation << " above " << config_.max_violation << " (query "
+        << r->violation_query << ", candidate " << r->violation_match << ")";
   } else if (!(r->fitness <= config_.max_fitness)) {
     why << "fitness " << r->fitness << " m^2 above " << config_.max_fitness;
   } else if (!config_.allow_degenerate && r->constraint_ratio < config_.min_constraint_ratio) {
@@ -250,6 +251,7 @@ VerificationConfig verificationConfig(const Config& c) {
   v.max_range = c.verify_max_range;
   v.min_inlier_ratio = c.verify_min_inlier_ratio;
   v.max_fitness = c.verify_max_fitness;
+  v.max_violation = c.verify_max_violation;
   v.method = c.verify_method;
   v.allow_degenerate = c.verify_allow_degenerate;
   return v;

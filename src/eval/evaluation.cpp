@@ -127,6 +127,7 @@ Evaluation evaluate(const Sequence& s, const Config& config, double revisit_radi
         a.reason = r.reason;
         a.overlap_query = r.overlap_query;
         a.overlap_match = r.overlap_match;
+        a.violation = r.violation;
         a.fitness = r.fitness;
         a.constraint_ratio = r.constraint_ratio;
         a.coarse_score = r.coarse_score;
@@ -247,14 +248,14 @@ bool writeVerificationsCsv(const std::string& path, const Evaluation& e, std::st
     *error = "cannot create " + path;
     return false;
   }
-  out << "query,match,distance,gap_m,accepted,overlap_query,overlap_match,fitness,constraint_ratio,coarse_score,"
+  out << "query,match,distance,gap_m,accepted,overlap_query,overlap_match,violation,fitness,constraint_ratio,coarse_score,"
          "hypotheses,trans_err_m,yaw_err_deg,ms,reason\n";
   out.precision(6);
   for (const auto& a : e.attempts) {
     std::string reason = a.reason;
     for (char& c : reason) if (c == ',' || c == '"') c = ';';
     out << a.query << ',' << a.match << ',' << a.distance << ',' << a.gap << ',' << int(a.accepted) << ','
-        << a.overlap_query << ',' << a.overlap_match << ',' << a.fitness << ',' << a.constraint_ratio << ','
+        << a.overlap_query << ',' << a.overlap_match << ',' << a.violation << ',' << a.fitness << ',' << a.constraint_ratio << ','
         << a.coarse_score << ',' << a.hypotheses << ',' << a.translation_error << ',' << a.yaw_error * 180.0 / M_PI
         << ',' << a.ms << ',' << reason << '\n';
   }

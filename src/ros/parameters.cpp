@@ -33,6 +33,7 @@ std::vector<std::string> readParameters(const ros::NodeHandle& pnh, Config* c, R
   pnh.param("verify_max_range", c->verify_max_range, c->verify_max_range);
   pnh.param("verify_min_inlier_ratio", c->verify_min_inlier_ratio, c->verify_min_inlier_ratio);
   pnh.param("verify_max_fitness", c->verify_max_fitness, c->verify_max_fitness);
+  pnh.param("verify_max_violation", c->verify_max_violation, c->verify_max_violation);
   std::string verify_method = registrationMethodName(c->verify_method);
   pnh.param("verify_method", verify_method, verify_method);
   pnh.param("verify_submap", c->verify_submap, c->verify_submap);

@@ -40,7 +40,7 @@ struct VerificationAttempt {
   double gap = 0.0;             ///< true distance between the two keyframes [m]
   bool accepted = false;
   std::string reason;
-  double overlap_query = 0.0, overlap_match = 0.0, fitness = 0.0, constraint_ratio = 0.0, coarse_score = 0.0;
+  double overlap_query = 0.0, overlap_match = 0.0, violation = 0.0, fitness = 0.0, constraint_ratio = 0.0, coarse_score = 0.0;
   int hypotheses = 0;
   double translation_error = 0.0, yaw_error = 0.0;  ///< of the registered pose against the truth [m], [rad]
   double ms = 0.0;

@@ -1,0 +1,69 @@
+#include "scan_context_loop/free_space.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace scan_context_loop {
+
+namespace {
+
+constexpr float kTwoPi = 6.28318530717958647692f;
+
+int binOf(float azimuth, const FreeSpace& f) {
+  const int n = static_cast<int>(f.nearest.size());
+  int b = static_cast<int>(std::floor((azimuth + kTwoPi * 0.5f) / f.bin));
+  b %= n;
+  return b < 0 ? b + n : b;
+}
+
+}  // namespace
+
+bool FreeSpace::counts(const Eigen::Vector3f& p) {
+  const float r = std::hypot(p.x(), p.y());
+  // tan(1 deg) = 0.0175, tan(20 deg) = 0.364.
+  return p.z() <= 0.0175f * r && p.z() >= -0.364f * r;
+}
+
+FreeSpace freeSpace(const VoxelCloud& cloud, int bins) {
+  FreeSpace f;
+  f.max_range = cloud.max_range;
+  f.bin = kTwoPi / bins;
+  f.nearest.assign(bins, cloud.max_range);
+  for (std::size_t i = 0; i < cloud.size(); ++i) {
+    if (!cloud.vertical(i)) continue;
+    const Eigen::Vector3f& p = cloud.means[i];
+    if (!FreeSpace::counts(p)) continue;
+    const float r = std::hypot(p.x(), p.y());
+    if (r < 0.5f) continue;
+    // A voxel blocks the directions its metre of structure spans at that range.
+    const float half = std::atan2(0.6f * cloud.resolution, r);
+    const float a = std::atan2(p.y(), p.x());
+    const int first = static_cast<int>(std::floor((a - half + kTwoPi * 0.5f) / f.bin));
+    const int last = static_cast<int>(std::floor((a + half + kTwoPi * 0.5f) / f.bin));
+    for (int b = first; b <= last; ++b) {
+      const int k = ((b % bins) + bins) % bins;
+      f.nearest[k] = std::min(f.nearest[k], r);
+    }
+  }
+  return f;
+}
+
+FreeSpaceCheck checkFreeSpace(const VoxelCloud& from, const FreeSpace& to, const Eigen::Isometry3d& to_from,
+                              float margin, float margin_ratio) {
+  FreeSpaceCheck c;
+  if (to.nearest.empty()) return c;
+  const Eigen::Matrix3f R = to_from.linear().cast<float>();
+  const Eigen::Vector3f t = to_from.translation().cast<float>();
+  const float reach = to.max_range - margin;
+  for (std::size_t i = 0; i < from.size(); ++i) {
+    if (!from.vertical(i)) continue;
+    const Eigen::Vector3f p = R * from.means[i] + t;
+    const float r = std::hypot(p.x(), p.y());
+    if (r > reach || r < 1.0f || !FreeSpace::counts(p)) continue;
+    ++c.covered;
+    if (r < to.nearest[binOf(std::atan2(p.y(), p.x()), to)] - margin - margin_ratio * r) ++c.violating;
+  }
+  return c;
+}
+
+}  // namespace scan_context_loop
