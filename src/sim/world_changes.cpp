@@ -9,6 +9,9 @@ namespace sim {
 
 namespace {
 
+/// How close to a road centre a grown canopy may reach [m] (street trees reach about 3.4 m).
+constexpr double kKeepOffRoads = 3.0;
+
 /// When a change happens: anywhere in the drive, so the later a revisit, the likelier it sees it.
 double changeTime(StreetKit& kit) { return kit.uniform(0.0, kit.options.duration); }
 
@@ -118,8 +121,15 @@ void changeVegetation(StreetKit& kit, const StreetRecord& record, double strengt
   for (const StreetRecord::Tree& tree : record.trees) {
     if (!kit.chance(strength)) continue;
     const Primitive& canopy = kit.out[tree.canopy];
+    double factor = growthFactor(kit);
+    // Trees that would grow to reach over the road are cut back instead, as councils do.
+    const Eigen::Vector2d c(canopy.center.x(), canopy.center.y());
+    const double radius = canopy.half.x() * factor;
+    if (factor > 1.0 && !kit.roads.clear(StreetKit::footprintOf(c, 0.0, radius, radius), kKeepOffRoads)) {
+      factor = 2.0 - factor;
+    }
     // The canopy keeps its bottom where the trunk holds it.
-    const Primitive grown = scaledEllipsoid(canopy, growthFactor(kit), canopy.center.z() - canopy.half.z());
+    const Primitive grown = scaledEllipsoid(canopy, factor, canopy.center.z() - canopy.half.z());
     replaceAt(kit, tree.canopy, grown, changeTime(kit));
   }
   regrowOrRemove(kit, record.bushes, strength, [&](const Primitive& bush, double factor) {
