@@ -45,14 +45,18 @@ class StreetBuilder : public StreetKit {
 
  private:
   /// With repeat_templates, a building (with its bays, annex, back row and garden) or a stretch of
-  /// frontage is one of a few designs per district character: fn draws from a generator seeded by the
-  /// design, so each design looks the same in every street that gets it. The choice of design is the
-  /// only draw from the world's generator.
+  /// frontage is one of a few designs per district character, the same all over one district square,
+  /// as in estates and terraces of identical houses: fn draws from a generator seeded by the design, so
+  /// each design looks the same in every street that gets it, and squares of one character that get
+  /// the same design look alike. Off, fn draws from the world's generator as ever.
   template <typename Fn>
-  double fromDesign(District district, std::uint64_t what, Fn fn) {
+  double fromDesign(const PathPoint& p, double sign, District district, std::uint64_t what, Fn fn) {
     if (!options.repeat_templates) return fn();
-    constexpr int kDesigns = 5;
-    const auto design = static_cast<std::uint64_t>(std::min(uniform(0.0, kDesigns), kDesigns - 1.0));
+    constexpr std::uint64_t kDesigns = 5;
+    const Eigen::Vector2d q = at(p, 0.0, sign * 15.0);
+    const auto i = static_cast<std::uint64_t>(static_cast<std::int64_t>(std::floor(q.x() / options.district_size)));
+    const auto j = static_cast<std::uint64_t>(static_cast<std::int64_t>(std::floor(q.y() / options.district_size)));
+    const std::uint64_t design = mix(mix(options.seed ^ 0x5D3A1E7Bull ^ i * 0x9E3779B97F4A7C15ull) ^ j) % kDesigns;
     std::mt19937 draws(static_cast<std::uint32_t>(
         mix(mix(options.seed ^ 0x7E3A9D1Bull) ^ (what << 16 | static_cast<std::uint64_t>(district) << 8 | design))));
     const DrawFrom scoped(*this, &draws);
@@ -74,7 +78,7 @@ class StreetBuilder : public StreetKit {
   double frontage(const PathPoint& p, double sign, District district) {
     const Style& style = styleOf(district);
     if (!chance(style.frontage)) return uniform(5.0, 15.0);
-    return fromDesign(district, 1, [&] { return frontageDesign(p, sign, style); });
+    return fromDesign(p, sign, district, 1, [&] { return frontageDesign(p, sign, style); });
   }
 
   double frontageDesign(const PathPoint& p, double sign, const Style& style) {
@@ -104,7 +108,7 @@ class StreetBuilder : public StreetKit {
   double building(const PathPoint& p, double sign, District district) {
     const Style& style = styleOf(district);
     if (chance(style.open_lot)) return uniform(8.0, 20.0);
-    return fromDesign(district, 2, [&] { return buildingDesign(p, sign, style); });
+    return fromDesign(p, sign, district, 2, [&] { return buildingDesign(p, sign, style); });
   }
 
   double buildingDesign(const PathPoint& p, double sign, const Style& style) {

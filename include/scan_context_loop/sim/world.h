@@ -98,8 +98,8 @@ struct WorldOptions {
   /// sites appear, and traffic and pedestrians pass. Each change happens at its own time in the drive,
   /// so places seen further apart in time differ more. Needs a duration.
   double changed_world = 0.0;
-  /// Buildings and their frontage from a few designs per district character, so different streets
-  /// look alike (repetitive places).
+  /// Buildings and their frontage from a few designs per district character, one per district square
+  /// (rows of identical houses), so different streets look alike (repetitive places).
   bool repeat_templates = false;
   /// Drive time at each path point [s], so traffic keeps clear of the sensor; empty: the path driven at
   /// a uniform speed over `duration`.
