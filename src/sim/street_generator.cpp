@@ -53,10 +53,7 @@ class StreetBuilder : public StreetKit {
   double fromDesign(const PathPoint& p, double sign, District district, std::uint64_t what, Fn fn) {
     if (!options.repeat_templates) return fn();
     constexpr std::uint64_t kDesigns = 5;
-    const Eigen::Vector2d q = at(p, 0.0, sign * 15.0);
-    const auto i = static_cast<std::uint64_t>(static_cast<std::int64_t>(std::floor(q.x() / options.district_size)));
-    const auto j = static_cast<std::uint64_t>(static_cast<std::int64_t>(std::floor(q.y() / options.district_size)));
-    const std::uint64_t design = mix(mix(options.seed ^ 0x5D3A1E7Bull ^ i * 0x9E3779B97F4A7C15ull) ^ j) % kDesigns;
+    const std::uint64_t design = mix(squareDraw(at(p, 0.0, sign * 15.0)) ^ 0x5D3A1E7Bull) % kDesigns;
     std::mt19937 draws(static_cast<std::uint32_t>(
         mix(mix(options.seed ^ 0x7E3A9D1Bull) ^ (what << 16 | static_cast<std::uint64_t>(district) << 8 | design))));
     const DrawFrom scoped(*this, &draws);

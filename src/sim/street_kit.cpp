@@ -40,11 +40,14 @@ StreetKit::StreetKit(const std::vector<PathPoint>& dense_path, const WorldOption
       roads(dense_path),
       base_rng(world_options.seed) {}
 
-District StreetKit::districtAt(const Eigen::Vector2d& q) const {
+std::uint64_t StreetKit::squareDraw(const Eigen::Vector2d& q) const {
   const auto i = static_cast<std::int64_t>(std::floor(q.x() / options.district_size));
   const auto j = static_cast<std::int64_t>(std::floor(q.y() / options.district_size));
-  const double u = static_cast<double>(mix(mix(options.seed ^ static_cast<std::uint64_t>(i) * 0x9E3779B97F4A7C15ull) ^
-                                           static_cast<std::uint64_t>(j)) >> 11) / 9007199254740992.0;
+  return mix(mix(options.seed ^ static_cast<std::uint64_t>(i) * 0x9E3779B97F4A7C15ull) ^ static_cast<std::uint64_t>(j));
+}
+
+District StreetKit::districtAt(const Eigen::Vector2d& q) const {
+  const double u = static_cast<double>(squareDraw(q) >> 11) / 9007199254740992.0;
   if (u < 0.3) return District::kTerrace;
   if (u < 0.65) return District::kHouses;
   if (u < 0.85) return District::kAvenue;

@@ -92,7 +92,9 @@ class StreetKit {
   double kerb() const { return options.road_half_width; }
   double propertyLine(const Style& style) const { return kerb() + style.pavement; }
 
-  /// The district a point lies in: a repeatable draw per district-sized square of the map.
+  /// A repeatable draw for the district-sized square of the map that q lies in.
+  std::uint64_t squareDraw(const Eigen::Vector2d& q) const;
+  /// The district a point lies in, from its square's draw.
   District districtAt(const Eigen::Vector2d& q) const;
   /// Point at along-track offset `along` and lateral offset `lateral` (positive = left) from p.
   static Eigen::Vector2d at(const PathPoint& p, double along, double lateral);
