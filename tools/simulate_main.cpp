@@ -56,6 +56,9 @@ world and odometry:
   --seed N                   world, noise and drift seed (default 1)
   --dynamic-cars F           fraction of parked cars that leave, arrive or move a few metres at some
                              time during the drive, so revisits differ (default 0.3)
+  --changed-world F          revisits as days later, more the later (0: off, default; 1: strong):
+                             parked cars and vegetation change, construction sites, traffic, people
+  --repeat-templates         buildings and frontage from a few designs per district: streets alike
   --drift-trans F            odometry translation error per metre travelled (default 0.01: 1 %)
   --drift-yaw-per-m D        odometry heading error per metre travelled [deg/m] (default 0.003)
   --drift-yaw F, --drift-yaw-per-deg F
@@ -90,6 +93,8 @@ struct Options {
   double tilt = 0;
   std::uint32_t seed = 1;
   double dynamic_cars = 0.3;
+  double changed_world = 0.0;
+  bool repeat_templates = false;
   sim::DriftOptions drift;
   sim::BagOptions bag;
   int threads = 0;
@@ -105,6 +110,7 @@ bool parse(int argc, char** argv, Options* o, std::string* error) {
       {"--max-range", &o->max_range}, {"--mount-height", &o->mount}, {"--dim-range", &o->dim_range},
       {"--voxel", &o->voxel},
       {"--tilt", &o->tilt},
+      {"--changed-world", &o->changed_world},
       {"--dynamic-cars", &o->dynamic_cars}, {"--drift-trans", &o->drift.translation_per_metre},
       {"--drift-yaw-per-m", &o->drift.yaw_per_metre}, {"--drift-yaw-per-deg", &o->drift.yaw_per_degree},
       {"--drift-yaw", &o->drift.yaw_per_degree}, {"--drift-correlation", &o->drift.correlation_length}};
@@ -118,6 +124,10 @@ bool parse(int argc, char** argv, Options* o, std::string* error) {
     }
     if (arg == "--city") {
       o->city = true;
+      continue;
+    }
+    if (arg == "--repeat-templates") {
+      o->repeat_templates = true;
       continue;
     }
     const bool has_value = i + 1 < argc;
@@ -149,6 +159,7 @@ bool parse(int argc, char** argv, Options* o, std::string* error) {
   else if (o->voxel < 0.0) *error = "--voxel must be >= 0";
   else if (o->city && !o->kitti.empty()) *error = "--city and --kitti-poses exclude each other";
   else if (o->tilt < 0.0) *error = "--tilt must be >= 0";
+  else if (o->changed_world < 0.0) *error = "--changed-world must be >= 0";
   return error->empty();
 }
 
@@ -224,6 +235,9 @@ int main(int argc, char** argv) {
   world_options.seed = o.seed;
   world_options.dynamic_car_fraction = o.dynamic_cars;
   world_options.duration = source_times.back() - source_times.front();
+  world_options.changed_world = o.changed_world;
+  world_options.repeat_templates = o.repeat_templates;
+  for (double t : source_times) world_options.times.push_back(t - source_times.front());
   const sim::World world = sim::generateWorld(path, world_options);
 
   sim::SequenceData data;
@@ -263,6 +277,7 @@ int main(int argc, char** argv) {
        << "\ndrift_yaw_per_deg: " << o.drift.yaw_per_degree
        << "\ndrift_correlation_m: " << o.drift.correlation_length << "\nseconds: " << seconds << "\n";
   if (o.tilt > 0) info << "tilt_deg: " << o.tilt << "\n";
+  info << "changed_world: " << o.changed_world << "\nrepeat_templates: " << o.repeat_templates << "\n";
 
   if (!o.bag.path.empty()) {
     if (!sim::writeBag(o.out, truth, data.odometry, data.times, o.bag, &error)) {

@@ -26,6 +26,7 @@ float reflectivity(Material m) {
     case Material::kFoliage: return 0.25f;
     case Material::kPole: return 0.5f;
     case Material::kSign: return 0.95f;
+    case Material::kPerson: return 0.3f;
   }
   return 0.3f;
 }

@@ -6,174 +6,58 @@
 
 #include "placement.h"
 #include "scan_context_loop/sim/world.h"
+#include "street_kit.h"
+#include "world_changes.h"
 
 namespace scan_context_loop {
 namespace sim {
 
 namespace {
 
-enum class District : std::uint8_t { kTerrace, kHouses, kAvenue, kIndustrial };
-
-/// What a street looks like in one kind of district. Lengths in metres, chances in [0, 1].
-struct Style {
-  double pavement;                  ///< kerb to property line
-  double frontage;                  ///< chance a stretch of property line has a hedge, wall or fence
-  double setback_min, setback_max;  ///< property line to facade
-  double length_min, length_max;    ///< facade length
-  double depth_min, depth_max;
-  double height_min, height_max;
-  double tower;                     ///< chance of a building 20-30 m tall
-  double adjoining;                 ///< chance the next building shares a wall with this one
-  double gap_min, gap_max;          ///< otherwise the gap between buildings
-  double open_lot;                  ///< chance of a longer opening: a yard, car park or side lane
-  double back_row;                  ///< chance of a second building behind the first
-  double street_tree;               ///< chance each tree pit holds a tree
-  double tree_min, tree_max;        ///< tree pit spacing
-  double parking;                   ///< chance a parking space holds a car
-  double garden;                    ///< chance of trees and bushes in a front garden
-  bool industrial;                  ///< wire-mesh fences, lorries among the parked vehicles
-};
-
-const Style& styleOf(District d) {
-  // clang-format off
-  //                                pave  front setback     length      depth       height      tower adjoin gap        open  back  tree  pits        park  garden industrial
-  static const Style kTerrace    = {4.0, 0.1,  0.5, 1.5,  10.0, 24.0, 10.0, 16.0,  9.0, 20.0, 0.12, 0.75, 1.0,  4.0, 0.05, 0.5,  0.45, 8.0, 14.0, 0.8,  0.0, false};
-  static const Style kHouses     = {2.5, 0.85, 2.5, 6.0,   8.0, 15.0,  8.0, 12.0,  5.0, 11.0, 0.0,  0.3,  2.0,  6.0, 0.05, 0.6,  0.6,  8.0, 14.0, 0.7,  0.7, false};
-  static const Style kAvenue     = {4.5, 0.4,  2.0, 8.0,  14.0, 30.0, 10.0, 18.0,  8.0, 22.0, 0.2,  0.3,  3.0, 10.0, 0.06, 0.5,  0.95, 7.0, 10.0, 0.55, 0.5, false};
-  static const Style kIndustrial = {2.0, 0.8,  3.0, 10.0, 20.0, 45.0, 12.0, 30.0,  6.0, 12.0, 0.05, 0.1,  4.0, 12.0, 0.1,  0.3,  0.25, 10.0, 20.0, 0.35, 0.0, true};
-  // clang-format on
-  switch (d) {
-    case District::kTerrace: return kTerrace;
-    case District::kHouses: return kHouses;
-    case District::kAvenue: return kAvenue;
-    case District::kIndustrial: return kIndustrial;
-  }
-  return kTerrace;
-}
-
-std::uint64_t mix(std::uint64_t z) {
-  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-  return z ^ (z >> 31);
-}
-
-/// The ground plane (slope_x, slope_y, offset): the configured slope, downhill in a direction drawn
-/// from the seed.
-Eigen::Vector3d groundPlane(const WorldOptions& options) {
-  const double direction = 2.0 * M_PI * static_cast<double>(mix(options.seed) >> 11) / 9007199254740992.0;
-  return {options.ground_slope * std::cos(direction), options.ground_slope * std::sin(direction), 0.0};
-}
-
-/// Places things along both sides of the path as it walks it.
-class StreetBuilder {
+/// Places things along both sides of the path as it walks it, and records what may change later.
+class StreetBuilder : public StreetKit {
  public:
-  StreetBuilder(const std::vector<PathPoint>& dense, const WorldOptions& options)
-      : dense_(dense), options_(options), ground_(groundPlane(options)), roads_(dense), rng_(options.seed) {}
+  StreetBuilder(const std::vector<PathPoint>& dense, const WorldOptions& options) : StreetKit(dense, options) {}
 
-  std::vector<Primitive> build() {
+  StreetRecord build() {
     // Each side of the road keeps, per kind of thing, the arc length up to which it is furnished.
     enum { kPavement, kFrontage, kBuilding, kTree, kLight, kFurniture, kCar, kKinds };
     double next[kKinds][2] = {};
     double s = 0.0;
-    for (std::size_t k = 0; k < dense_.size(); ++k) {
-      if (k > 0) s += std::hypot(dense_[k].x - dense_[k - 1].x, dense_[k].y - dense_[k - 1].y);
-      const PathPoint& p = dense_[k];
+    for (std::size_t k = 0; k < dense.size(); ++k) {
+      if (k > 0) s += std::hypot(dense[k].x - dense[k - 1].x, dense[k].y - dense[k - 1].y);
+      const PathPoint& p = dense[k];
       for (int side = 0; side < 2; ++side) {
         const double sign = side == 0 ? 1.0 : -1.0;  // left, right of the direction of travel
-        const Style& style = styleOf(districtAt(at(p, 0.0, sign * 15.0)));
+        const District district = districtAt(at(p, 0.0, sign * 15.0));
+        const Style& style = styleOf(district);
         if (s >= next[kPavement][side]) next[kPavement][side] = s + pavement(p, sign, style);
-        if (s >= next[kFrontage][side]) next[kFrontage][side] = s + frontage(p, sign, style);
-        if (s >= next[kBuilding][side]) next[kBuilding][side] = s + building(p, sign, style);
+        if (s >= next[kFrontage][side]) next[kFrontage][side] = s + frontage(p, sign, district);
+        if (s >= next[kBuilding][side]) next[kBuilding][side] = s + building(p, sign, district);
         if (s >= next[kTree][side]) next[kTree][side] = s + streetTree(p, sign, style);
         if (s >= next[kLight][side]) next[kLight][side] = s + streetLight(p, sign);
         if (s >= next[kFurniture][side]) next[kFurniture][side] = s + streetFurniture(p, sign, style);
         if (s >= next[kCar][side]) next[kCar][side] = s + parkedCar(p, sign, style);
       }
     }
-    return std::move(out_);
+    return std::move(record_);
   }
 
  private:
-  double uniform(double a, double b) { return std::uniform_real_distribution<double>(a, b)(rng_); }
-  bool chance(double p) { return uniform(0.0, 1.0) < p; }
-  double kerb() const { return options_.road_half_width; }
-
-  /// The district a point lies in: a repeatable draw per district-sized square of the map.
-  District districtAt(const Eigen::Vector2d& q) const {
-    const auto i = static_cast<std::int64_t>(std::floor(q.x() / options_.district_size));
-    const auto j = static_cast<std::int64_t>(std::floor(q.y() / options_.district_size));
-    const double u = static_cast<double>(mix(mix(options_.seed ^ static_cast<std::uint64_t>(i) * 0x9E3779B97F4A7C15ull) ^
-                                             static_cast<std::uint64_t>(j)) >> 11) / 9007199254740992.0;
-    if (u < 0.3) return District::kTerrace;
-    if (u < 0.65) return District::kHouses;
-    if (u < 0.85) return District::kAvenue;
-    return District::kIndustrial;
-  }
-
-  /// Point at along-track offset `along` and lateral offset `lateral` (positive = left) from p.
-  Eigen::Vector2d at(const PathPoint& p, double along, double lateral) const {
-    const double c = std::cos(p.heading), s = std::sin(p.heading);
-    return {p.x + c * along - s * lateral, p.y + s * along + c * lateral};
-  }
-
-  double groundAt(const Eigen::Vector2d& c) const { return ground_.x() * c.x() + ground_.y() * c.y() + ground_.z(); }
-
-  static Footprint footprintOf(const Eigen::Vector2d& c, double yaw, double hx, double hy) {
-    Footprint f;
-    f.center = c;
-    f.yaw = yaw;
-    f.half = Eigen::Vector2d(hx, hy);
-    return f;
-  }
-
-  Primitive box(const Eigen::Vector2d& c, double yaw, double hx, double hy, double z0, double z1, Material m) const {
-    Primitive b;
-    b.kind = Primitive::Kind::kBox;
-    b.material = m;
-    b.center = Eigen::Vector3f(static_cast<float>(c.x()), static_cast<float>(c.y()), 0.0f);
-    b.half = Eigen::Vector3f(static_cast<float>(hx), static_cast<float>(hy), 0.0f);
-    b.yaw = static_cast<float>(yaw);
-    const double g = groundAt(c);
-    b.z0 = static_cast<float>(g + z0);
-    b.z1 = static_cast<float>(g + z1);
-    return b;
-  }
-
-  Primitive cylinder(const Eigen::Vector2d& c, double radius, double z0, double z1, Material m) const {
-    Primitive p;
-    p.kind = Primitive::Kind::kCylinder;
-    p.material = m;
-    p.center = Eigen::Vector3f(static_cast<float>(c.x()), static_cast<float>(c.y()), 0.0f);
-    p.half = Eigen::Vector3f::Constant(static_cast<float>(radius));
-    const double g = groundAt(c);
-    p.z0 = static_cast<float>(g + z0);
-    p.z1 = static_cast<float>(g + z1);
-    return p;
-  }
-
-  Primitive ellipsoid(const Eigen::Vector2d& c, double z, const Eigen::Vector3d& radii, Material m,
-                      double free_path) const {
-    Primitive e;
-    e.kind = Primitive::Kind::kEllipsoid;
-    e.material = m;
-    e.center = Eigen::Vector3f(static_cast<float>(c.x()), static_cast<float>(c.y()), static_cast<float>(groundAt(c) + z));
-    e.half = radii.cast<float>();
-    e.free_path = static_cast<float>(free_path);
-    return e;
-  }
-
-  /// Adds the solid when its footprint keeps `clearance` from every road and, grown by `margin`,
-  /// overlaps nothing placed; marks it as taken.
-  bool place(const Primitive& prim, const Footprint& f, double clearance, double margin) {
-    if (!roads_.clear(f, clearance) || !occupied_.free(f, margin)) return false;
-    occupied_.mark(f);
-    out_.push_back(prim);
-    return true;
-  }
-
-  bool placeBox(const Primitive& b, double clearance, double margin) {
-    const Eigen::Vector2d c(b.center.x(), b.center.y());
-    return place(b, footprintOf(c, b.yaw, b.half.x(), b.half.y()), clearance, margin);
+  /// With repeat_templates, a building (with its bays, annex, back row and garden) or a stretch of
+  /// frontage is one of a few designs per district character, the same all over one district square,
+  /// as in estates and terraces of identical houses: fn draws from a generator seeded by the design, so
+  /// each design looks the same in every street that gets it, and squares of one character that get
+  /// the same design look alike. Off, fn draws from the world's generator as ever.
+  template <typename Fn>
+  double fromDesign(const PathPoint& p, double sign, District district, std::uint64_t what, Fn fn) {
+    if (!options.repeat_templates) return fn();
+    constexpr std::uint64_t kDesigns = 5;
+    const std::uint64_t design = mix(squareDraw(at(p, 0.0, sign * 15.0)) ^ 0x5D3A1E7Bull) % kDesigns;
+    std::mt19937 draws(static_cast<std::uint32_t>(
+        mix(mix(options.seed ^ 0x7E3A9D1Bull) ^ (what << 16 | static_cast<std::uint64_t>(district) << 8 | design))));
+    const DrawFrom scoped(*this, &draws);
+    return fn();
   }
 
   /// A 2 m strip of raised pavement from the kerb to the property line. Other things stand on it, so it
@@ -183,15 +67,18 @@ class StreetBuilder {
     const Eigen::Vector2d c = at(p, step / 2, sign * (kerb() + style.pavement / 2));
     const Primitive strip =
         box(c, p.heading, step / 2 + 0.05, style.pavement / 2, -0.3, 0.13, Material::kPavement);
-    if (roads_.clear(footprintOf(c, p.heading, strip.half.x(), strip.half.y()), kerb() - 0.15)) out_.push_back(strip);
+    if (roads.clear(footprintOf(c, p.heading, strip.half.x(), strip.half.y()), kerb() - 0.15)) out.push_back(strip);
     return step;
   }
 
-  double propertyLine(const Style& style) const { return kerb() + style.pavement; }
-
   /// A hedge, a wall or a fence along the property line, up to a driveway.
-  double frontage(const PathPoint& p, double sign, const Style& style) {
+  double frontage(const PathPoint& p, double sign, District district) {
+    const Style& style = styleOf(district);
     if (!chance(style.frontage)) return uniform(5.0, 15.0);
+    return fromDesign(p, sign, district, 1, [&] { return frontageDesign(p, sign, style); });
+  }
+
+  double frontageDesign(const PathPoint& p, double sign, const Style& style) {
     const double length = uniform(6.0, 18.0);
     double thickness, height, free_path = 0.0;
     Material material = Material::kWall;
@@ -205,17 +92,23 @@ class StreetBuilder {
     } else {
       thickness = 0.3, height = uniform(0.6, 2.2);
     }
-    const Eigen::Vector2d c = at(p, length / 2, sign * (propertyLine(style) + 0.1 + thickness / 2));
-    Primitive wall = box(c, p.heading, length / 2, thickness / 2, 0.0, height, material);
+    Primitive wall = alongPropertyLine(p, sign, style, length, thickness, height, material);
     wall.free_path = static_cast<float>(free_path);
-    placeBox(wall, propertyLine(style) - 0.3, 0.05);
+    if (placeBox(wall, propertyLine(style) - 0.3, 0.05) && material == Material::kFoliage) {
+      record_.hedges.push_back(out.size() - 1);
+    }
     return length + uniform(2.5, 5.0);
   }
 
   /// A building set back from the property line, sometimes with an annex, bays and a second row behind;
   /// returns how far along the street the next one starts.
-  double building(const PathPoint& p, double sign, const Style& style) {
+  double building(const PathPoint& p, double sign, District district) {
+    const Style& style = styleOf(district);
     if (chance(style.open_lot)) return uniform(8.0, 20.0);
+    return fromDesign(p, sign, district, 2, [&] { return buildingDesign(p, sign, style); });
+  }
+
+  double buildingDesign(const PathPoint& p, double sign, const Style& style) {
     const double length = uniform(style.length_min, style.length_max);
     const double depth = uniform(style.depth_min, style.depth_max);
     const double height =
@@ -269,8 +162,10 @@ class StreetBuilder {
     for (int b = 0; b < bushes; ++b) {
       const double r = uniform(0.5, 1.3);
       const Eigen::Vector2d c = at(p, uniform(0.0, length), sign * (line + uniform(0.8, setback - 0.5)));
-      place(ellipsoid(c, 0.5 * r, Eigen::Vector3d(r, r, 0.8 * r), Material::kFoliage, 0.35),
-            footprintOf(c, 0.0, r, r), line - 0.3, 0.0);
+      if (place(ellipsoid(c, 0.5 * r, Eigen::Vector3d(r, r, 0.8 * r), Material::kFoliage, 0.35),
+                footprintOf(c, 0.0, r, r), line - 0.3, 0.0)) {
+        record_.bushes.push_back(out.size() - 1);
+      }
     }
   }
 
@@ -283,7 +178,8 @@ class StreetBuilder {
     if (!place(trunk, footprintOf(c, 0.0, trunk_r + 0.2, trunk_r + 0.2), clearance, 0.3)) return;
     const double r = conifer ? uniform(1.2, 2.0) : uniform(1.8, 3.5) * scale;
     const double rz = conifer ? uniform(3.0, 5.0) : uniform(1.5, 3.2) * scale;
-    out_.push_back(ellipsoid(c, trunk_h + rz, Eigen::Vector3d(r, r, rz), Material::kFoliage, 0.8));
+    record_.trees.push_back({out.size() - 1, out.size()});
+    out.push_back(ellipsoid(c, trunk_h + rz, Eigen::Vector3d(r, r, rz), Material::kFoliage, 0.8));
   }
 
   double streetTree(const PathPoint& p, double sign, const Style& style) {
@@ -298,14 +194,14 @@ class StreetBuilder {
     if (place(cylinder(c, uniform(0.08, 0.14), 0.0, height, Material::kPole), footprintOf(c, 0.0, 0.15, 0.15),
               kerb() + 0.1, 0.3)) {
       const Eigen::Vector2d arm = at(p, 0.0, sign * (kerb() + 0.4 - 0.9));
-      out_.push_back(box(arm, p.heading, 0.08, 0.9, height - 0.25, height - 0.05, Material::kPole));
+      out.push_back(box(arm, p.heading, 0.08, 0.9, height - 0.25, height - 0.05, Material::kPole));
     }
     if (chance(0.35)) {
       const Eigen::Vector2d post = at(p, uniform(4.0, 10.0), sign * (kerb() + 0.35));
       const double top = uniform(2.4, 3.2);
       if (place(cylinder(post, 0.04, 0.0, top, Material::kPole), footprintOf(post, 0.0, 0.1, 0.1), kerb() + 0.1,
                 0.3)) {
-        out_.push_back(box(post, p.heading, 0.02, 0.35, top - 0.7, top, Material::kSign));
+        out.push_back(box(post, p.heading, 0.02, 0.35, top - 0.7, top, Material::kSign));
       }
     }
     return uniform(25.0, 40.0);
@@ -335,67 +231,31 @@ class StreetBuilder {
       // Bus shelter: roof and back panel; its glass sides let the beams through.
       const Eigen::Vector2d roof = at(p, 0.0, sign * (wall_side - 0.5));
       if (put(roof, 1.8, 0.8, 2.3, 2.5, Material::kWall)) {
-        out_.push_back(box(at(p, 0.0, sign * (wall_side - 0.05)), p.heading, 1.8, 0.04, 0.1, 2.3, Material::kSign));
+        out.push_back(box(at(p, 0.0, sign * (wall_side - 0.05)), p.heading, 1.8, 0.04, 0.1, 2.3, Material::kSign));
       }
     }
     return uniform(8.0, 25.0);
   }
 
-  /// Body and cabin of one vehicle, kerb side at the kerb, starting `along` ahead of p.
-  struct Vehicle {
-    Primitive body, cabin;
-    double length, width;
-  };
-
-  Vehicle vehicle(const PathPoint& p, double sign, double along, bool industrial) {
-    Vehicle v;
-    double body_top, roof, cabin_frac;
-    const double kind = uniform(0.0, 1.0);
-    if (industrial && kind < 0.3) {  // box van or lorry: one tall block
-      v.length = uniform(6.0, 9.0), v.width = uniform(2.2, 2.5), body_top = uniform(2.6, 3.4), roof = body_top;
-      cabin_frac = 0.0;
-    } else if (kind < 0.35) {  // small car
-      v.length = uniform(3.5, 4.1), v.width = uniform(1.6, 1.75), body_top = uniform(0.85, 0.95);
-      roof = uniform(1.4, 1.55), cabin_frac = 0.55;
-    } else if (kind < 0.78) {  // saloon or estate
-      v.length = uniform(4.3, 4.9), v.width = uniform(1.75, 1.9), body_top = uniform(0.9, 1.0);
-      roof = uniform(1.4, 1.5), cabin_frac = 0.5;
-    } else {  // SUV or van
-      v.length = uniform(4.5, 5.3), v.width = uniform(1.85, 2.05), body_top = uniform(1.05, 1.2);
-      roof = uniform(1.7, 2.0), cabin_frac = 0.65;
-    }
-    const double yaw = p.heading + uniform(-0.04, 0.04);
-    const double lateral = sign * (kerb() - 0.25 - v.width / 2);
-    const Eigen::Vector2d c = at(p, along + v.length / 2, lateral);
-    v.body = box(c, yaw, v.length / 2, v.width / 2, 0.3, body_top, Material::kCar);
-    v.cabin = v.body;
-    if (cabin_frac > 0.0) {
-      // The cabin sits a little behind the middle, narrower than the body.
-      const Eigen::Vector2d cc = at(p, along + v.length / 2 - 0.1 * v.length, lateral);
-      v.cabin = box(cc, yaw, v.length * cabin_frac / 2, v.width / 2 - 0.08, body_top, roof, Material::kCar);
-    }
-    return v;
-  }
-
   /// One parking space: empty, a car parked for the whole drive, or one that leaves, arrives or moves
   /// along the kerb at a time during the drive, so later visits find the street a little different.
   double parkedCar(const PathPoint& p, double sign, const Style& style) {
-    if (!chance(style.parking)) return uniform(3.0, 8.0);
-    Vehicle v = vehicle(p, sign, 0.0, style.industrial);
-    const double clearance = kerb() - 2.3;  // parked cars stand on the road's edge, clear of other roads
-    const auto fp = [](const Primitive& b) {
-      return footprintOf(Eigen::Vector2d(b.center.x(), b.center.y()), b.yaw, b.half.x(), b.half.y());
-    };
+    if (!chance(style.parking)) {
+      record_.empty_spaces.push_back({p, sign, style.industrial});
+      return uniform(3.0, 8.0);
+    }
+    Vehicle v = parkedVehicle(p, sign, 0.0, style.industrial);
     const double advance = v.length + uniform(0.6, 2.5);
-    if (!roads_.clear(fp(v.body), clearance) || !occupied_.free(fp(v.body), 0.3)) return advance;
-    const bool dynamic = options_.duration > 0.0 && chance(options_.dynamic_car_fraction);
-    if (!dynamic) {
-      occupied_.mark(fp(v.body));
-      out_.push_back(v.body);
-      if (v.cabin.z1 > v.body.z1) out_.push_back(v.cabin);
+    if (!roads.clear(footprintOf(v.body), parkingClearance()) || !occupied.free(footprintOf(v.body), 0.3)) {
       return advance;
     }
-    const double when = uniform(0.0, options_.duration);
+    const bool dynamic = options.duration > 0.0 && chance(options.dynamic_car_fraction);
+    if (!dynamic) {
+      occupied.mark(footprintOf(v.body));
+      record_.parked.push_back(add(v));
+      return advance;
+    }
+    const double when = uniform(0.0, options.duration);
     const double kind = uniform(0.0, 1.0);
     if (kind < 1.0 / 3.0) {  // leaves at `when`
       v.body.present_to = v.cabin.present_to = when;
@@ -410,34 +270,28 @@ class StreetBuilder {
         b->center.y() += static_cast<float>(offset.y());
         b->present_from = when;
       }
-      if (roads_.clear(fp(moved.body), clearance) && occupied_.free(fp(moved.body), 0.3)) {
+      if (roads.clear(footprintOf(moved.body), parkingClearance()) && occupied.free(footprintOf(moved.body), 0.3)) {
         v.body.present_to = v.cabin.present_to = when;
-        occupied_.mark(fp(moved.body));
-        out_.push_back(moved.body);
-        if (moved.cabin.z1 > moved.body.z1) out_.push_back(moved.cabin);
+        occupied.mark(footprintOf(moved.body));
+        add(moved);
       }
     }
-    occupied_.mark(fp(v.body));
-    out_.push_back(v.body);
-    if (v.cabin.z1 > v.body.z1) out_.push_back(v.cabin);
+    occupied.mark(footprintOf(v.body));
+    add(v);
     return advance;
   }
 
-  const std::vector<PathPoint>& dense_;
-  WorldOptions options_;
-  Eigen::Vector3d ground_;
-  RoadMap roads_;
-  Occupancy occupied_;
-  std::mt19937 rng_;
-  std::vector<Primitive> out_;
+  StreetRecord record_;
 };
 
 }  // namespace
 
 World generateWorld(const std::vector<PathPoint>& path, const WorldOptions& options) {
   const std::vector<PathPoint> dense = densify(path, 1.0);
-  std::vector<Primitive> primitives = StreetBuilder(dense, options).build();
-  return World(std::move(primitives), groundPlane(options));
+  StreetBuilder builder(dense, options);
+  const StreetRecord record = builder.build();
+  if (options.changed_world > 0.0 && options.duration > 0.0) changeWorld(path, record, &builder);
+  return World(std::move(builder.out), groundPlane(options));
 }
 
 }  // namespace sim

@@ -20,7 +20,8 @@ enum class Material : std::uint8_t {
   kTrunk,
   kFoliage,   ///< tree canopies, hedges, bushes
   kPole,      ///< street lights and their arms
-  kSign       ///< retro-reflective sign boards
+  kSign,      ///< retro-reflective sign boards
+  kPerson     ///< pedestrians
 };
 
 /// One solid. Boxes are vertical prisms with a yaw; cylinders are vertical; ellipsoids are axis-aligned.
@@ -92,6 +93,17 @@ struct WorldOptions {
   double dynamic_car_fraction = 0.3;  ///< parked cars that leave, arrive or move during the drive
   double duration = 0.0;              ///< length of the drive [s]; 0: every car stays put
   double district_size = 160.0;       ///< side of the squares that share a street character [m]
+  /// How much the world changes during the drive, as between visits days apart (0: not at all; 1: a
+  /// strong change): parked cars leave, arrive or move, trees and hedges grow or are cut, construction
+  /// sites appear, and traffic and pedestrians pass. Each change happens at its own time in the drive,
+  /// so places seen further apart in time differ more. Needs a duration.
+  double changed_world = 0.0;
+  /// Buildings and their frontage from a few designs per district character, one per district square
+  /// (rows of identical houses), so different streets look alike (repetitive places).
+  bool repeat_templates = false;
+  /// Drive time at each path point [s], so traffic keeps clear of the sensor; empty: the path driven at
+  /// a uniform speed over `duration`.
+  std::vector<double> times;
 };
 
 /// Builds streets along the path. Each district-sized square of the map gets a character -- terraced

@@ -1,0 +1,202 @@
+// Parked cars, vegetation and construction sites that change during the drive (the changed world).
+#include "world_changes.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace scan_context_loop {
+namespace sim {
+
+namespace {
+
+/// How close to a road centre a grown canopy may reach [m] (street trees reach about 3.4 m).
+constexpr double kKeepOffRoads = 3.0;
+
+/// When a change happens: anywhere in the drive, so the later a revisit, the likelier it sees it.
+double changeTime(StreetKit& kit) { return kit.uniform(0.0, kit.options.duration); }
+
+/// Grown or cut by 20-50 %.
+double growthFactor(StreetKit& kit) { return kit.chance(0.5) ? 1.0 + kit.uniform(0.2, 0.5) : 1.0 - kit.uniform(0.2, 0.5); }
+
+/// Solid `index` is gone from `when` on.
+void removeAt(StreetKit& kit, std::size_t index, double when) {
+  kit.out[index].present_to = std::min(kit.out[index].present_to, when);
+}
+
+/// Solid `index` is replaced by `after` from `when` on.
+void replaceAt(StreetKit& kit, std::size_t index, Primitive after, double when) {
+  after.present_from = when;
+  after.present_to = kit.out[index].present_to;
+  removeAt(kit, index, when);
+  kit.out.push_back(after);
+}
+
+/// A point of the drive, drawn uniformly.
+const PathPoint& randomPlace(StreetKit& kit) {
+  return kit.dense[static_cast<std::size_t>(kit.uniform(0.0, 1.0) * static_cast<double>(kit.dense.size() - 1))];
+}
+
+/// Places about `count` things with place(), which tries one spot and says whether it was free; up to
+/// five spots each, as streets are mostly full.
+template <typename Place>
+void placeSeveral(double count, Place place) {
+  for (long i = 0; i < std::lround(count); ++i) {
+    for (int attempt = 0; attempt < 5 && !place(); ++attempt) {
+    }
+  }
+}
+
+/// An ellipsoid grown or shrunk by `factor`, standing on the same base height.
+Primitive scaledEllipsoid(const Primitive& e, double factor, double base) {
+  Primitive scaled = e;
+  scaled.half *= static_cast<float>(factor);
+  scaled.center.z() = static_cast<float>(base + (e.center.z() - base) * factor);
+  return scaled;
+}
+
+/// About `strength` of the cars that stayed for the whole drive leave, arrive or move to another space
+/// a car length or more along the kerb where there is room; new cars take about
+/// 0.6 `strength` of the empty spaces.
+void changeParkedCars(StreetKit& kit, const StreetRecord& record, double strength) {
+  for (const StreetRecord::Car& car : record.parked) {
+    if (!kit.chance(strength)) continue;
+    const double when = changeTime(kit);
+    const double kind = kit.uniform(0.0, 1.0);
+    if (kind < 1.0 / 3.0) {
+      removeAt(kit, car.body, when);
+      if (car.cabin != car.body) removeAt(kit, car.cabin, when);
+    } else if (kind < 2.0 / 3.0) {
+      kit.out[car.body].present_from = kit.out[car.cabin].present_from = when;
+    } else {
+      const Primitive& body = kit.out[car.body];
+      const double car_length = 2.0 * body.half.x();
+      const double shift = kit.eitherWay(car_length + 1.0, car_length + 6.0);
+      const Eigen::Vector3f offset(static_cast<float>(shift * std::cos(body.yaw)),
+                                   static_cast<float>(shift * std::sin(body.yaw)), 0.0f);
+      Primitive moved_body = body, moved_cabin = kit.out[car.cabin];
+      moved_body.center += offset;
+      moved_cabin.center += offset;
+      const Footprint f = StreetKit::footprintOf(moved_body);
+      if (kit.roads.clear(f, kit.parkingClearance()) && kit.occupied.free(f, 0.3)) {
+        kit.occupied.mark(f);
+        replaceAt(kit, car.body, moved_body, when);
+        if (car.cabin != car.body) replaceAt(kit, car.cabin, moved_cabin, when);
+      } else {  // no room there: it just leaves
+        removeAt(kit, car.body, when);
+        if (car.cabin != car.body) removeAt(kit, car.cabin, when);
+      }
+    }
+  }
+  for (const StreetRecord::Space& space : record.empty_spaces) {
+    if (!kit.chance(0.6 * strength)) continue;
+    Vehicle v = kit.parkedVehicle(space.p, space.sign, 0.0, space.industrial);
+    const Footprint f = StreetKit::footprintOf(v.body);
+    const double when = changeTime(kit);
+    if (!kit.roads.clear(f, kit.parkingClearance()) || !kit.occupied.free(f, 0.3)) continue;
+    v.body.present_from = v.cabin.present_from = when;
+    kit.occupied.mark(f);
+    kit.add(v);
+  }
+}
+
+/// About `strength` of the solids `items` change, each at its own time: a third are removed, the others
+/// become resized(solid, factor) with a factor from growthFactor().
+template <typename Resize>
+void regrowOrRemove(StreetKit& kit, const std::vector<std::size_t>& items, double strength, Resize resized) {
+  for (const std::size_t item : items) {
+    if (!kit.chance(strength)) continue;
+    const double when = changeTime(kit);
+    if (kit.chance(1.0 / 3.0)) {
+      removeAt(kit, item, when);
+      continue;
+    }
+    const double factor = growthFactor(kit);
+    replaceAt(kit, item, resized(kit.out[item], factor), when);
+  }
+}
+
+/// About `strength` of the trees, bushes and hedges grow or are cut back by 20-50 %; a third of the
+/// bushes and hedges that change are removed; new hedges appear along property lines.
+void changeVegetation(StreetKit& kit, const StreetRecord& record, double strength) {
+  for (const StreetRecord::Tree& tree : record.trees) {
+    if (!kit.chance(strength)) continue;
+    const Primitive& canopy = kit.out[tree.canopy];
+    double factor = growthFactor(kit);
+    // Trees that would grow to reach over the road are cut back instead, as councils do.
+    const Eigen::Vector2d c(canopy.center.x(), canopy.center.y());
+    const double radius = canopy.half.x() * factor;
+    if (factor > 1.0 && !kit.roads.clear(StreetKit::footprintOf(c, 0.0, radius, radius), kKeepOffRoads)) {
+      factor = 2.0 - factor;
+    }
+    // The canopy keeps its bottom where the trunk holds it.
+    const Primitive grown = scaledEllipsoid(canopy, factor, canopy.center.z() - canopy.half.z());
+    replaceAt(kit, tree.canopy, grown, changeTime(kit));
+  }
+  regrowOrRemove(kit, record.bushes, strength, [&](const Primitive& bush, double factor) {
+    return scaledEllipsoid(bush, factor, kit.groundAt(Eigen::Vector2d(bush.center.x(), bush.center.y())));
+  });
+  regrowOrRemove(kit, record.hedges, strength, [](Primitive hedge, double factor) {
+    hedge.z1 = static_cast<float>(hedge.z0 + (hedge.z1 - hedge.z0) * factor);
+    hedge.half.y() *= static_cast<float>(factor);
+    return hedge;
+  });
+  // New hedges: about one per 100 m of drive at full strength, where the property line is free.
+  placeSeveral(strength * static_cast<double>(kit.dense.size()) / 100.0, [&] {
+    const PathPoint& p = randomPlace(kit);
+    const double sign = kit.chance(0.5) ? 1.0 : -1.0;
+    const Style& style = styleOf(kit.districtAt(StreetKit::at(p, 0.0, sign * 15.0)));
+    const double length = kit.uniform(4.0, 12.0), thickness = kit.uniform(0.6, 1.0), height = kit.uniform(0.8, 1.6);
+    Primitive hedge = kit.alongPropertyLine(p, sign, style, length, thickness, height, Material::kFoliage);
+    hedge.free_path = 0.3f;
+    hedge.present_from = changeTime(kit);
+    return kit.placeBox(hedge, kit.propertyLine(style) - 0.3, 0.05);
+  });
+}
+
+/// Construction sites, about one per 150 m of drive at full strength, from their time on: a site
+/// hoarding or fence on the pavement, a skip in the parking lane, or a barrier fencing off the parking
+/// lane.
+void addConstruction(StreetKit& kit, double strength) {
+  placeSeveral(strength * static_cast<double>(kit.dense.size()) / 150.0, [&] {
+    const PathPoint& p = randomPlace(kit);
+    const double sign = kit.chance(0.5) ? 1.0 : -1.0;
+    const Style& style = styleOf(kit.districtAt(StreetKit::at(p, 0.0, sign * 15.0)));
+    const double kind = kit.uniform(0.0, 1.0);
+    Primitive site;
+    double clearance = kit.parkingClearance(), margin = 0.3;
+    if (kind < 0.45) {  // hoarding or mesh fence along the pavement
+      const double length = kit.uniform(4.0, 12.0);
+      const double lateral = kit.kerb() + 0.3 + kit.uniform(0.0, std::max(0.0, style.pavement - 0.8));
+      site = kit.box(StreetKit::at(p, length / 2, sign * lateral), p.heading, length / 2, 0.05, 0.0,
+                     kit.uniform(1.0, 2.0), Material::kWall);
+      site.free_path = kit.chance(0.5) ? 0.1f : 0.0f;
+      clearance = kit.kerb() + 0.1;
+      margin = 0.1;
+    } else if (kind < 0.75) {  // a skip
+      const double length = kit.uniform(3.5, 4.5), width = kit.uniform(1.7, 2.0);
+      site = kit.box(StreetKit::at(p, length / 2, sign * (kit.kerb() - 0.3 - width / 2)), p.heading, length / 2,
+                     width / 2, 0.0, kit.uniform(1.2, 1.7), Material::kWall);
+    } else {  // barrier along the parking lane
+      const double length = kit.uniform(6.0, 15.0);
+      site = kit.box(StreetKit::at(p, length / 2, sign * (kit.kerb() - 1.0)), p.heading, length / 2, 0.05, 0.0,
+                     kit.uniform(1.0, 2.0), Material::kWall);
+    }
+    site.present_from = changeTime(kit);
+    return kit.placeBox(site, clearance, margin);
+  });
+}
+
+}  // namespace
+
+void changeWorld(const std::vector<PathPoint>& path, const StreetRecord& record, StreetKit* kit) {
+  std::mt19937 draws(static_cast<std::uint32_t>(mix(kit->options.seed ^ 0xC4A1B3D5E7F90ull)));
+  const DrawFrom scoped(*kit, &draws);
+  const double strength = kit->options.changed_world;
+  changeParkedCars(*kit, record, strength);
+  changeVegetation(*kit, record, strength);
+  addConstruction(*kit, strength);
+  addTraffic(path, strength, kit);
+}
+
+}  // namespace sim
+}  // namespace scan_context_loop
