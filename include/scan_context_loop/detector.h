@@ -86,6 +86,8 @@ class LoopDetector {
   VoxelCloud submapOf(std::size_t index, std::size_t query) const;
   /// Registration results are in the levelled frames; loops are reported in the sensor frames.
   void toSensorFrames(std::size_t query, std::size_t match, VerificationResult* result) const;
+  /// Config::verify_odometry_rotation: rejects an accepted result whose rotation the odometry contradicts.
+  void checkOdometryRotation(std::size_t query, std::size_t match, VerificationResult* result) const;
   void decide(Detection* detection);
 
   Database database_;

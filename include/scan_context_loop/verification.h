@@ -46,13 +46,13 @@ struct VerificationConfig {
   /// Accept only when the symmetric structure overlap (the smaller of the two directions' fractions
   /// of vertical-structure voxels, within the region both sensors cover, that agree) is at least this
   /// (Config::verify_min_inlier_ratio).
-  double min_inlier_ratio = 0.4;
+  double min_inlier_ratio = 0.55;
   /// Accept only when at most this fraction of either side's structure stands in space the other saw
   /// through (Config::verify_max_violation).
-  double max_violation = 0.15;
+  double max_violation = 0.3;
   /// Accept only when the agreeing voxels' mean squared point-to-plane distance is below this [m^2]
   /// (Config::verify_max_fitness).
-  double max_fitness = 0.02;
+  double max_fitness = 0.015;
   /// Reject when the registration cannot fix the position in some horizontal direction: the smallest
   /// eigenvalue of the point-to-plane information over the translation is below this fraction of the
   /// largest (a straight corridor or an open road seen along its axis), unless allow_degenerate.

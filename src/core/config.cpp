@@ -115,6 +115,10 @@ std::vector<std::string> Config::validate() const {
           verify_min_inlier_ratio, "must be in [0, 1]");
   require(&e, std::isfinite(verify_max_fitness) && verify_max_fitness > 0.0, "verify_max_fitness",
           verify_max_fitness, "must be positive");
+  require(&e, std::isfinite(verify_odometry_rotation) && verify_odometry_rotation >= 0.0, "verify_odometry_rotation",
+          verify_odometry_rotation, "must be >= 0 degrees (0 disables)");
+  require(&e, std::isfinite(verify_odometry_rotation_drift) && verify_odometry_rotation_drift >= 0.0,
+          "verify_odometry_rotation_drift", verify_odometry_rotation_drift, "must be >= 0 degrees per metre");
   require(&e, verify_submap >= 0 && verify_submap <= 20, "verify_submap", verify_submap, "must be in [0, 20]");
   require(&e, verify_max_violation >= 0.0 && verify_max_violation <= 1.0, "verify_max_violation",
           verify_max_violation, "must be in [0, 1]");
@@ -172,7 +176,7 @@ const std::vector<std::string>& configKeys() {
       "distance_threshold", "lateral_offset_step", "lateral_offset_count", "exclude_recent_frames", "exclude_recent_seconds", "exclude_recent_distance",
       "gate_odometry_distance", "gate_odometry_drift", "verify", "verify_threshold",   "verify_max_candidates", "verify_max_bytes",
       "verify_voxel_leaf", "verify_max_range", "verify_min_inlier_ratio", "verify_max_fitness", "verify_max_violation",
-      "verify_method", "verify_submap", "verify_allow_degenerate", "consistency_min_support", "consistency_window", "consistency_translation",
+      "verify_method", "verify_odometry_rotation", "verify_odometry_rotation_drift", "verify_submap", "verify_allow_degenerate", "consistency_min_support", "consistency_window", "consistency_translation",
       "consistency_rotation", "consistency_drift"};
   return keys;
 }
@@ -208,6 +212,8 @@ bool setConfigValue(Config* config, const std::string& key, const std::string& v
   else if (key == "verify_max_fitness") ok = parseDouble(value, &c.verify_max_fitness);
   else if (key == "verify_max_violation") ok = parseDouble(value, &c.verify_max_violation);
   else if (key == "verify_method") ok = parseRegistrationMethod(value, &c.verify_method);
+  else if (key == "verify_odometry_rotation") ok = parseDouble(value, &c.verify_odometry_rotation);
+  else if (key == "verify_odometry_rotation_drift") ok = parseDouble(value, &c.verify_odometry_rotation_drift);
   else if (key == "verify_submap") ok = parseInt(value, &c.verify_submap);
   else if (key == "verify_allow_degenerate") ok = parseBool(value, &c.verify_allow_degenerate);
   else if (key == "consistency_min_support") ok = parseInt(value, &c.consistency_min_support);

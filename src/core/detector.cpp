@@ -162,6 +162,7 @@ void LoopDetector::verifyCandidates(const PointView& points, Detection* detectio
       v.result = verifier_.verify(*stored, hypotheses(c, query));
     }
     toSensorFrames(detection->index, c.index, &v.result);
+    if (v.result.accepted) checkOdometryRotation(detection->index, c.index, &v.result);
     detection->verifications.push_back(v);
     if (v.result.accepted) {
       detection->verified = true;
@@ -197,6 +198,22 @@ VoxelCloud LoopDetector::submapOf(std::size_t index, std::size_t query) const {
     }
   }
   return merged;
+}
+
+void LoopDetector::checkOdometryRotation(std::size_t query, std::size_t match, VerificationResult* result) const {
+  const Config& config = database_.config();
+  const Keyframe& q = database_.keyframe(query);
+  const Keyframe& m = database_.keyframe(match);
+  if (!(config.verify_odometry_rotation > 0.0) || !q.info.pose || !m.info.pose) return;
+  const Eigen::Matrix3d odometry = (q.info.pose->linear().transpose() * m.info.pose->linear());
+  const double disagreement =
+      Eigen::AngleAxisd(odometry.transpose() * result->relative.linear()).angle() * 180.0 / M_PI;
+  const double allowed =
+      config.verify_odometry_rotation + config.verify_odometry_rotation_drift * std::fabs(q.path_length - m.path_length);
+  if (disagreement <= allowed) return;
+  result->accepted = false;
+  result->reason = "rotation disagrees with the odometry by " + std::to_string(disagreement) + " deg (allowed " +
+                   std::to_string(allowed) + ")";
 }
 
 void LoopDetector::toSensorFrames(std::size_t query, std::size_t match, VerificationResult* result) const {

@@ -9,6 +9,11 @@ namespace {
 
 constexpr float kTwoPi = 6.28318530717958647692f;
 
+/// Structure is only held against free space within this range [m]: farther out a sparse sensor's
+/// beams (2 degrees apart on a VLP-16: 0.9 m at 25 m) pass over low objects, which then look like
+/// free space they are not.
+constexpr float kCheckedRange = 25.0f;
+
 int binOf(float azimuth, const FreeSpace& f) {
   const int n = static_cast<int>(f.nearest.size());
   int b = static_cast<int>(std::floor((azimuth + kTwoPi * 0.5f) / f.bin));
@@ -54,7 +59,7 @@ FreeSpaceCheck checkFreeSpace(const VoxelCloud& from, const FreeSpace& to, const
   if (to.nearest.empty()) return c;
   const Eigen::Matrix3f R = to_from.linear().cast<float>();
   const Eigen::Vector3f t = to_from.translation().cast<float>();
-  const float reach = to.max_range - margin;
+  const float reach = std::min(to.max_range - margin, kCheckedRange);
   for (std::size_t i = 0; i < from.size(); ++i) {
     if (!from.vertical(i)) continue;
     const Eigen::Vector3f p = R * from.means[i] + t;

@@ -20,6 +20,8 @@ bool exists(const std::string& path) {
 
 double yawOf(const Eigen::Isometry3d& t) { return std::atan2(t(1, 0), t(0, 0)); }
 
+constexpr double kConstraintMetres = 1.0, kConstraintDegrees = 2.0;
+
 }  // namespace
 
 bool loadSequence(const std::string& dir, const SequenceOptions& options, Sequence* s, std::string* error) {
@@ -150,7 +152,13 @@ Evaluation evaluate(const Sequence& s, const Config& config, double revisit_radi
       const std::size_t qk = keyframe_of[loop.query], mk = keyframe_of[loop.match];
       const Eigen::Isometry3d truth = s.truth[qk].inverse() * s.truth[mk];
       q.verified_match = s.frames[mk];
-      q.verified_correct = truth.translation().norm() < revisit_radius;
+      // A verified loop is a constraint: it is correct when its pose is (within 1 m and 2 deg of the
+      // truth), however far apart the keyframes are; one between places within the revisit radius with
+      // a wrong pose is a false constraint all the same.
+      const double pose_error = (loop.verification.relative.translation() - truth.translation()).norm();
+      const double rotation_error = Eigen::AngleAxisd(truth.linear().transpose() * loop.verification.relative.linear()).angle();
+      q.verified_correct = pose_error <= kConstraintMetres && rotation_error <= kConstraintDegrees * M_PI / 180.0;
+      q.verified_beyond_radius = truth.translation().norm() >= revisit_radius;
       q.fitness = loop.verification.fitness;
       q.inlier_ratio = loop.verification.inlier_ratio;
       q.translation_error = (loop.verification.relative.translation() - truth.translation()).norm();
@@ -234,6 +242,7 @@ bool writeMetricsJson(const std::string& path, const Evaluation& e, const Sequen
         << ", \"p90\": " << v.translation_error_p90 << "}, \"yaw_error_deg\": {\"median\": " << v.yaw_error_median
         << ", \"p90\": " << v.yaw_error_p90 << "}, \"candidates_mean\": " << v.candidates_mean
         << ", \"candidates_max\": " << v.candidates_max << ", \"reported_late\": " << v.reported_late
+        << ", \"correct_beyond_radius\": " << v.beyond_radius
         << ", \"dropped_by_consistency\": " << e.loops_dropped << ", \"verify_ms\": {\"median\": "
         << percentile(e.verify_ms, 0.5) << ", \"p99\": " << percentile(e.verify_ms, 0.99)
         << ", \"max\": " << percentile(e.verify_ms, 1.0) << "}}";

@@ -98,7 +98,7 @@ Metrics computeMetrics(const std::vector<QueryOutcome>& outcomes, double thresho
 
 VerifiedMetrics computeVerifiedMetrics(const std::vector<QueryOutcome>& outcomes) {
   VerifiedMetrics v;
-  std::size_t revisits = 0, candidates = 0;
+  std::size_t revisits = 0, candidates = 0, recalled = 0;
   std::vector<double> translation, yaw;
   for (const auto& o : outcomes) {
     revisits += o.revisit;
@@ -111,12 +111,15 @@ VerifiedMetrics computeVerifiedMetrics(const std::vector<QueryOutcome>& outcomes
       continue;
     }
     ++v.true_positives;
+    recalled += o.revisit;
+    v.beyond_radius += o.verified_beyond_radius;
     translation.push_back(o.translation_error);
     yaw.push_back(o.yaw_error * 180.0 / M_PI);
   }
   const std::size_t detections = v.true_positives + v.false_positives;
   v.precision = detections > 0 ? double(v.true_positives) / detections : 1.0;
-  v.recall = revisits > 0 ? double(v.true_positives) / revisits : 0.0;
+  // Recall counts the revisit queries a correct loop was found for.
+  v.recall = revisits > 0 ? double(recalled) / revisits : 0.0;
   v.f1 = f1(v.precision, v.recall);
   v.translation_error_median = percentile(translation, 0.5);
   v.translation_error_p90 = percentile(translation, 0.9);

@@ -36,6 +36,8 @@ std::vector<std::string> readParameters(const ros::NodeHandle& pnh, Config* c, R
   pnh.param("verify_max_violation", c->verify_max_violation, c->verify_max_violation);
   std::string verify_method = registrationMethodName(c->verify_method);
   pnh.param("verify_method", verify_method, verify_method);
+  pnh.param("verify_odometry_rotation", c->verify_odometry_rotation, c->verify_odometry_rotation);
+  pnh.param("verify_odometry_rotation_drift", c->verify_odometry_rotation_drift, c->verify_odometry_rotation_drift);
   pnh.param("verify_submap", c->verify_submap, c->verify_submap);
   pnh.param("verify_allow_degenerate", c->verify_allow_degenerate, c->verify_allow_degenerate);
   pnh.param("consistency_min_support", c->consistency_min_support, c->consistency_min_support);

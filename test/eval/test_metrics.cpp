@@ -103,7 +103,7 @@ namespace eval {
 namespace {
 
 TEST(VerifiedMetrics, HandComputed) {
-  std::vector<QueryOutcome> o(5);
+  std::vector<QueryOutcome> o(6);
   for (auto& q : o) q.revisit = true;
   o[0].verified_match = 3;  // true positive
   o[0].verified_correct = true;
@@ -119,15 +119,23 @@ TEST(VerifiedMetrics, HandComputed) {
   o[2].candidates_verified = 2;
   o[3].candidates_verified = 1;  // verified, none accepted
   o[4].revisit = false;          // nothing verified
+  // A correct constraint between keyframes beyond the revisit radius, on a query that is no revisit:
+  // a true positive for precision, nothing for recall.
+  o[5].revisit = false;
+  o[5].verified_match = 7;
+  o[5].verified_correct = true;
+  o[5].verified_beyond_radius = true;
+  o[5].translation_error = 0.2;
   const VerifiedMetrics v = computeVerifiedMetrics(o);
-  EXPECT_EQ(v.true_positives, 2u);
+  EXPECT_EQ(v.true_positives, 3u);
   EXPECT_EQ(v.false_positives, 1u);
-  EXPECT_DOUBLE_EQ(v.precision, 2.0 / 3.0);
+  EXPECT_EQ(v.beyond_radius, 1u);
+  EXPECT_DOUBLE_EQ(v.precision, 3.0 / 4.0);
   EXPECT_DOUBLE_EQ(v.recall, 2.0 / 4.0);
-  EXPECT_DOUBLE_EQ(v.translation_error_median, 0.1);
+  EXPECT_DOUBLE_EQ(v.translation_error_median, 0.2);
   EXPECT_DOUBLE_EQ(v.translation_error_p90, 0.3);
   EXPECT_NEAR(v.yaw_error_p90, 3.0, 1e-9);
-  EXPECT_DOUBLE_EQ(v.candidates_mean, 6.0 / 5.0);
+  EXPECT_DOUBLE_EQ(v.candidates_mean, 6.0 / 6.0);
   EXPECT_EQ(v.candidates_max, 2);
 }
 

@@ -22,7 +22,10 @@ struct QueryOutcome {
 
   // With verification (Config::verify):
   int verified_match = -1;       ///< frame index of the accepted candidate, -1 when none was accepted
-  bool verified_correct = false; ///< the accepted candidate lies within the revisit radius
+  /// The accepted loop's registered pose is within 1 m and 2 deg of the truth: a correct constraint,
+  /// even between keyframes farther apart than the revisit radius (then verified_beyond_radius).
+  bool verified_correct = false;
+  bool verified_beyond_radius = false;
   int candidates_verified = 0;
   double fitness = 0.0, inlier_ratio = 0.0;
   double translation_error = 0.0;  ///< |t_est - t_true| of the refined T_query<-match [m]
@@ -40,6 +43,7 @@ struct VerifiedMetrics {
   double candidates_mean = 0.0;
   int candidates_max = 0;
   std::size_t reported_late = 0;  ///< loops reported after their own keyframe (consistency check)
+  std::size_t beyond_radius = 0;  ///< correct constraints between keyframes beyond the revisit radius
 };
 
 VerifiedMetrics computeVerifiedMetrics(const std::vector<QueryOutcome>& outcomes);
