@@ -266,6 +266,11 @@ scan_context_loop::LoopClosure LoopClosureRos::makeLoop(const Loop& found, const
     // The registration's T_query<-match and covariance (row-major, x y z roll pitch yaw); for a
     // rejected candidate, where registration left it.
     loop.relative_pose = tf2::toMsg(found.verification.relative);
+    // A verified loop's yaw is the registered one (the descriptor's prior may have been a wrong
+    // column that another yaw hypothesis corrected).
+    if (found.verified) {
+      loop.yaw = std::atan2(found.verification.relative(1, 0), found.verification.relative(0, 0));
+    }
     for (int i = 0; i < 36; ++i) loop.covariance[i] = found.verification.covariance(i / 6, i % 6);
     loop.verified = found.verified;
     loop.fitness = found.verification.fitness;

@@ -131,10 +131,12 @@ namespace {
 TEST(ConfigKeys, EveryKeyIsSettableAndBadValuesLeaveTheConfigAlone) {
   Config config;
   for (const std::string& key : configKeys()) {
-    const std::string value = key == "ring_key"        ? "mean_height"
-                              : key == "verify"        ? "true"
-                              : key == "verify_method" ? "ndt"
-                                                       : "3";
+    const std::string value = key == "ring_key"                  ? "mean_height"
+                              : key == "verify"                  ? "true"
+                              : key == "verify_allow_degenerate" ? "true"
+                              : key == "verify_method"           ? "ndt"
+                              : key == "levelling"               ? "ground"
+                                                                 : "3";
     std::string error;
     EXPECT_TRUE(setConfigValue(&config, key, value, &error)) << key << ": " << error;
   }
@@ -143,6 +145,9 @@ TEST(ConfigKeys, EveryKeyIsSettableAndBadValuesLeaveTheConfigAlone) {
   EXPECT_EQ(config.ring_key, RingKeyType::kMeanHeight);
   EXPECT_EQ(config.verify_method, RegistrationMethod::kNdt);
   EXPECT_EQ(config.lateral_offset_step, 3.0);
+  EXPECT_EQ(config.levelling, LevellingMode::kGround);
+  EXPECT_EQ(config.verify_max_violation, 3.0);
+  EXPECT_TRUE(config.verify_allow_degenerate);
   const Config before = config;
   std::string error;
   EXPECT_FALSE(setConfigValue(&config, "num_rings", "20.5", &error));
@@ -150,6 +155,7 @@ TEST(ConfigKeys, EveryKeyIsSettableAndBadValuesLeaveTheConfigAlone) {
   EXPECT_NE(error.find("max_radius"), std::string::npos);
   EXPECT_FALSE(setConfigValue(&config, "ring_key", "median", &error));
   EXPECT_FALSE(setConfigValue(&config, "verify_method", "sift", &error));
+  EXPECT_FALSE(setConfigValue(&config, "levelling", "gravity", &error));
   EXPECT_FALSE(setConfigValue(&config, "rings", "20", &error));
   EXPECT_NE(error.find("unknown"), std::string::npos);
   EXPECT_EQ(config.num_rings, before.num_rings);

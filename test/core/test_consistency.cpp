@@ -127,7 +127,7 @@ TEST(Consistency, FilterReportsARunOfAgreeingLoopsFromItsSecondLoopOnAndDropsALo
 TEST(Consistency, WithoutVerificationDescriptorMatchesAreReportedAtOnce) {
   Config c;
   ASSERT_GT(c.consistency_min_support, 0);  // on by default, but it only looks at verified loops
-  ASSERT_FALSE(c.verify);
+  c.verify = false;
   EXPECT_TRUE(c.validate().empty());
   c.exclude_recent_frames = 0;
   LoopDetector detector(c);
