@@ -22,7 +22,7 @@ target_link_libraries(scan_context_simulate scan_context_loop_sim ${catkin_LIBRA
 if(CATKIN_ENABLE_TESTING)
   catkin_add_gtest(test_sim test/test_main.cpp test/sim/test_world.cpp test/sim/test_sensor.cpp
     test/sim/test_trajectory.cpp test/sim/test_sequence.cpp test/sim/test_drives.cpp
-    test/sim/test_changed_world.cpp)
+    test/sim/test_changed_world.cpp test/sim/test_hard_revisits.cpp)
   target_link_libraries(test_sim scan_context_loop_sim scan_context_loop_core)
   target_compile_definitions(test_sim PRIVATE SCL_SHARED_DATA="${SCL_SHARED_DATA}")
 endif()
