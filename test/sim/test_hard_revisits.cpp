@@ -88,9 +88,9 @@ TEST(HardRevisits, TiltedSensorIsLevelledAndVerified) {
   const std::size_t k = 900;
   const Eigen::Isometry3d level = s.pose(k, 0.0, 0.0);
   // The same place seen by a hand-held sensor half a metre to the side, turned 10 deg, rolled 8 deg and
-  // pitched -6 deg (10 deg of tilt). Levelling undoes the rotation (distance 0.72 unlevelled, 0.32
-  // levelled), not what the tilt hides: on one side the beams now end higher, on the other lower. At
-  // 12 and -9 deg the distance stays at 0.36, above verify_threshold.
+  // pitched -6 deg (10 deg of tilt): levelled, its descriptor distance is 0.32. Levelling undoes the
+  // rotation, not what the tilt hides (on one side the beams now end higher, on the other lower): rolled
+  // 12 and pitched -9 deg, the distance is 0.72 unlevelled and 0.36 levelled, above verify_threshold.
   Eigen::Isometry3d tilted = s.pose(k, 0.5, 10.0 * kDeg);
   tilted.linear() = tilted.linear() * (Eigen::AngleAxisd(8.0 * kDeg, Eigen::Vector3d::UnitX()) *
                                        Eigen::AngleAxisd(-6.0 * kDeg, Eigen::Vector3d::UnitY())).toRotationMatrix();
