@@ -49,7 +49,7 @@ struct VerificationConfig {
   double min_inlier_ratio = 0.55;
   /// Accept only when at most this fraction of either side's structure stands in space the other saw
   /// through (Config::verify_max_violation).
-  double max_violation = 0.3;
+  double max_violation = 0.4;
   /// Accept only when the agreeing voxels' mean squared point-to-plane distance is below this [m^2]
   /// (Config::verify_max_fitness).
   double max_fitness = 0.015;
