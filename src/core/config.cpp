@@ -5,57 +5,52 @@
 
 namespace scan_context_loop {
 
-bool parseRingKeyType(const std::string& text, RingKeyType* out) {
-  if (text == "occupancy") {
-    *out = RingKeyType::kOccupancy;
-    return true;
-  }
-  if (text == "mean_height") {
-    *out = RingKeyType::kMeanHeight;
-    return true;
+namespace {
+
+/// The text names of an enum's values, for parsing and printing.
+template <typename E>
+struct Named {
+  const char* name;
+  E value;
+};
+
+template <typename E, std::size_t N>
+bool parseNamed(const Named<E> (&names)[N], const std::string& text, E* out) {
+  for (const auto& n : names) {
+    if (text == n.name) {
+      *out = n.value;
+      return true;
+    }
   }
   return false;
 }
 
-const char* ringKeyTypeName(RingKeyType type) {
-  return type == RingKeyType::kOccupancy ? "occupancy" : "mean_height";
-}
-
-bool parseRegistrationMethod(const std::string& text, RegistrationMethod* out) {
-  if (text == "vgicp") *out = RegistrationMethod::kVgicp;
-  else if (text == "gicp") *out = RegistrationMethod::kGicp;
-  else if (text == "icp") *out = RegistrationMethod::kIcp;
-  else if (text == "ndt") *out = RegistrationMethod::kNdt;
-  else return false;
-  return true;
-}
-
-const char* registrationMethodName(RegistrationMethod method) {
-  switch (method) {
-    case RegistrationMethod::kIcp: return "icp";
-    case RegistrationMethod::kNdt: return "ndt";
-    case RegistrationMethod::kGicp: return "gicp";
-    default: return "vgicp";
+template <typename E, std::size_t N>
+const char* nameOf(const Named<E> (&names)[N], E value) {
+  for (const auto& n : names) {
+    if (n.value == value) return n.name;
   }
+  return names[0].name;
 }
 
-bool parseLevellingMode(const std::string& text, LevellingMode* out) {
-  if (text == "auto") *out = LevellingMode::kAuto;
-  else if (text == "pose") *out = LevellingMode::kPose;
-  else if (text == "ground") *out = LevellingMode::kGround;
-  else if (text == "off") *out = LevellingMode::kOff;
-  else return false;
-  return true;
-}
+const Named<RingKeyType> kRingKeys[] = {{"mean_height", RingKeyType::kMeanHeight}, {"occupancy", RingKeyType::kOccupancy}};
+const Named<RegistrationMethod> kMethods[] = {{"vgicp", RegistrationMethod::kVgicp},
+                                              {"gicp", RegistrationMethod::kGicp},
+                                              {"icp", RegistrationMethod::kIcp},
+                                              {"ndt", RegistrationMethod::kNdt}};
+const Named<LevellingMode> kLevelling[] = {{"auto", LevellingMode::kAuto},
+                                           {"pose", LevellingMode::kPose},
+                                           {"ground", LevellingMode::kGround},
+                                           {"off", LevellingMode::kOff}};
 
-const char* levellingModeName(LevellingMode mode) {
-  switch (mode) {
-    case LevellingMode::kPose: return "pose";
-    case LevellingMode::kGround: return "ground";
-    case LevellingMode::kOff: return "off";
-    default: return "auto";
-  }
-}
+}  // namespace
+
+bool parseRingKeyType(const std::string& text, RingKeyType* out) { return parseNamed(kRingKeys, text, out); }
+const char* ringKeyTypeName(RingKeyType type) { return nameOf(kRingKeys, type); }
+bool parseRegistrationMethod(const std::string& text, RegistrationMethod* out) { return parseNamed(kMethods, text, out); }
+const char* registrationMethodName(RegistrationMethod method) { return nameOf(kMethods, method); }
+bool parseLevellingMode(const std::string& text, LevellingMode* out) { return parseNamed(kLevelling, text, out); }
+const char* levellingModeName(LevellingMode mode) { return nameOf(kLevelling, mode); }
 
 namespace {
 

@@ -119,24 +119,14 @@ Evaluation evaluate(const Sequence& s, const Config& config, double revisit_radi
       for (const VerifiedCandidate& v : d.verifications) {
         const std::size_t mk = keyframe_of[v.index];
         const Eigen::Isometry3d truth = s.truth[k].inverse() * s.truth[mk];
-        const VerificationResult& r = v.result;
         VerificationAttempt a;
         a.query = s.frames[k];
         a.match = s.frames[mk];
         a.distance = v.alignment.distance;
         a.gap = truth.translation().norm();
-        a.accepted = r.accepted;
-        a.reason = r.reason;
-        a.overlap_query = r.overlap_query;
-        a.overlap_match = r.overlap_match;
-        a.violation = r.violation;
-        a.fitness = r.fitness;
-        a.constraint_ratio = r.constraint_ratio;
-        a.coarse_score = r.coarse_score;
-        a.hypotheses = r.hypotheses;
-        a.translation_error = (r.relative.translation() - truth.translation()).norm();
-        a.yaw_error = std::fabs(wrapAngle(yawOf(r.relative) - yawOf(truth)));
-        a.ms = r.seconds * 1e3;
+        a.result = v.result;
+        a.translation_error = (v.result.relative.translation() - truth.translation()).norm();
+        a.yaw_error = std::fabs(wrapAngle(yawOf(v.result.relative) - yawOf(truth)));
         e.attempts.push_back(a);
       }
     }
@@ -261,12 +251,13 @@ bool writeVerificationsCsv(const std::string& path, const Evaluation& e, std::st
          "hypotheses,trans_err_m,yaw_err_deg,ms,reason\n";
   out.precision(6);
   for (const auto& a : e.attempts) {
-    std::string reason = a.reason;
+    const VerificationResult& r = a.result;
+    std::string reason = r.reason;
     for (char& c : reason) if (c == ',' || c == '"') c = ';';
-    out << a.query << ',' << a.match << ',' << a.distance << ',' << a.gap << ',' << int(a.accepted) << ','
-        << a.overlap_query << ',' << a.overlap_match << ',' << a.violation << ',' << a.fitness << ',' << a.constraint_ratio << ','
-        << a.coarse_score << ',' << a.hypotheses << ',' << a.translation_error << ',' << a.yaw_error * 180.0 / M_PI
-        << ',' << a.ms << ',' << reason << '\n';
+    out << a.query << ',' << a.match << ',' << a.distance << ',' << a.gap << ',' << int(r.accepted) << ','
+        << r.overlap_query << ',' << r.overlap_match << ',' << r.violation << ',' << r.fitness << ','
+        << r.constraint_ratio << ',' << r.coarse_score << ',' << r.hypotheses << ',' << a.translation_error << ','
+        << a.yaw_error * 180.0 / M_PI << ',' << r.seconds * 1e3 << ',' << reason << '\n';
   }
   return out.good();
 }

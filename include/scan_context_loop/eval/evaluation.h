@@ -8,6 +8,7 @@
 
 #include "scan_context_loop/config.h"
 #include "scan_context_loop/eval/metrics.h"
+#include "scan_context_loop/verification.h"
 
 namespace scan_context_loop {
 namespace eval {
@@ -38,12 +39,8 @@ struct VerificationAttempt {
   int query = -1, match = -1;   ///< frame indices
   double distance = 1.0;        ///< descriptor distance
   double gap = 0.0;             ///< true distance between the two keyframes [m]
-  bool accepted = false;
-  std::string reason;
-  double overlap_query = 0.0, overlap_match = 0.0, violation = 0.0, fitness = 0.0, constraint_ratio = 0.0, coarse_score = 0.0;
-  int hypotheses = 0;
+  VerificationResult result;    ///< the decision, its reason and every feature it was made on
   double translation_error = 0.0, yaw_error = 0.0;  ///< of the registered pose against the truth [m], [rad]
-  double ms = 0.0;
 };
 
 struct Evaluation {
