@@ -35,7 +35,7 @@ trajectory (one of):
   --city                     a 2.2-3 km drive through oblique, partly curved streets: a loop, then after
                              an hour's stop the same streets again one lane over, in the same lane and
                              the other way
-  --narrow                   a 1.2-1.4 km walk (1.5 m/s) through a campus or old town: lanes 5.5 m
+  --narrow                   a 1.0-1.4 km walk (1.5 m/s) through a campus or old town: lanes 5.5 m
                              wide between buildings, a loop, then the same lanes the same way, the
                              other way and back to the start; no vehicles
   --kitti-poses DIR          a real KITTI trajectory: DIR/poses.txt, DIR/calib.txt, DIR/times.txt
