@@ -9,7 +9,9 @@ add_library(scan_context_loop_sim
   src/sim/sensor.cpp
   src/sim/trajectory.cpp
   src/sim/platform_tilt.cpp
+  src/sim/polyline.cpp
   src/sim/city_drive.cpp
+  src/sim/narrow_drive.cpp
   src/sim/sequence_writer.cpp
 )
 target_include_directories(scan_context_loop_sim PUBLIC include ${EIGEN3_INCLUDE_DIRS} ${PCL_INCLUDE_DIRS})
@@ -22,7 +24,7 @@ target_link_libraries(scan_context_simulate scan_context_loop_sim ${catkin_LIBRA
 if(CATKIN_ENABLE_TESTING)
   catkin_add_gtest(test_sim test/test_main.cpp test/sim/test_world.cpp test/sim/test_sensor.cpp
     test/sim/test_trajectory.cpp test/sim/test_sequence.cpp test/sim/test_drives.cpp
-    test/sim/test_changed_world.cpp test/sim/test_hard_revisits.cpp)
+    test/sim/test_changed_world.cpp test/sim/test_hard_revisits.cpp test/sim/test_narrow.cpp)
   target_link_libraries(test_sim scan_context_loop_sim scan_context_loop_core)
   target_compile_definitions(test_sim PRIVATE SCL_SHARED_DATA="${SCL_SHARED_DATA}")
 endif()

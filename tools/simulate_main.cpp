@@ -12,6 +12,7 @@
 
 #include "scan_context_loop/kitti_io.h"
 #include "scan_context_loop/sim/city_drive.h"
+#include "scan_context_loop/sim/narrow_drive.h"
 #include "scan_context_loop/sim/platform_tilt.h"
 #include "scan_context_loop/sim/sequence_writer.h"
 #include "scan_context_loop/sim/trajectory.h"
@@ -34,6 +35,9 @@ trajectory (one of):
   --city                     a 2.2-3 km drive through oblique, partly curved streets: a loop, then after
                              an hour's stop the same streets again one lane over, in the same lane and
                              the other way
+  --narrow                   a 1.0-1.4 km walk (1.5 m/s) through a campus or old town: lanes 5.5 m
+                             wide between buildings, a loop, then the same lanes the same way, the
+                             other way and back to the start; no vehicles
   --kitti-poses DIR          a real KITTI trajectory: DIR/poses.txt, DIR/calib.txt, DIR/times.txt
   --first N, --last N        frame window of the KITTI trajectory (default: all)
   --keyframe-spacing M       one keyframe every M metres of travel (default 2)
@@ -89,7 +93,7 @@ struct Options {
   double spacing = 2.0;
   std::string sensor = "hdl64";
   double noise = -1, dropout = -1, max_range = -1, mount = -1, dim_range = -1, voxel = 0;
-  bool city = false;
+  bool city = false, narrow = false;
   double tilt = 0;
   std::uint32_t seed = 1;
   double dynamic_cars = 0.3;
@@ -119,11 +123,11 @@ bool parse(int argc, char** argv, Options* o, std::string* error) {
     const std::string arg = argv[i];
     if (arg == "--procedural") {
       o->kitti.clear();
-      o->city = false;
+      o->city = o->narrow = false;
       continue;
     }
-    if (arg == "--city") {
-      o->city = true;
+    if (arg == "--city" || arg == "--narrow") {
+      (arg == "--city" ? o->city : o->narrow) = true;
       continue;
     }
     if (arg == "--repeat-templates") {
@@ -157,7 +161,7 @@ bool parse(int argc, char** argv, Options* o, std::string* error) {
   else if (o->drift.translation_per_metre < 0 || o->drift.yaw_per_metre < 0 || o->drift.yaw_per_degree < 0)
     *error = "drift rates must be >= 0";
   else if (o->voxel < 0.0) *error = "--voxel must be >= 0";
-  else if (o->city && !o->kitti.empty()) *error = "--city and --kitti-poses exclude each other";
+  else if (o->city + o->narrow + !o->kitti.empty() > 1) *error = "--city, --narrow and --kitti-poses exclude each other";
   else if (o->tilt < 0.0) *error = "--tilt must be >= 0";
   else if (o->changed_world < 0.0) *error = "--changed-world must be >= 0";
   return error->empty();
@@ -192,6 +196,9 @@ int main(int argc, char** argv) {
   // The drive: every source frame (for the world) and the keyframes along it.
   std::vector<sim::PathPoint> path;
   std::vector<double> source_times;
+  sim::WorldOptions world_options;
+  sim::NarrowOptions narrow;
+  narrow.seed = o.seed;
   if (!o.kitti.empty()) {
     std::vector<Eigen::Isometry3d> camera;
     Eigen::Isometry3d tr;
@@ -214,6 +221,11 @@ int main(int argc, char** argv) {
     const sim::TimedPath drive = sim::cityDrive(city);
     path = drive.path;
     source_times = drive.times;
+  } else if (o.narrow) {
+    const sim::TimedPath drive = sim::narrowDrive(narrow);
+    path = drive.path;
+    source_times = drive.times;
+    sim::narrowWorld(narrow, &world_options);
   } else {
     path = sim::proceduralPath();
   }
@@ -231,7 +243,6 @@ int main(int argc, char** argv) {
   const std::vector<std::size_t> keyframes = sim::keyframesEvery(path, o.spacing);
 
   const auto t0 = std::chrono::steady_clock::now();
-  sim::WorldOptions world_options;
   world_options.seed = o.seed;
   world_options.dynamic_car_fraction = o.dynamic_cars;
   world_options.duration = source_times.back() - source_times.front();
@@ -263,7 +274,7 @@ int main(int argc, char** argv) {
   for (std::size_t k = 1; k < truth.size(); ++k) length += (truth[k].translation() - truth[k - 1].translation()).norm();
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   std::ofstream info(o.out + "/sequence.txt");
-  info << "trajectory: " << (!o.kitti.empty() ? o.kitti : o.city ? "city" : "procedural") << "\n"
+  info << "trajectory: " << (!o.kitti.empty() ? o.kitti : o.city ? "city" : o.narrow ? "narrow" : "procedural") << "\n"
        << "frames: " << o.first << " .. " << (o.last < 0 ? std::string("end") : std::to_string(o.last)) << "\n"
        << "keyframes: " << keyframes.size() << "\nkeyframe_spacing_m: " << o.spacing << "\nlength_m: " << length
        << "\nsensor: " << sensor.name << "\nbeams: " << sensor.elevations_deg.size() << "\ncolumns: " << sensor.columns

@@ -6,6 +6,7 @@
 
 #include <Eigen/Core>
 
+#include "polyline.h"
 #include "scan_context_loop/sim/trajectory.h"
 
 namespace scan_context_loop {
@@ -43,24 +44,6 @@ double crossing(const Street& curve, const Street& line, double from, double to)
     return 0.5 * (lo + hi);
   }
   return from;  // not reached: the streets are laid out to cross
-}
-
-/// Points every `step` metres along the polyline `raw` (linear interpolation). `mark`, an index into
-/// raw, becomes the index of the first sample after raw[mark - 1].
-std::vector<Eigen::Vector2d> resample(const std::vector<Eigen::Vector2d>& raw, double step, std::size_t* mark) {
-  std::vector<Eigen::Vector2d> out(1, raw.front());
-  double carried = 0.0;  // distance from the last sample to raw[k]
-  std::size_t marked = 0;
-  for (std::size_t k = 1; k < raw.size(); ++k) {
-    if (k == *mark) marked = out.size();
-    const Eigen::Vector2d d = raw[k] - raw[k - 1];
-    const double length = d.norm();
-    double s = step - carried;
-    for (; s <= length; s += step) out.push_back(raw[k - 1] + d * (s / length));
-    carried = length - (s - step);
-  }
-  *mark = marked;
-  return out;
 }
 
 }  // namespace
@@ -141,20 +124,8 @@ TimedPath cityDrive(const CityOptions& options) {
   }
   std::vector<Eigen::Vector2d> points = resample(raw, 0.5, &pause);
   // A moving average over +-8 m rounds the corners; straight stretches stay where they are.
-  const int window = 16;
-  std::vector<Eigen::Vector2d> smooth(points.size());
-  const int n = static_cast<int>(points.size());
-  for (int k = 0; k < n; ++k) {
-    const int w = std::min({window, k, n - 1 - k});
-    Eigen::Vector2d sum = Eigen::Vector2d::Zero();
-    for (int d = -w; d <= w; ++d) sum += points[k + d];
-    smooth[k] = sum / (2 * w + 1);
-  }
   TimedPath drive;
-  for (int k = 0; k < n; ++k) {
-    const Eigen::Vector2d d = smooth[std::min(k + 1, n - 1)] - smooth[std::max(k - 1, 0)];
-    drive.path.push_back({smooth[k].x(), smooth[k].y(), std::atan2(d.y(), d.x())});
-  }
+  drive.path = smoothPath(points, 16);
   drive.times = distanceAlong(drive.path);
   for (std::size_t k = 0; k < drive.times.size(); ++k) {
     drive.times[k] = drive.times[k] / options.speed + (k >= pause ? options.pause : 0.0);

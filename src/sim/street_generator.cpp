@@ -37,7 +37,7 @@ class StreetBuilder : public StreetKit {
         if (s >= next[kTree][side]) next[kTree][side] = s + streetTree(p, sign, style);
         if (s >= next[kLight][side]) next[kLight][side] = s + streetLight(p, sign);
         if (s >= next[kFurniture][side]) next[kFurniture][side] = s + streetFurniture(p, sign, style);
-        if (s >= next[kCar][side]) next[kCar][side] = s + parkedCar(p, sign, style);
+        if (options.vehicles && s >= next[kCar][side]) next[kCar][side] = s + parkedCar(p, sign, style);
       }
     }
     return std::move(record_);
@@ -176,7 +176,9 @@ class StreetBuilder : public StreetKit {
     const double trunk_h = conifer ? uniform(0.8, 1.5) : uniform(2.3, 3.5) * std::max(scale, 0.8);
     const Primitive trunk = cylinder(c, trunk_r, 0.0, trunk_h + 0.5, Material::kTrunk);
     if (!place(trunk, footprintOf(c, 0.0, trunk_r + 0.2, trunk_r + 0.2), clearance, 0.3)) return;
-    const double r = conifer ? uniform(1.2, 2.0) : uniform(1.8, 3.5) * scale;
+    double r = conifer ? uniform(1.2, 2.0) : uniform(1.8, 3.5) * scale;
+    // Beside a narrow path the canopy is smaller, so it does not hang over the path.
+    while (r > 0.6 && !roads.clear(footprintOf(c, 0.0, r, r), kPathClearance)) r *= 0.9;
     const double rz = conifer ? uniform(3.0, 5.0) : uniform(1.5, 3.2) * scale;
     record_.trees.push_back({out.size() - 1, out.size()});
     out.push_back(ellipsoid(c, trunk_h + rz, Eigen::Vector3d(r, r, rz), Material::kFoliage, 0.8));
@@ -193,8 +195,10 @@ class StreetBuilder : public StreetKit {
     const double height = uniform(6.0, 9.0);
     if (place(cylinder(c, uniform(0.08, 0.14), 0.0, height, Material::kPole), footprintOf(c, 0.0, 0.15, 0.15),
               kerb() + 0.1, 0.3)) {
-      const Eigen::Vector2d arm = at(p, 0.0, sign * (kerb() + 0.4 - 0.9));
-      out.push_back(box(arm, p.heading, 0.08, 0.9, height - 0.25, height - 0.05, Material::kPole));
+      // The arm reaches 1.8 m over the road, less over a narrow path, which it keeps clear.
+      const double reach = std::min(1.8, kerb() + 0.4 - kPathClearance);
+      const Eigen::Vector2d arm = at(p, 0.0, sign * (kerb() + 0.4 - reach / 2));
+      out.push_back(box(arm, p.heading, 0.08, reach / 2, height - 0.25, height - 0.05, Material::kPole));
     }
     if (chance(0.35)) {
       const Eigen::Vector2d post = at(p, uniform(4.0, 10.0), sign * (kerb() + 0.35));

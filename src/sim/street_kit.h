@@ -2,6 +2,7 @@
 // random draws, and making solids where there is room for them. Internal to the simulator library.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <random>
 #include <vector>
@@ -90,6 +91,10 @@ class StreetKit {
     return sign * uniform(a, b);
   }
   double kerb() const { return options.road_half_width; }
+  /// Nothing stands, hangs or reaches within this of a path point [m]. With the default kerb (6 m)
+  /// nothing comes near it anyway; on a narrow path (road_half_width 2.5-3 m) it keeps lamp arms,
+  /// canopies and things in the parking lane out of the sensor's way.
+  static constexpr double kPathClearance = 1.5;
   double propertyLine(const Style& style) const { return kerb() + style.pavement; }
 
   /// A repeatable draw for the district-sized square of the map that q lies in.
@@ -131,7 +136,7 @@ class StreetKit {
   /// Adds body and cabin (the cabin only when it stands out of the body); returns where they went.
   StreetRecord::Car add(const Vehicle& v);
   /// Where parked vehicles may stand: at the road's edge, clear of other roads.
-  double parkingClearance() const { return kerb() - 2.3; }
+  double parkingClearance() const { return std::max(kerb() - 2.3, kPathClearance); }
 
   const std::vector<PathPoint>& dense;
   const WorldOptions& options;

@@ -132,7 +132,8 @@ void addTraffic(const std::vector<PathPoint>& path, double strength, StreetKit* 
   if (path.size() < 2) return;
   const DriveClock clock(path, kit->options);
   const double duration = clock.end() - clock.start();
-  const long vehicles = std::lround(strength * duration / 4.0), pedestrians = std::lround(strength * duration / 2.0);
+  const long vehicles = kit->options.vehicles ? std::lround(strength * duration / 4.0) : 0;
+  const long pedestrians = std::lround(strength * duration / 2.0);
   for (long i = 0; i < vehicles; ++i) addVehicle(*kit, clock);
   for (long i = 0; i < pedestrians; ++i) addPedestrian(*kit, clock);
 }

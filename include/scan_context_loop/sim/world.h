@@ -101,6 +101,9 @@ struct WorldOptions {
   /// Buildings and their frontage from a few designs per district character, one per district square
   /// (rows of identical houses), so different streets look alike (repetitive places).
   bool repeat_templates = false;
+  /// Cars park at the kerb and (with changed_world) drive along the path. Off for footpaths, campus
+  /// paths and alleys, where road_half_width is small (2.5-3 m): no parked cars, no traffic.
+  bool vehicles = true;
   /// Drive time at each path point [s], so traffic keeps clear of the sensor; empty: the path driven at
   /// a uniform speed over `duration`.
   std::vector<double> times;
