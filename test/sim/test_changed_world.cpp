@@ -7,6 +7,8 @@
 
 #include <gtest/gtest.h>
 
+#include "footprint.h"
+
 #include "scan_context_loop/sim/sensor.h"
 #include "scan_context_loop/sim/trajectory.h"
 #include "scan_context_loop/sim/world.h"
@@ -47,14 +49,7 @@ bool always(const Primitive& p) { return p.present_from < -1e299 && p.present_to
 
 bool present(const Primitive& p, double t) { return t >= p.present_from && t < p.present_to; }
 
-/// Horizontal distance from q to the solid (0 inside).
-double distanceTo(const Primitive& p, const Eigen::Vector2d& q) {
-  const Eigen::Vector2d d = q - Eigen::Vector2d(p.center.x(), p.center.y());
-  if (p.kind != Primitive::Kind::kBox) return std::max(0.0, d.norm() - std::max(p.half.x(), p.half.y()));
-  const double c = std::cos(p.yaw), s = std::sin(p.yaw);
-  const Eigen::Vector2d local(std::fabs(c * d.x() + s * d.y()) - p.half.x(), std::fabs(-s * d.x() + c * d.y()) - p.half.y());
-  return local.cwiseMax(0.0).norm();
-}
+using test::distanceTo;
 
 TEST(ChangedWorld, OffIsTheWorldAsBefore) {
   // Seed 1 along the procedural drive with a 1,000 s duration, as generated before the changed world

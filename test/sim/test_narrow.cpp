@@ -6,6 +6,8 @@
 
 #include <gtest/gtest.h>
 
+#include "footprint.h"
+
 #include "scan_context_loop/sim/narrow_drive.h"
 #include "scan_context_loop/sim/sensor.h"
 #include "scan_context_loop/sim/trajectory.h"
@@ -16,15 +18,7 @@ namespace {
 
 double angleBetween(double a, double b) { return std::fabs(std::remainder(a - b, 2.0 * M_PI)); }
 
-/// Horizontal distance from q to the solid's footprint (0 inside it); an ellipsoid counts as the
-/// circle of its larger radius.
-double distanceTo(const Primitive& p, const Eigen::Vector2d& q) {
-  const Eigen::Vector2d d = q - Eigen::Vector2d(p.center.x(), p.center.y());
-  if (p.kind != Primitive::Kind::kBox) return std::max(0.0, d.norm() - std::max(p.half.x(), p.half.y()));
-  const double c = std::cos(p.yaw), s = std::sin(p.yaw);
-  const Eigen::Vector2d local(std::fabs(c * d.x() + s * d.y()) - p.half.x(), std::fabs(-s * d.x() + c * d.y()) - p.half.y());
-  return local.cwiseMax(0.0).norm();
-}
+using test::distanceTo;
 
 WorldOptions worldFor(const NarrowOptions& narrow, const TimedPath& drive) {
   WorldOptions world;
