@@ -38,15 +38,20 @@ struct Loop {
 /// is the identity within Config::consistency_translation + consistency_drift * (odometry path i..k +
 /// path j..l) metres and consistency_rotation degrees. Keyframes without an odometry pose never agree.
 /// `translation_error` / `rotation_error` (metres, radians) receive the cycle's residual when given.
+/// `strict`: without the drift allowance (how a loop that needs support is checked: it must land where
+/// the confirmed loop and the odometry put it, within the translation a constraint may be off by).
 bool loopsAgree(const Loop& a, const Loop& b, const Database& database, double* translation_error = nullptr,
-                double* rotation_error = nullptr);
+                double* rotation_error = nullptr, bool strict = false);
 
 /// Online pairwise consistency check. Each verified loop waits, for up to Config::consistency_window
 /// keyframes, until Config::consistency_min_support other loops (earlier or later ones, whose queries
 /// lie within the window) agree with it; it is then confirmed and reported, possibly a few keyframes
 /// after its query. One that finds no support in time is dropped. A single wrong loop, which nothing
 /// else confirms, is never reported; a revisit, which gives a run of loops, is reported from its second
-/// loop on, together with the first. Not thread-safe (one owner, like Database).
+/// loop on, together with the first. A loop that needs support (its registration passed every test but
+/// the overlap or the free-space bound in full; VerificationResult::needs_support) is confirmed only by a
+/// confirmed loop that passed in full and agrees with it strictly (loopsAgree's `strict`); it supports
+/// nothing itself. Not thread-safe (one owner, like Database).
 class ConsistencyFilter {
  public:
   explicit ConsistencyFilter(const Config& config) : config_(config) {}
@@ -67,6 +72,11 @@ class ConsistencyFilter {
     Loop loop;
     bool confirmed = false;
   };
+  /// Their queries lie within consistency_window keyframes of each other.
+  bool near(const Entry& a, const Entry& b) const;
+  /// Reports `entry` as confirmed; a loop that passed verification in full then confirms the waiting
+  /// loops that need support (VerificationResult::needs_support) and agree with it.
+  void confirm(Entry* entry, const Database& database, std::vector<Loop>* confirmed);
   Config config_;
   std::deque<Entry> recent_;  // loops whose query is within the window, oldest first
 };

@@ -47,9 +47,15 @@ struct VerificationConfig {
   /// of vertical-structure voxels, within the region both sensors cover, that agree) is at least this
   /// (Config::verify_min_inlier_ratio).
   double min_inlier_ratio = 0.55;
+  /// A result that passes every other test with an overlap in [supported_inlier_ratio,
+  /// min_inlier_ratio) is not accepted but marked `needs_support` (Config::verify_supported_inlier_ratio).
+  double supported_inlier_ratio = 0.4;
   /// Accept only when at most this fraction of either side's structure stands in space the other saw
   /// through (Config::verify_max_violation).
   double max_violation = 0.4;
+  /// A result over max_violation but at most this, passing every other test, needs support
+  /// (Config::verify_supported_max_violation).
+  double supported_max_violation = 0.55;
   /// Accept only when the agreeing voxels' mean squared point-to-plane distance is below this [m^2]
   /// (Config::verify_max_fitness).
   double max_fitness = 0.015;
@@ -74,6 +80,10 @@ struct VerificationConfig {
 struct VerificationResult {
   bool accepted = false;
   std::string reason;  ///< why it was rejected; empty when accepted
+  /// Not accepted on its own, but every test passed except the overlap or the free-space violation,
+  /// which are within VerificationConfig::supported_inlier_ratio / supported_max_violation: a loop that
+  /// another, fully accepted one can confirm (ConsistencyFilter). `accepted` becomes true once one does.
+  bool needs_support = false;
   /// T_query<-match after registration.
   Eigen::Isometry3d relative = Eigen::Isometry3d::Identity();
   /// Mean squared point-to-plane distance of the agreeing structure voxels [m^2].

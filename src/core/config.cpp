@@ -108,6 +108,8 @@ std::vector<std::string> Config::validate() const {
           "must be positive");
   require(&e, verify_min_inlier_ratio >= 0.0 && verify_min_inlier_ratio <= 1.0, "verify_min_inlier_ratio",
           verify_min_inlier_ratio, "must be in [0, 1]");
+  require(&e, verify_supported_inlier_ratio >= 0.0 && verify_supported_inlier_ratio <= verify_min_inlier_ratio,
+          "verify_supported_inlier_ratio", verify_supported_inlier_ratio, "must be in [0, verify_min_inlier_ratio]");
   require(&e, std::isfinite(verify_max_fitness) && verify_max_fitness > 0.0, "verify_max_fitness",
           verify_max_fitness, "must be positive");
   require(&e, std::isfinite(verify_odometry_rotation) && verify_odometry_rotation >= 0.0, "verify_odometry_rotation",
@@ -117,6 +119,8 @@ std::vector<std::string> Config::validate() const {
   require(&e, verify_submap >= 0 && verify_submap <= 20, "verify_submap", verify_submap, "must be in [0, 20]");
   require(&e, verify_max_violation >= 0.0 && verify_max_violation <= 1.0, "verify_max_violation",
           verify_max_violation, "must be in [0, 1]");
+  require(&e, verify_supported_max_violation >= verify_max_violation && verify_supported_max_violation <= 1.0,
+          "verify_supported_max_violation", verify_supported_max_violation, "must be in [verify_max_violation, 1]");
   require(&e, consistency_min_support >= 0 && consistency_min_support <= 100, "consistency_min_support",
           consistency_min_support, "must be in [0, 100] (0 disables)");
   require(&e, consistency_window >= 1 && consistency_window <= 100000, "consistency_window", consistency_window,
@@ -170,7 +174,7 @@ const std::vector<std::string>& configKeys() {
       "lidar_height",   "ring_key", "levelling", "levelling_max_tilt",           "num_candidates",       "search_ratio",
       "distance_threshold", "lateral_offset_step", "lateral_offset_count", "exclude_recent_frames", "exclude_recent_seconds", "exclude_recent_distance",
       "gate_odometry_distance", "gate_odometry_drift", "verify", "verify_threshold",   "verify_max_candidates", "verify_max_bytes",
-      "verify_voxel_leaf", "verify_max_range", "verify_min_inlier_ratio", "verify_max_fitness", "verify_max_violation",
+      "verify_voxel_leaf", "verify_max_range", "verify_min_inlier_ratio", "verify_supported_inlier_ratio", "verify_max_fitness", "verify_max_violation", "verify_supported_max_violation",
       "verify_method", "verify_odometry_rotation", "verify_odometry_rotation_drift", "verify_submap", "verify_allow_degenerate", "consistency_min_support", "consistency_window", "consistency_translation",
       "consistency_rotation", "consistency_drift"};
   return keys;
@@ -203,7 +207,9 @@ bool setConfigValue(Config* config, const std::string& key, const std::string& v
   else if (key == "verify_max_bytes") ok = parseDouble(value, &c.verify_max_bytes);
   else if (key == "verify_voxel_leaf") ok = parseDouble(value, &c.verify_voxel_leaf);
   else if (key == "verify_max_range") ok = parseDouble(value, &c.verify_max_range);
+  else if (key == "verify_supported_max_violation") ok = parseDouble(value, &c.verify_supported_max_violation);
   else if (key == "verify_min_inlier_ratio") ok = parseDouble(value, &c.verify_min_inlier_ratio);
+  else if (key == "verify_supported_inlier_ratio") ok = parseDouble(value, &c.verify_supported_inlier_ratio);
   else if (key == "verify_max_fitness") ok = parseDouble(value, &c.verify_max_fitness);
   else if (key == "verify_max_violation") ok = parseDouble(value, &c.verify_max_violation);
   else if (key == "verify_method") ok = parseRegistrationMethod(value, &c.verify_method);

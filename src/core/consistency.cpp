@@ -7,11 +7,11 @@
 namespace scan_context_loop {
 
 Eigen::Isometry3d Loop::relative() const {
-  return verified ? verification.relative : priorPose(alignment.yaw, viewpoint);
+  return verified || verification.needs_support ? verification.relative : priorPose(alignment.yaw, viewpoint);
 }
 
 bool loopsAgree(const Loop& a, const Loop& b, const Database& database, double* translation_error,
-                double* rotation_error) {
+                double* rotation_error, bool strict) {
   const Keyframe& i = database.keyframe(a.query);
   const Keyframe& j = database.keyframe(a.match);
   const Keyframe& k = database.keyframe(b.query);
@@ -26,7 +26,8 @@ bool loopsAgree(const Loop& a, const Loop& b, const Database& database, double* 
   if (translation_error) *translation_error = t;
   if (rotation_error) *rotation_error = r;
   const Config& c = database.config();
-  const double path = std::fabs(i.path_length - k.path_length) + std::fabs(j.path_length - l.path_length);
+  const double path =
+      strict ? 0.0 : std::fabs(i.path_length - k.path_length) + std::fabs(j.path_length - l.path_length);
   return t <= c.consistency_translation + c.consistency_drift * path &&
          r <= c.consistency_rotation * M_PI / 180.0;
 }
@@ -39,25 +40,59 @@ void ConsistencyFilter::advance(std::size_t query, std::vector<Loop>* dropped) {
   }
 }
 
+bool ConsistencyFilter::near(const Entry& a, const Entry& b) const {
+  const std::size_t window = static_cast<std::size_t>(config_.consistency_window);
+  return a.loop.query <= b.loop.query + window && b.loop.query <= a.loop.query + window;
+}
+
+void ConsistencyFilter::confirm(Entry* entry, const Database& database, std::vector<Loop>* confirmed) {
+  entry->confirmed = true;
+  entry->loop.verified = true;
+  entry->loop.verification.accepted = true;
+  confirmed->push_back(entry->loop);
+  if (entry->loop.verification.needs_support) return;
+  // A confirmed loop that passed in full confirms the waiting loops that need support and agree with it.
+  for (Entry& other : recent_) {
+    if (other.confirmed || !other.loop.verification.needs_support || !near(other, *entry)) continue;
+    if (!loopsAgree(other.loop, entry->loop, database, nullptr, nullptr, true)) continue;
+    ++other.loop.support;
+    other.confirmed = true;
+    other.loop.verified = true;
+    other.loop.verification.accepted = true;
+    confirmed->push_back(other.loop);
+  }
+}
+
 void ConsistencyFilter::offer(const Loop& loop, const Database& database, std::vector<Loop>* confirmed) {
   Entry entry;
   entry.loop = loop;
   entry.loop.support = 0;
-  for (Entry& other : recent_) {
-    if (other.loop.query + static_cast<std::size_t>(config_.consistency_window) < loop.query) continue;
-    if (!loopsAgree(entry.loop, other.loop, database)) continue;
-    ++entry.loop.support;
+  recent_.push_back(entry);
+  Entry& added = recent_.back();  // deque: references stay valid while elements are only appended
+  const bool weak = added.loop.verification.needs_support;
+  for (std::size_t i = 0; i + 1 < recent_.size(); ++i) {
+    Entry& other = recent_[i];
+    const bool other_weak = other.loop.verification.needs_support;
+    // Loops that need support neither support each other nor count as support for a loop that passed in
+    // full: in a street of repeated buildings, a wrong loop that barely passes comes with a run of wrong
+    // ones that need support, all consistent with it. They are confirmed by a confirmed loop that passed
+    // in full, and only when they agree with it strictly (without the drift allowance).
+    if (other_weak || !near(other, added)) continue;
+    if (weak && !other.confirmed) continue;  // confirm(other) looks for `added` if other is confirmed later
+    if (!loopsAgree(added.loop, other.loop, database, nullptr, nullptr, weak)) continue;
+    ++added.loop.support;
+    if (weak) {
+      confirm(&added, database, confirmed);
+      break;
+    }
     ++other.loop.support;
     if (!other.confirmed && other.loop.support >= config_.consistency_min_support) {
-      other.confirmed = true;
-      confirmed->push_back(other.loop);
+      confirm(&other, database, confirmed);
     }
   }
-  if (entry.loop.support >= config_.consistency_min_support) {
-    entry.confirmed = true;
-    confirmed->push_back(entry.loop);
+  if (!weak && !added.confirmed && added.loop.support >= config_.consistency_min_support) {
+    confirm(&added, database, confirmed);
   }
-  recent_.push_back(entry);
 }
 
 std::size_t ConsistencyFilter::waiting() const {

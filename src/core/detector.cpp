@@ -162,7 +162,7 @@ void LoopDetector::verifyCandidates(const PointView& points, Detection* detectio
       v.result = verifier_.verify(*stored, hypotheses(c, query));
     }
     toSensorFrames(detection->index, c.index, &v.result);
-    if (v.result.accepted) checkOdometryRotation(detection->index, c.index, &v.result);
+    if (v.result.accepted || v.result.needs_support) checkOdometryRotation(detection->index, c.index, &v.result);
     detection->verifications.push_back(v);
     if (v.result.accepted) {
       detection->verified = true;
@@ -212,6 +212,7 @@ void LoopDetector::checkOdometryRotation(std::size_t query, std::size_t match, V
       config.verify_odometry_rotation + config.verify_odometry_rotation_drift * std::fabs(q.path_length - m.path_length);
   if (disagreement <= allowed) return;
   result->accepted = false;
+  result->needs_support = false;
   result->reason = "rotation disagrees with the odometry by " + std::to_string(disagreement) + " deg (allowed " +
                    std::to_string(allowed) + ")";
 }
@@ -244,8 +245,18 @@ void LoopDetector::decide(Detection* detection) {
   }
   const bool check = config.consistency_min_support > 0;
   if (check) consistency_.advance(detection->index, &detection->dropped);
-  if (!detection->verified) return;
-  const Loop loop = detection->verifications.back().toLoop(detection->index);
+  // The accepted candidate, else (with the consistency check, which alone can confirm it) the one that
+  // needs support with the largest overlap.
+  const VerifiedCandidate* chosen = detection->verified ? &detection->verifications.back() : nullptr;
+  if (chosen == nullptr && check) {
+    for (const VerifiedCandidate& v : detection->verifications) {
+      if (v.result.needs_support && (chosen == nullptr || v.result.inlier_ratio > chosen->result.inlier_ratio)) {
+        chosen = &v;
+      }
+    }
+  }
+  if (chosen == nullptr) return;
+  const Loop loop = chosen->toLoop(detection->index);
   if (check) {
     consistency_.offer(loop, database_, &detection->loops);
   } else {

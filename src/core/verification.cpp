@@ -34,6 +34,10 @@ std::vector<std::string> VerificationConfig::validate() const {
   if (max_hypotheses < 1) e.push_back("max_hypotheses must be >= 1");
   if (max_source_voxels < 10) e.push_back("max_source_voxels must be >= 10");
   if (!(min_inlier_ratio >= 0.0 && min_inlier_ratio <= 1.0)) e.push_back("verify_min_inlier_ratio must be in [0, 1]");
+  if (!(max_violation >= 0.0 && max_violation <= supported_max_violation && supported_max_violation <= 1.0))
+    e.push_back("verify_supported_max_violation must be in [verify_max_violation, 1]");
+  if (!(supported_inlier_ratio >= 0.0 && supported_inlier_ratio <= min_inlier_ratio))
+    e.push_back("verify_supported_inlier_ratio must be in [0, verify_min_inlier_ratio]");
   if (!(hypothesis_ratio >= 0.0 && hypothesis_ratio <= 1.0)) e.push_back("hypothesis_ratio must be in [0, 1]");
   if (!(min_constraint_ratio >= 0.0 && min_constraint_ratio <= 1.0)) e.push_back("min_constraint_ratio must be in [0, 1]");
   return e;
@@ -149,6 +153,8 @@ VerificationResult Verifier::verify(const VoxelCloud& match, const std::vector<E
 
   VerificationResult best_rejected = r;
   best_rejected.reason = "no hypothesis";
+  // A hypothesis that passes only with support is kept while the others may still pass in full.
+  VerificationResult best_supportable;
   std::vector<Eigen::Isometry3d> tried;
   for (const CoarseHit& hit : hits) {
     if (static_cast<int>(tried.size()) >= config_.max_hypotheses) break;
@@ -162,12 +168,19 @@ VerificationResult Verifier::verify(const VoxelCloud& match, const std::vector<E
     std::string reason = refineAndJudge(match, hit.pose, &candidate);
     if (reason.empty()) return finish(candidate, "");
     candidate.reason = reason;
+    if (candidate.needs_support) {
+      if (!best_supportable.needs_support || candidate.inlier_ratio > best_supportable.inlier_ratio) {
+        best_supportable = candidate;
+      }
+      continue;
+    }
     if (best_rejected.reason == "no hypothesis" || candidate.inlier_ratio > best_rejected.inlier_ratio) {
       best_rejected = candidate;
     }
   }
-  best_rejected.hypotheses = static_cast<int>(tried.size());
-  return finish(best_rejected, best_rejected.reason);
+  VerificationResult& best = best_supportable.needs_support ? best_supportable : best_rejected;
+  best.hypotheses = static_cast<int>(tried.size());
+  return finish(best, best.reason);
 }
 
 std::string Verifier::refineAndJudge(const VoxelCloud& match, const Eigen::Isometry3d& initial,
@@ -223,17 +236,25 @@ std::string Verifier::refineAndJudge(const VoxelCloud& match, const Eigen::Isome
   r->constraint_ratio = horizontal.eigenvalues()(0) / std::max(horizontal.eigenvalues()(1), 1e-12);
 
   std::ostringstream why;
-  if (r->inlier_ratio < config_.min_inlier_ratio) {
-    why << "inlier ratio (structure overlap) " << r->inlier_ratio << " below " << config_.min_inlier_ratio
+  if (r->inlier_ratio < config_.supported_inlier_ratio) {
+    why << "inlier ratio (structure overlap) " << r->inlier_ratio << " below " << config_.supported_inlier_ratio
         << " (query " << r->overlap_query << ", candidate " << r->overlap_match << ")";
-  } else if (r->violation > config_.max_violation) {
-    why << "free-space violation " << r->violation << " above " << config_.max_violation << " (query "
+  } else if (r->violation > config_.supported_max_violation) {
+    why << "free-space violation " << r->violation << " above " << config_.supported_max_violation << " (query "
         << r->violation_query << ", candidate " << r->violation_match << ")";
   } else if (!(r->fitness <= config_.max_fitness)) {
     why << "fitness " << r->fitness << " m^2 above " << config_.max_fitness;
   } else if (!config_.allow_degenerate && r->constraint_ratio < config_.min_constraint_ratio) {
     why << "degenerate: the position along one horizontal direction is unconstrained (ratio " << r->constraint_ratio
         << " below " << config_.min_constraint_ratio << ")";
+  } else if (r->inlier_ratio < config_.min_inlier_ratio) {
+    r->needs_support = true;
+    why << "needs support: inlier ratio (structure overlap) " << r->inlier_ratio << " below "
+        << config_.min_inlier_ratio << " (query " << r->overlap_query << ", candidate " << r->overlap_match << ")";
+  } else if (r->violation > config_.max_violation) {
+    r->needs_support = true;
+    why << "needs support: free-space violation " << r->violation << " above " << config_.max_violation
+        << " (query " << r->violation_query << ", candidate " << r->violation_match << ")";
   }
   return why.str();
 }
@@ -250,8 +271,10 @@ VerificationConfig verificationConfig(const Config& c) {
   v.voxel_leaf = c.verify_voxel_leaf;
   v.max_range = c.verify_max_range;
   v.min_inlier_ratio = c.verify_min_inlier_ratio;
+  v.supported_inlier_ratio = c.verify_supported_inlier_ratio;
   v.max_fitness = c.verify_max_fitness;
   v.max_violation = c.verify_max_violation;
+  v.supported_max_violation = c.verify_supported_max_violation;
   v.method = c.verify_method;
   v.allow_degenerate = c.verify_allow_degenerate;
   return v;

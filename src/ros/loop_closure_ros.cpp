@@ -296,7 +296,8 @@ void LoopClosureRos::publishLoops(const Detection& detection, const std::string&
   // Candidates that verification turned down, and verified loops the consistency check dropped, for
   // diagnosis and RViz.
   for (const auto& v : detection.verifications) {
-    if (!v.result.accepted) publishRejected(v.toLoop(detection.index), frame);
+    // One that needs support waits in the consistency check: it is published as a loop or as dropped.
+    if (!v.result.accepted && !v.result.needs_support) publishRejected(v.toLoop(detection.index), frame);
   }
   for (Loop dropped : detection.dropped) {
     dropped.verified = false;

@@ -32,8 +32,10 @@ std::vector<std::string> readParameters(const ros::NodeHandle& pnh, Config* c, R
   pnh.param("verify_voxel_leaf", c->verify_voxel_leaf, c->verify_voxel_leaf);
   pnh.param("verify_max_range", c->verify_max_range, c->verify_max_range);
   pnh.param("verify_min_inlier_ratio", c->verify_min_inlier_ratio, c->verify_min_inlier_ratio);
+  pnh.param("verify_supported_inlier_ratio", c->verify_supported_inlier_ratio, c->verify_supported_inlier_ratio);
   pnh.param("verify_max_fitness", c->verify_max_fitness, c->verify_max_fitness);
   pnh.param("verify_max_violation", c->verify_max_violation, c->verify_max_violation);
+  pnh.param("verify_supported_max_violation", c->verify_supported_max_violation, c->verify_supported_max_violation);
   std::string verify_method = registrationMethodName(c->verify_method);
   pnh.param("verify_method", verify_method, verify_method);
   pnh.param("verify_odometry_rotation", c->verify_odometry_rotation, c->verify_odometry_rotation);

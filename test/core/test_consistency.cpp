@@ -124,6 +124,56 @@ TEST(Consistency, FilterReportsARunOfAgreeingLoopsFromItsSecondLoopOnAndDropsALo
   EXPECT_EQ(filter.waiting(), 1u);
 }
 
+/// A loop whose registration passed every test but the full overlap (VerificationResult::needs_support).
+Loop needingSupport(const Loop& loop) {
+  Loop l = loop;
+  l.verified = false;
+  l.verification.needs_support = true;
+  return l;
+}
+
+TEST(Consistency, ALoopThatNeedsSupportIsConfirmedOnlyByAConfirmedFullLoopThatAgreesStrictly) {
+  Drive drive(checked());
+  ConsistencyFilter filter(drive.config);
+  std::vector<Loop> confirmed, dropped;
+  const auto step = [&](const Loop& loop) {
+    confirmed.clear();
+    filter.advance(loop.query, &dropped);
+    filter.offer(loop, drive.database, &confirmed);
+  };
+  // Two loops that need support agree with each other, yet neither confirms the other.
+  step(needingSupport(Drive::loop(40, 2)));
+  step(needingSupport(Drive::loop(41, 3)));
+  EXPECT_TRUE(confirmed.empty());
+  // One full loop alone is not confirmed either: loops that need support are no support.
+  step(Drive::loop(42, 4));
+  EXPECT_TRUE(confirmed.empty());
+  EXPECT_EQ(filter.waiting(), 3u);
+  // A second full loop confirms the first; the confirmed loops then confirm the waiting ones that need
+  // support, reported as verified.
+  step(Drive::loop(43, 5));
+  ASSERT_EQ(confirmed.size(), 4u);
+  for (const Loop& l : confirmed) {
+    EXPECT_TRUE(l.verified);
+    EXPECT_TRUE(l.verification.accepted);
+  }
+  EXPECT_EQ(filter.waiting(), 0u);
+  // Later ones that need support: confirmed at once when they land where the confirmed loops and the
+  // odometry put them (0.5 m off)...
+  step(needingSupport(Drive::loop(44, 6, 0.5)));
+  ASSERT_EQ(confirmed.size(), 1u);
+  EXPECT_EQ(confirmed[0].query, 44u);
+  EXPECT_TRUE(confirmed[0].verified);
+  // ... but not 1.5 m off, which the drift allowance would forgive between two full loops 8 m of
+  // path apart on each side (1 m + 5% of 16 m).
+  EXPECT_TRUE(loopsAgree(Drive::loop(45, 7, 1.05), Drive::loop(41, 3), drive.database));
+  step(needingSupport(Drive::loop(45, 7, 1.05)));
+  EXPECT_TRUE(confirmed.empty());
+  filter.advance(56, &dropped);
+  ASSERT_EQ(dropped.size(), 1u);
+  EXPECT_EQ(dropped[0].query, 45u);
+}
+
 TEST(Consistency, WithoutVerificationDescriptorMatchesAreReportedAtOnce) {
   Config c;
   ASSERT_GT(c.consistency_min_support, 0);  // on by default, but it only looks at verified loops

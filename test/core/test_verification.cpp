@@ -103,6 +103,27 @@ TEST(Verification, ConsecutiveScansAcceptedWithTheirPose) {
   expectPose(r, test::kittiRelative("00", 94, 95), 0.1, 0.3);
 }
 
+TEST(Verification, AnOverlapBetweenTheTwoCutsNeedsSupport) {
+  // The consecutive pair overlaps by about 0.9: with the full cut above that it is not accepted but
+  // marked as a loop that needs support, at its registered pose; with the floor above it too, rejected.
+  VerificationConfig config;
+  config.min_inlier_ratio = 0.97;
+  const VoxelCloud query = prepared("00", 94, config), match = prepared("00", 95, config);
+  const Eigen::Isometry3d prior = priorPose(yawPrior("00", 94, 95));
+  const VerificationResult r = verify(query, match, prior, config);
+  print("00 94/95 needing support", r);
+  EXPECT_FALSE(r.accepted);
+  ASSERT_TRUE(r.needs_support) << r.reason;
+  EXPECT_NE(r.reason.find("needs support"), std::string::npos) << r.reason;
+  expectPose(r, test::kittiRelative("00", 94, 95), 0.1, 0.3);
+  config.supported_inlier_ratio = 0.96;
+  const VerificationResult below = verify(query, match, prior, config);
+  EXPECT_FALSE(below.accepted);
+  EXPECT_FALSE(below.needs_support) << below.reason;
+  config.supported_inlier_ratio = 0.98;  // above the full cut: a configuration error
+  EXPECT_EQ(config.validate().size(), 1u);
+}
+
 TEST(Verification, RejectsPlacesFiftyEightMetresApart) {
   VerificationConfig config;
   for (const auto& pair : {std::make_pair(94, 198), std::make_pair(198, 94), std::make_pair(95, 199)}) {
@@ -110,6 +131,7 @@ TEST(Verification, RejectsPlacesFiftyEightMetresApart) {
                                         priorPose(yawPrior("00", pair.first, pair.second)), config);
     print("00 far pair", r);
     EXPECT_FALSE(r.accepted);
+    EXPECT_FALSE(r.needs_support) << "a wrong place is not even a loop that needs support: " << r.reason;
     EXPECT_FALSE(r.reason.empty());
   }
 }

@@ -141,5 +141,16 @@ int keyframeAt(const Drive& drive, const ros::Time& base, const ros::Time& stamp
   return -1;
 }
 
+void expectTrueLoop(const Drive& drive, int q, int m, const scan_context_loop::LoopClosure& loop) {
+  const Eigen::Isometry3d truth = drive.truth[q].inverse() * drive.truth[m];
+  if (loop.verified) {
+    Eigen::Isometry3d relative;
+    tf2::fromMsg(loop.relative_pose, relative);
+    EXPECT_LT((relative.translation() - truth.translation()).norm(), 0.3) << "loop " << q << " -> " << m;
+  } else {
+    EXPECT_LT(truth.translation().norm(), 5.0) << "loop " << q << " -> " << m;
+  }
+}
+
 }  // namespace test
 }  // namespace scan_context_loop

@@ -58,5 +58,10 @@ int runRosTests(int argc, char** argv, const char* node_name);
 /// Index of the keyframe published with this stamp, or -1.
 int keyframeAt(const Drive& drive, const ros::Time& base, const ros::Time& stamp);
 
+/// Expects loop q -> m to be true: a verified loop is a constraint, so its registered pose must be the
+/// true one within 0.3 m (however far apart the keyframes are); a descriptor loop must join keyframes
+/// under 5 m apart.
+void expectTrueLoop(const Drive& drive, int q, int m, const scan_context_loop::LoopClosure& loop);
+
 }  // namespace test
 }  // namespace scan_context_loop
