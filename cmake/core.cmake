@@ -1,6 +1,8 @@
 # ROS-free core: Eigen, PCL, FLANN and the standard library only.
 add_library(scan_context_loop_core
   src/core/config.cpp
+  src/core/keyframes.cpp
+  src/core/settings.cpp
   src/core/descriptor.cpp
   src/core/alignment.cpp
   src/core/database.cpp
@@ -50,6 +52,7 @@ if(CATKIN_ENABLE_TESTING)
     test/core/test_consistency.cpp
     test/core/test_viewpoints.cpp
     test/core/test_levelling.cpp
+    test/core/test_keyframes.cpp
   )
   target_link_libraries(test_core scan_context_loop_core ${PCL_IO_LIBRARIES})
   target_compile_definitions(test_core PRIVATE SCL_SHARED_DATA="${SCL_SHARED_DATA}")

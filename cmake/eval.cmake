@@ -11,5 +11,5 @@ if(CATKIN_ENABLE_TESTING)
   catkin_add_gtest(test_eval test/test_main.cpp test/eval/test_metrics.cpp test/eval/test_evaluation.cpp
     test/common/sim_drive.cpp)
   target_link_libraries(test_eval scan_context_loop_eval scan_context_loop_sim)
-  target_compile_definitions(test_eval PRIVATE SCL_SHARED_DATA="${SCL_SHARED_DATA}")
+  target_compile_definitions(test_eval PRIVATE SCL_SHARED_DATA="${SCL_SHARED_DATA}" SCL_REPO_ROOT="${SCL_REPO_ROOT}")
 endif()

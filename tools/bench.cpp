@@ -161,7 +161,7 @@ int main(int argc, char** argv) {
   // Verification: the registration data every keyframe prepares once, and one candidate's
   // verification against a query (its index built, the coarse search over three yaw hypotheses, GICP,
   // the acceptance test), on the real pairs: the reverse revisit, consecutive scans, 58 m apart.
-  const scl::VerificationConfig verification = scl::verificationConfig(config);
+  const scl::VerificationConfig verification = config.verification;
   std::vector<scl::VoxelCloud> prepared;
   {
     std::vector<double> t;

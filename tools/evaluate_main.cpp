@@ -33,7 +33,7 @@ int main(int argc, char** argv) {
   scl::Config config;
   eval::SequenceOptions options;
   double radius = 5.0;
-  std::vector<std::string> overrides, warnings;
+  std::vector<std::string> overrides;
   std::string config_file;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
@@ -73,11 +73,10 @@ int main(int argc, char** argv) {
     std::fputs(kUsage, stderr);
     return 2;
   }
-  if (!config_file.empty() && !eval::loadConfigFile(config_file, &config, &warnings, &error)) {
+  if (!config_file.empty() && !eval::loadConfigFile(config_file, &config, &error)) {
     std::fprintf(stderr, "scan_context_evaluate: %s\n", error.c_str());
     return 2;
   }
-  for (const auto& w : warnings) std::fprintf(stderr, "scan_context_evaluate: warning: %s\n", w.c_str());
   for (const auto& o : overrides) {
     if (!eval::applyOverride(o, &config, &error)) {
       std::fprintf(stderr, "scan_context_evaluate: --set %s\n", error.c_str());

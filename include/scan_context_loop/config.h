@@ -42,8 +42,115 @@ enum class LevellingMode {
 bool parseLevellingMode(const std::string& text, LevellingMode* out);
 const char* levellingModeName(LevellingMode mode);
 
+/// Geometric verification: the verify_* keys (member `x` is key `verify_x`; `enabled` is `verify`)
+/// and the registration's fixed internals. Defaults chosen on the baseline sequences (README,
+/// "Geometric verification").
+struct VerificationConfig {
+  /// Verify candidates by registration; a loop is then reported only when one is accepted.
+  bool enabled = true;
+  /// Candidates whose descriptor distance is below this looser threshold are verified: the
+  /// descriptor's own best thresholds lie at 0.09-0.38 on the baseline sequences, and verified
+  /// precision stayed 1.000 up to 0.6.
+  double threshold = 0.5;
+  /// At most this many candidates are verified per keyframe (best distance first): the cost bound.
+  int max_candidates = 2;
+  /// Memory budget for the registration data kept for verification [bytes] (see CloudStore).
+  double max_bytes = 1024.0 * 1024.0 * 1024.0;
+  /// Voxel edge of the registration data [m].
+  double voxel_leaf = 1.0;
+  /// Points beyond this horizontal range are not used [m].
+  double max_range = 40.0;
+  /// Accept only when the symmetric structure overlap (the smaller of the two directions' fractions
+  /// of vertical-structure voxels, within the region both sensors cover, that agree) is at least this.
+  /// Wrong places that pass the odometry checks reach 0.41 on ten baseline sequences and 0.57 among
+  /// repeated buildings (where the consistency check stops them); true ones sit at 0.55-0.83 (5th
+  /// percentile), 0.75-0.90 on the real KITTI pairs.
+  double min_inlier_ratio = 0.55;
+  /// A registration that passes every other test with an overlap in [supported_inlier_ratio,
+  /// min_inlier_ratio) needs support: it is reported only once a confirmed loop that passed in full
+  /// agrees with it strictly through the odometry (ConsistencyFilter). Sparse sensors see less of the
+  /// same structure from a few metres aside (VLP-16 revisits 0.43-0.57 at the 5th percentile). Equal
+  /// to min_inlier_ratio: off. Without the consistency check such loops are not reported.
+  double supported_inlier_ratio = 0.4;
+  /// Accept only when the agreeing voxels' mean squared point-to-plane distance is below this [m^2]:
+  /// true loops reach 0.0094 in simulation and 0.0066 on the real reverse revisit; a sanity bound.
+  double max_fitness = 0.015;
+  /// Largest share of either keyframe's structure that may stand where the other saw through (within
+  /// 25 m; free_space.h). True loops on dense scans stay under 0.33, sparse VLP-16 scans reach
+  /// 0.46-0.56, wrong places start at 0.06-0.23: a secondary test.
+  double max_violation = 0.4;
+  /// A registration over max_violation but at most this, passing every other test, needs support,
+  /// like one under min_inlier_ratio. Equal to max_violation: off.
+  double supported_max_violation = 0.55;
+  /// The fine registration: the built-in voxel GICP (vgicp), or PCL's GICP, ICP or NDT over the voxel
+  /// means (slower; kept for comparison).
+  RegistrationMethod method = RegistrationMethod::kVgicp;
+  /// A registered loop whose rotation disagrees with the odometry's relative rotation between the two
+  /// keyframes by more than odometry_rotation + odometry_rotation_drift * (odometry path between them)
+  /// [deg, deg/m] is rejected (needs poses; 0 disables). Mirror-image streets register well the wrong
+  /// way round; 10 deg + 0.02 deg/m is 4-6x the simulator's default heading drift.
+  double odometry_rotation = 10.0;
+  double odometry_rotation_drift = 0.02;
+  /// Register against the candidate and this many keyframes on each side of it, moved into the
+  /// candidate's frame through the odometry (0: the candidate alone).
+  int submap = 0;
+  /// Accept loops whose position along one horizontal direction the scene does not fix (a corridor,
+  /// an open road); their covariance then says so. Off: such loops are rejected.
+  bool allow_degenerate = false;
+
+  // ---- fixed internals (no configuration key) ----
+  /// Either keyframe with fewer vertical-structure voxels (facades, poles, trunks) is unverifiable.
+  int min_structure = 150;
+  /// Half-width of the coarse translation search around each hypothesis [m]: the descriptor prior has
+  /// no translation beyond its viewpoint, and true revisits lie up to a few metres to the side.
+  double search_radius = 6.0;
+  /// Cell of the bird's-eye coarse search [m].
+  double search_cell = 1.0;
+  /// Hypotheses whose coarse score is at least this fraction of the best one's are registered too,
+  /// best first, until one is accepted (at most max_hypotheses).
+  double hypothesis_ratio = 0.85;
+  int max_hypotheses = 2;
+  /// Correspondence distance of the coarse and the fine GICP stage [m].
+  double coarse_correspondence = 2.0;
+  double fine_correspondence = 0.8;
+  int max_iterations = 15;
+  /// Source voxels GICP uses per iteration (the cost bound; vertical structure first).
+  int max_source_voxels = 1200;
+  /// A moved structure voxel agrees with the other keyframe when a voxel of it lies within
+  /// `inlier_distance` [m] and the point-to-plane distance is below `inlier_plane_distance` [m].
+  double inlier_distance = 1.0;
+  double inlier_plane_distance = 0.25;
+  /// Reject when the registration cannot fix the position in some horizontal direction: the smallest
+  /// eigenvalue of the point-to-plane information over the translation is below this fraction of the
+  /// largest (a straight corridor or an open road seen along its axis), unless allow_degenerate.
+  double min_constraint_ratio = 0.02;
+  /// Floors on the reported variances of x, y, z [m^2] and of roll, pitch, yaw [rad^2].
+  double min_translation_variance = 0.01;
+  double min_rotation_variance = 7.6e-5;  // (0.5 deg)^2
+  /// NDT voxel resolution [m] (method ndt only).
+  double ndt_resolution = 2.0;
+
+  /// Problems of the fixed internals, and of the keyed settings too (as Config::validate checks them).
+  std::vector<std::string> validate() const;
+};
+
 /// Every tunable of the core. Members carry the documented defaults; call validate() before use.
 struct Config {
+  // ---- keyframe input (keyframes.h: the node and the evaluator alike) ----------------------
+  /// Clouds arrive registered in the pose's frame (A-LOAM, LIO-SAM, FAST-LIO): each is moved back into
+  /// the sensor frame with the keyframe's pose before it is described.
+  bool cloud_in_world_frame = false;
+  /// Keyframe selection: a cloud becomes a keyframe when the sensor moved at least this far [m] or
+  /// turned at least this much in yaw [deg] since the last keyframe (both 0: every cloud).
+  double keyframe_min_distance = 0.0;
+  double keyframe_min_angle = 0.0;
+  /// Voxel filter before describing [m] (0: off).
+  double voxel_leaf = 0.0;
+  /// Covariance of a loop with only the descriptor's yaw prior: variance of x, y, z [m^2] and of roll
+  /// and pitch [rad^2]; yaw's is (half a sector)^2 (loopCovariance, keyframes.h).
+  double covariance_translation = 100.0;
+  double covariance_rotation = 0.01;
+
   // ---- descriptor -------------------------------------------------------------------------
   /// Radial bins of the polar grid (the paper's 20).
   int num_rings = 20;
@@ -111,60 +218,8 @@ struct Config {
   double gate_odometry_distance = 20.0;
   double gate_odometry_drift = 0.1;
 
-  // ---- geometric verification (verification.h) ----------------------------------------------
-  /// Verify candidates by registration; a loop is then reported only when one is accepted.
-  bool verify = true;
-  /// Candidates whose descriptor distance is below this looser threshold are verified. 0.5 by
-  /// measurement (README, "Geometric verification"): the descriptor's own best thresholds lie at
-  /// 0.09-0.38 on the baseline sequences, and verified precision stayed 1.000 up to 0.6.
-  double verify_threshold = 0.5;
-  /// At most this many candidates are verified per keyframe (best distance first): the cost bound.
-  int verify_max_candidates = 2;
-  /// Memory budget for the downsampled keyframe clouds kept for verification [bytes] (see CloudStore).
-  double verify_max_bytes = 1024.0 * 1024.0 * 1024.0;
-  /// Registration settings: voxel size [m], crop range [m], minimum symmetric structure overlap,
-  /// maximum mean squared point-to-plane distance of the agreeing voxels [m^2] (VerificationConfig
-  /// documents each). Chosen on the eleven baseline sequences (README, "Geometric verification"): wrong
-  /// places that pass the odometry checks reach an overlap of 0.41 on ten of them and 0.546 in the
-  /// changed city of repeated buildings; true ones sit at 0.55-0.83 (5th percentile), 0.75-0.90 on the
-  /// real KITTI pairs. Fitness: true loops reach 0.0094 in simulation and 0.0066 on the real reverse
-  /// revisit; 0.015 is a sanity bound, not the main test.
-  double verify_voxel_leaf = 1.0;
-  double verify_max_range = 40.0;
-  double verify_min_inlier_ratio = 0.55;
-  double verify_max_fitness = 0.015;
-  /// A registration that passes every test except the overlap, with an overlap of at least this, is
-  /// a loop that needs support: it is reported only once a loop that passed in full (and was itself
-  /// confirmed, consistency_min_support) agrees with it through the odometry. Sparse sensors see less
-  /// of the same structure from a few metres aside (VLP-16 revisits 0.43-0.57 at the 5th percentile);
-  /// the agreement with an independent loop is the evidence the overlap lacks. Must not exceed
-  /// verify_min_inlier_ratio (equal: off). Without the consistency check such loops are not reported.
-  double verify_supported_inlier_ratio = 0.4;
-  /// Largest share of either keyframe's structure that may stand where the other saw through (within
-  /// 25 m; free_space.h). True loops on dense scans stay under 0.33; sparse VLP-16 scans reach 0.3-0.46
-  /// (a 16-beam sensor passes over low things, which then look like free space), wrong places start
-  /// at 0.06-0.23: a secondary test, at 0.4.
-  double verify_max_violation = 0.4;
-  /// A registration over verify_max_violation but at most this, passing every other test, needs
-  /// support, like one under verify_min_inlier_ratio (verify_supported_inlier_ratio). At least
-  /// verify_max_violation (equal: off).
-  double verify_supported_max_violation = 0.55;
-  /// The registration verification runs.
-  RegistrationMethod verify_method = RegistrationMethod::kVgicp;
-  /// A registered loop whose rotation disagrees with the odometry's relative rotation between the two
-  /// keyframes by more than verify_odometry_rotation + verify_odometry_rotation_drift * (odometry path
-  /// between them) [deg, deg/m] is rejected (needs poses; 0 disables). Mirror-image streets register
-  /// well the wrong way round (180 deg off) and junctions a quarter turn off; heading drift is far
-  /// smaller: 10 deg + 0.02 deg/m is 4-6x the simulator's default drift (0.003 deg/m plus 0.005 deg per
-  /// degree turned) and allows 50 deg after 2 km.
-  double verify_odometry_rotation = 10.0;
-  double verify_odometry_rotation_drift = 0.02;
-  /// Register against the candidate and this many keyframes on each side of it, moved into the
-  /// candidate's frame through the odometry (0: the candidate alone). For sparse sensors (VLP-16).
-  int verify_submap = 0;
-  /// Accept loops whose position along one horizontal direction the scene does not fix (a corridor,
-  /// an open road); their covariance then says so. Off: such loops are rejected.
-  bool verify_allow_degenerate = false;
+  // ---- geometric verification (verification.h): the verify_* keys --------------------------
+  VerificationConfig verification;
 
   // ---- pairwise consistency of verified loops (consistency.h) ---------------------------------
   /// With verify: a verified loop is published only once at least this many other verified loops agree

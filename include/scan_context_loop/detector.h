@@ -25,6 +25,8 @@ struct VerifiedCandidate {
 };
 
 struct Detection {
+  /// false: keyframe selection (KeyframePipeline) passed over the cloud; nothing else is set.
+  bool selected = true;
   bool accepted = false;     ///< false: the keyframe was rejected (see error) and nothing changed
   std::string error;
   std::size_t index = 0;     ///< keyframe number given to the new keyframe
@@ -58,8 +60,8 @@ struct Detection {
 class LoopDetector {
  public:
   explicit LoopDetector(const Config& config)
-      : database_(config), store_(static_cast<std::size_t>(config.verify_max_bytes)),
-        verification_(verificationConfig(config)), verifier_(verification_), consistency_(config) {}
+      : database_(config), store_(static_cast<std::size_t>(config.verification.max_bytes)),
+        verification_(config.verification), verifier_(verification_), consistency_(config) {}
 
   Detection process(const PointView& points, const KeyframeInfo& info);
 

@@ -107,5 +107,7 @@ bool levellingFromGround(const PointView& points, const GroundFitOptions& option
 
 /// The finite points of `points`, each rotated by R (NaN/Inf points are dropped).
 pcl::PointCloud<pcl::PointXYZ> rotatedCloud(const PointView& points, const Eigen::Matrix3f& R);
+/// The finite points of `points`, each moved by `transform` (NaN/Inf points are dropped).
+pcl::PointCloud<pcl::PointXYZ> transformedCloud(const PointView& points, const Eigen::Affine3f& transform);
 
 }  // namespace scan_context_loop

@@ -17,65 +17,6 @@
 
 namespace scan_context_loop {
 
-struct VerificationConfig {
-  /// Voxel edge of the registration data [m] (Config::verify_voxel_leaf).
-  double voxel_leaf = 1.0;
-  /// Points beyond this horizontal range are not used [m] (Config::verify_max_range).
-  double max_range = 40.0;
-  /// Either keyframe with fewer vertical-structure voxels (facades, poles, trunks) is unverifiable.
-  int min_structure = 150;
-  /// Half-width of the coarse translation search around each hypothesis [m]: the descriptor prior has
-  /// no translation beyond its viewpoint, and true revisits lie up to a few metres to the side.
-  double search_radius = 6.0;
-  /// Cell of the bird's-eye coarse search [m].
-  double search_cell = 1.0;
-  /// Hypotheses whose coarse score is at least this fraction of the best one's are registered too,
-  /// best first, until one is accepted (at most max_hypotheses).
-  double hypothesis_ratio = 0.85;
-  int max_hypotheses = 2;
-  /// Correspondence distance of the coarse and the fine GICP stage [m].
-  double coarse_correspondence = 2.0;
-  double fine_correspondence = 0.8;
-  int max_iterations = 15;
-  /// Source voxels GICP uses per iteration (the cost bound; vertical structure first).
-  int max_source_voxels = 1200;
-  /// A moved structure voxel agrees with the other keyframe when a voxel of it lies within
-  /// `inlier_distance` [m] and the point-to-plane distance is below `inlier_plane_distance` [m].
-  double inlier_distance = 1.0;
-  double inlier_plane_distance = 0.25;
-  /// Accept only when the symmetric structure overlap (the smaller of the two directions' fractions
-  /// of vertical-structure voxels, within the region both sensors cover, that agree) is at least this
-  /// (Config::verify_min_inlier_ratio).
-  double min_inlier_ratio = 0.55;
-  /// A result that passes every other test with an overlap in [supported_inlier_ratio,
-  /// min_inlier_ratio) is not accepted but marked `needs_support` (Config::verify_supported_inlier_ratio).
-  double supported_inlier_ratio = 0.4;
-  /// Accept only when at most this fraction of either side's structure stands in space the other saw
-  /// through (Config::verify_max_violation).
-  double max_violation = 0.4;
-  /// A result over max_violation but at most this, passing every other test, needs support
-  /// (Config::verify_supported_max_violation).
-  double supported_max_violation = 0.55;
-  /// Accept only when the agreeing voxels' mean squared point-to-plane distance is below this [m^2]
-  /// (Config::verify_max_fitness).
-  double max_fitness = 0.015;
-  /// Reject when the registration cannot fix the position in some horizontal direction: the smallest
-  /// eigenvalue of the point-to-plane information over the translation is below this fraction of the
-  /// largest (a straight corridor or an open road seen along its axis), unless allow_degenerate.
-  double min_constraint_ratio = 0.02;
-  bool allow_degenerate = false;
-  /// Floors on the reported variances of x, y, z [m^2] and of roll, pitch, yaw [rad^2].
-  double min_translation_variance = 0.01;
-  double min_rotation_variance = 7.6e-5;  // (0.5 deg)^2
-  /// The fine registration (Config::verify_method): the built-in voxel GICP (vgicp), or PCL's GICP,
-  /// ICP or NDT over the voxel means (slower; kept for comparison).
-  RegistrationMethod method = RegistrationMethod::kVgicp;
-  /// NDT voxel resolution [m] (method ndt only).
-  double ndt_resolution = 2.0;
-
-  std::vector<std::string> validate() const;
-  VoxelOptions voxelOptions() const;
-};
 
 struct VerificationResult {
   bool accepted = false;
@@ -110,8 +51,8 @@ struct VerificationResult {
   Eigen::Matrix<double, 6, 6> covariance = Eigen::Matrix<double, 6, 6>::Identity();
 };
 
-/// The registration settings held in the core Config (verify_* keys).
-VerificationConfig verificationConfig(const Config& config);
+/// The voxel grid of the registration data (VerificationConfig::voxel_leaf, max_range).
+VoxelOptions voxelOptions(const VerificationConfig& config);
 
 /// Keeps the prepared registration data of every keyframe for later verification, within a byte
 /// budget. When a new keyframe would exceed it, the store keeps only every second keyframe (then every

@@ -64,7 +64,7 @@ Detection LoopDetector::process(const PointView& raw, const KeyframeInfo& info) 
   detection.query_seconds += secondsSince(t2);
   if (!detection.accepted) return detection;
   levelling_.push_back(level);
-  if (config.verify) verifyCandidates(points, &detection);
+  if (config.verification.enabled) verifyCandidates(points, &detection);
   decide(&detection);
   return detection;
 }
@@ -147,7 +147,7 @@ void LoopDetector::verifyCandidates(const PointView& points, Detection* detectio
   const Descriptor& query = database_.keyframe(detection->index).descriptor;
   int tried = 0;
   for (const Candidate& c : detection->query.candidates) {
-    if (tried >= config.verify_max_candidates || !(c.alignment.distance < config.verify_threshold)) break;
+    if (tried >= config.verification.max_candidates || !(c.alignment.distance < config.verification.threshold)) break;
     ++tried;
     VerifiedCandidate v;
     v.index = c.index;
@@ -156,7 +156,7 @@ void LoopDetector::verifyCandidates(const PointView& points, Detection* detectio
     const VoxelCloud* stored = store_.get(c.index);
     if (stored == nullptr) {
       v.result.reason = "unverifiable: the candidate's cloud was dropped to stay within verify_max_bytes";
-    } else if (config.verify_submap > 0) {
+    } else if (config.verification.submap > 0) {
       v.result = verifier_.verify(submapOf(c.index, detection->index), hypotheses(c, query));
     } else {
       v.result = verifier_.verify(*stored, hypotheses(c, query));
@@ -177,7 +177,7 @@ VoxelCloud LoopDetector::submapOf(std::size_t index, std::size_t query) const {
   VoxelCloud merged = *store_.get(index);
   const auto& centre = database_.keyframe(index).info.pose;
   if (!centre) return merged;
-  const int n = database_.config().verify_submap;
+  const int n = database_.config().verification.submap;
   for (long k = static_cast<long>(index) - n; k <= static_cast<long>(index) + n; ++k) {
     if (k < 0 || static_cast<std::size_t>(k) == index || static_cast<std::size_t>(k) >= query) continue;
     const VoxelCloud* other = store_.get(static_cast<std::size_t>(k));
@@ -204,12 +204,12 @@ void LoopDetector::checkOdometryRotation(std::size_t query, std::size_t match, V
   const Config& config = database_.config();
   const Keyframe& q = database_.keyframe(query);
   const Keyframe& m = database_.keyframe(match);
-  if (!(config.verify_odometry_rotation > 0.0) || !q.info.pose || !m.info.pose) return;
+  if (!(config.verification.odometry_rotation > 0.0) || !q.info.pose || !m.info.pose) return;
   const Eigen::Matrix3d odometry = (q.info.pose->linear().transpose() * m.info.pose->linear());
   const double disagreement =
       Eigen::AngleAxisd(odometry.transpose() * result->relative.linear()).angle() * 180.0 / M_PI;
   const double allowed =
-      config.verify_odometry_rotation + config.verify_odometry_rotation_drift * std::fabs(q.path_length - m.path_length);
+      config.verification.odometry_rotation + config.verification.odometry_rotation_drift * std::fabs(q.path_length - m.path_length);
   if (disagreement <= allowed) return;
   result->accepted = false;
   result->needs_support = false;
@@ -232,7 +232,7 @@ void LoopDetector::toSensorFrames(std::size_t query, std::size_t match, Verifica
 
 void LoopDetector::decide(Detection* detection) {
   const Config& config = database_.config();
-  if (!config.verify) {
+  if (!config.verification.enabled) {
     if (!detection->query.matched) return;
     const Candidate& best = *detection->query.best();
     Loop loop;

@@ -254,13 +254,17 @@ bool levellingFromGround(const PointView& points, const GroundFitOptions& option
 }
 
 pcl::PointCloud<pcl::PointXYZ> rotatedCloud(const PointView& points, const Eigen::Matrix3f& R) {
+  return transformedCloud(points, Eigen::Affine3f(R));
+}
+
+pcl::PointCloud<pcl::PointXYZ> transformedCloud(const PointView& points, const Eigen::Affine3f& transform) {
   pcl::PointCloud<pcl::PointXYZ> out;
   if (points.data == nullptr) return out;
   out.reserve(points.count);
   Eigen::Vector3f p;
   for (std::size_t i = 0; i < points.count; ++i) {
     if (!readPoint(points, i, &p)) continue;
-    const Eigen::Vector3f q = R * p;
+    const Eigen::Vector3f q = transform * p;
     out.push_back(pcl::PointXYZ(q.x(), q.y(), q.z()));
   }
   return out;

@@ -12,46 +12,15 @@
 
 namespace scan_context_loop {
 
-std::vector<std::string> VerificationConfig::validate() const {
-  std::vector<std::string> e;
-  const auto positive = [&](double v, const char* name) {
-    if (!(std::isfinite(v) && v > 0.0)) e.push_back(std::string(name) + " must be a positive number");
-  };
-  positive(voxel_leaf, "verify_voxel_leaf");
-  positive(max_range, "verify_max_range");
-  positive(search_cell, "search_cell");
-  positive(coarse_correspondence, "coarse_correspondence");
-  positive(fine_correspondence, "fine_correspondence");
-  positive(inlier_distance, "inlier_distance");
-  positive(inlier_plane_distance, "inlier_plane_distance");
-  positive(max_fitness, "verify_max_fitness");
-  positive(ndt_resolution, "ndt_resolution");
-  positive(min_translation_variance, "min_translation_variance");
-  positive(min_rotation_variance, "min_rotation_variance");
-  if (!(std::isfinite(search_radius) && search_radius >= 0.0)) e.push_back("search_radius must be >= 0");
-  if (min_structure < 3) e.push_back("min_structure must be >= 3");
-  if (max_iterations < 1) e.push_back("max_iterations must be >= 1");
-  if (max_hypotheses < 1) e.push_back("max_hypotheses must be >= 1");
-  if (max_source_voxels < 10) e.push_back("max_source_voxels must be >= 10");
-  if (!(min_inlier_ratio >= 0.0 && min_inlier_ratio <= 1.0)) e.push_back("verify_min_inlier_ratio must be in [0, 1]");
-  if (!(max_violation >= 0.0 && max_violation <= supported_max_violation && supported_max_violation <= 1.0))
-    e.push_back("verify_supported_max_violation must be in [verify_max_violation, 1]");
-  if (!(supported_inlier_ratio >= 0.0 && supported_inlier_ratio <= min_inlier_ratio))
-    e.push_back("verify_supported_inlier_ratio must be in [0, verify_min_inlier_ratio]");
-  if (!(hypothesis_ratio >= 0.0 && hypothesis_ratio <= 1.0)) e.push_back("hypothesis_ratio must be in [0, 1]");
-  if (!(min_constraint_ratio >= 0.0 && min_constraint_ratio <= 1.0)) e.push_back("min_constraint_ratio must be in [0, 1]");
-  return e;
-}
-
-VoxelOptions VerificationConfig::voxelOptions() const {
+VoxelOptions voxelOptions(const VerificationConfig& config) {
   VoxelOptions o;
-  o.resolution = static_cast<float>(voxel_leaf);
-  o.max_range = static_cast<float>(max_range);
+  o.resolution = static_cast<float>(config.voxel_leaf);
+  o.max_range = static_cast<float>(config.max_range);
   return o;
 }
 
 VoxelCloud prepareCloud(const PointView& points, const VerificationConfig& config, const Eigen::Matrix3f& levelling) {
-  return makeVoxelCloud(points, config.voxelOptions(), levelling);
+  return makeVoxelCloud(points, voxelOptions(config), levelling);
 }
 
 namespace {
@@ -264,20 +233,6 @@ VerificationResult verify(const VoxelCloud& query, const VoxelCloud& match, cons
   Verifier verifier(config);
   verifier.setQuery(query);
   return verifier.verify(match, {initial});
-}
-
-VerificationConfig verificationConfig(const Config& c) {
-  VerificationConfig v;
-  v.voxel_leaf = c.verify_voxel_leaf;
-  v.max_range = c.verify_max_range;
-  v.min_inlier_ratio = c.verify_min_inlier_ratio;
-  v.supported_inlier_ratio = c.verify_supported_inlier_ratio;
-  v.max_fitness = c.verify_max_fitness;
-  v.max_violation = c.verify_max_violation;
-  v.supported_max_violation = c.verify_supported_max_violation;
-  v.method = c.verify_method;
-  v.allow_degenerate = c.verify_allow_degenerate;
-  return v;
 }
 
 void CloudStore::add(std::size_t index, VoxelCloud cloud) {

@@ -1,23 +1,13 @@
 #include "scan_context_loop/eval/config_file.h"
 
-#include <algorithm>
-
 #include <yaml-cpp/yaml.h>
+
+#include "scan_context_loop/settings.h"
 
 namespace scan_context_loop {
 namespace eval {
 
-const std::vector<std::string>& rosOnlyKeys() {
-  static const std::vector<std::string> keys = {
-      "pose_source",          "fixed_frame",          "tf_timeout",         "sensor_frame",       "approximate_sync",
-      "sync_queue_size",      "cloud_in_world_frame", "keyframe_min_distance", "keyframe_min_angle",
-      "voxel_leaf",           "queue_size",           "publish_markers",    "marker_frame",
-      "lio_sam_output",       "unsynchronised_warning", "diagnostics_period", "covariance_translation",
-      "covariance_rotation"};
-  return keys;
-}
-
-bool loadConfigFile(const std::string& path, Config* config, std::vector<std::string>* warnings, std::string* error) {
+bool loadConfigFile(const std::string& path, Config* config, std::string* error) {
   YAML::Node root;
   try {
     root = YAML::LoadFile(path);
@@ -33,13 +23,10 @@ bool loadConfigFile(const std::string& path, Config* config, std::vector<std::st
   Config updated = *config;
   for (const auto& item : root) {
     const std::string key = item.first.as<std::string>();
-    const auto& known = configKeys();
-    if (std::find(known.begin(), known.end(), key) == known.end()) {
-      const auto& ros = rosOnlyKeys();
-      if (std::find(ros.begin(), ros.end(), key) == ros.end()) {
-        warnings->push_back(path + ": unknown key '" + key + "' ignored");
-      }
-      continue;
+    if (findSetting(configSettings(), key) == nullptr) {
+      if (findSetting(nodeSettings(), key) != nullptr) continue;  // the node's own: accepted, not used here
+      *error = path + ": unknown key '" + key + "' (see config/default.yaml for the keys)";
+      return false;
     }
     if (!item.second.IsScalar()) {
       *error = path + ": " + key + " must be a single value";

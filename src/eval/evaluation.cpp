@@ -5,7 +5,7 @@
 #include <sys/stat.h>
 
 #include "scan_context_loop/alignment.h"
-#include "scan_context_loop/detector.h"
+#include "scan_context_loop/keyframes.h"
 #include "scan_context_loop/kitti_io.h"
 
 namespace scan_context_loop {
@@ -73,7 +73,7 @@ bool loadSequence(const std::string& dir, const SequenceOptions& options, Sequen
 
 Evaluation evaluate(const Sequence& s, const Config& config, double revisit_radius) {
   Evaluation e;
-  LoopDetector detector(config);
+  KeyframePipeline pipeline(config);
   std::vector<Eigen::Vector3d> positions;  // true positions of the accepted keyframes
   std::vector<std::size_t> keyframe_of;    // detector index -> position in the sequence
   std::vector<long> outcome_of;            // detector index -> position in e.outcomes, -1 for none
@@ -89,7 +89,8 @@ Evaluation evaluate(const Sequence& s, const Config& config, double revisit_radi
     info.stamp = s.stamps[k];
     info.pose = s.odometry[k];
     info.tag = s.frames[k];
-    const Detection d = detector.process(cloud, info);
+    const Detection d = pipeline.process(cloud, info);
+    if (!d.selected) continue;  // keyframe selection (keyframe_min_distance / keyframe_min_angle)
     if (!d.accepted) {
       e.errors.push_back("frame " + std::to_string(s.frames[k]) + ": " + d.error);
       ++e.rejected;
@@ -136,6 +137,7 @@ Evaluation evaluate(const Sequence& s, const Config& config, double revisit_radi
     // Loops may be reported a few keyframes after their query (consistency check): score each one on
     // its own query's outcome.
     e.loops_dropped += d.dropped.size();
+    e.loops.insert(e.loops.end(), d.loops.begin(), d.loops.end());
     for (const Loop& loop : d.verifications_enabled ? d.loops : std::vector<Loop>()) {
       if (loop.query >= outcome_of.size() || outcome_of[loop.query] < 0) continue;
       QueryOutcome& q = e.outcomes[outcome_of[loop.query]];
@@ -157,7 +159,7 @@ Evaluation evaluate(const Sequence& s, const Config& config, double revisit_radi
     }
   }
   e.metrics = computeMetrics(e.outcomes, config.distance_threshold);
-  e.verification = config.verify;
+  e.verification = config.verification.enabled;
   if (e.verification) e.verified = computeVerifiedMetrics(e.outcomes);
   return e;
 }

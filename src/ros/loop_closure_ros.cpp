@@ -3,9 +3,6 @@
 #include <chrono>
 #include <cmath>
 
-#include <pcl/common/transforms.h>
-#include <pcl/filters/voxel_grid.h>
-#include <pcl_conversions/pcl_conversions.h>
 #include <std_msgs/Float64MultiArray.h>
 #include <tf2_eigen/tf2_eigen.h>
 
@@ -18,8 +15,6 @@ namespace scan_context_loop {
 namespace {
 
 double wallNow() { return ros::WallTime::now().toSec(); }
-
-double yawOf(const Eigen::Isometry3d& pose) { return std::atan2(pose(1, 0), pose(0, 0)); }
 
 }  // namespace
 
@@ -48,10 +43,10 @@ bool LoopClosureRos::start() {
     ROS_FATAL_NAMED(name_, "not starting: fix the parameters above (see config/default.yaml)");
     return false;
   }
-  detector_.reset(new LoopDetector(config_));
+  pipeline_.reset(new KeyframePipeline(config_));
 
   loop_pub_ = nh_.advertise<scan_context_loop::LoopClosure>("loop_closures", 100);
-  if (config_.verify) rejected_pub_ = nh_.advertise<scan_context_loop::LoopClosure>("loop_candidates_rejected", 100);
+  if (config_.verification.enabled) rejected_pub_ = nh_.advertise<scan_context_loop::LoopClosure>("loop_candidates_rejected", 100);
   marker_pub_ = nh_.advertise<visualization_msgs::MarkerArray>("loop_markers", 1, true);
   if (options_.lio_sam_output) lio_pub_ = nh_.advertise<std_msgs::Float64MultiArray>("lio_loop", 100);
 
@@ -176,18 +171,6 @@ bool LoopClosureRos::lookUpPose(Item* item) {
   }
 }
 
-bool LoopClosureRos::selectKeyframe(const Eigen::Isometry3d& pose) {
-  if (options_.keyframe_min_distance <= 0.0 && options_.keyframe_min_angle <= 0.0) return true;
-  if (has_last_keyframe_) {
-    const Eigen::Isometry3d delta = last_keyframe_pose_.inverse() * pose;
-    const bool moved = options_.keyframe_min_distance > 0.0 && delta.translation().norm() >= options_.keyframe_min_distance;
-    const bool turned = options_.keyframe_min_angle > 0.0 &&
-                        std::fabs(yawOf(delta)) * 180.0 / M_PI >= options_.keyframe_min_angle;
-    if (!moved && !turned) return false;
-  }
-  return true;
-}
-
 void LoopClosureRos::process(Item item) {
   const sensor_msgs::PointCloud2& msg = *item.cloud;
   if (!item.has_pose && !lookUpPose(&item)) return;
@@ -203,30 +186,12 @@ void LoopClosureRos::process(Item item) {
     ROS_ERROR_THROTTLE_NAMED(5.0, name_, "keyframe cloud at %.3f skipped: %s", msg.header.stamp.toSec(), why.c_str());
     return;
   }
-  if (!selectKeyframe(item.pose)) return;
-
-  // Registered clouds go back to the sensor frame; optional downsampling. Both need a copy.
-  pcl::PointCloud<pcl::PointXYZ> copy;
-  if (options_.cloud_in_world_frame || options_.voxel_leaf > 0.0) {
-    pcl::fromROSMsg(msg, copy);
-    if (options_.cloud_in_world_frame) {
-      pcl::transformPointCloud(copy, copy, item.pose.inverse().matrix().cast<float>());
-    }
-    if (options_.voxel_leaf > 0.0) {
-      pcl::PointCloud<pcl::PointXYZ> filtered;
-      pcl::VoxelGrid<pcl::PointXYZ> grid;
-      const float leaf = static_cast<float>(options_.voxel_leaf);
-      grid.setLeafSize(leaf, leaf, leaf);
-      grid.setInputCloud(copy.makeShared());
-      grid.filter(filtered);
-      copy.swap(filtered);
-    }
-    view = viewOf(copy);
-  }
   KeyframeInfo info;
   info.stamp = msg.header.stamp.toSec();
   info.pose = item.pose;
-  const Detection detection = detector_->process(view, info);
+  // Keyframe selection, registered clouds back to the sensor frame, the voxel filter: in the core.
+  const Detection detection = pipeline_->process(view, info);
+  if (!detection.selected) return;
   if (!detection.accepted) {
     ++rejected_;
     ROS_ERROR_THROTTLE_NAMED(5.0, name_, "keyframe at %.3f skipped: %s", info.stamp, detection.error.c_str());
@@ -238,13 +203,11 @@ void LoopClosureRos::process(Item item) {
                             "keyframe that never matches",
                             detection.index, info.stamp, detection.points_skipped);
   }
-  has_last_keyframe_ = true;
-  last_keyframe_pose_ = item.pose;
   positions_.push_back(item.pose.translation());
   stamps_.push_back(msg.header.stamp);
-  database_size_ = detector_->database().size();
+  database_size_ = pipeline_->detector().database().size();
   last_query_ms_ = (detection.descriptor_seconds + detection.query_seconds) * 1e3;
-  loops_waiting_ = detector_->consistency().waiting();
+  loops_waiting_ = pipeline_->detector().consistency().waiting();
   publishLoops(detection, item.pose_frame);
   if (marker_pub_.getNumSubscribers() > 0) publishMarkers(item.pose_frame);
 }
@@ -262,6 +225,8 @@ scan_context_loop::LoopClosure LoopClosureRos::makeLoop(const Loop& found, const
   loop.shift = found.alignment.shift;
   loop.relative_pose = tf2::toMsg(found.relative());
   loop.support = static_cast<std::uint32_t>(found.support);
+  const Eigen::Matrix<double, 6, 6> covariance = loopCovariance(found, config_);
+  for (int i = 0; i < 36; ++i) loop.covariance[i] = covariance(i / 6, i % 6);
   if (found.verified || !found.verification.reason.empty()) {
     // The registration's T_query<-match and covariance (row-major, x y z roll pitch yaw); for a
     // rejected candidate, where registration left it.
@@ -271,17 +236,11 @@ scan_context_loop::LoopClosure LoopClosureRos::makeLoop(const Loop& found, const
     if (found.verified) {
       loop.yaw = std::atan2(found.verification.relative(1, 0), found.verification.relative(0, 0));
     }
-    for (int i = 0; i < 36; ++i) loop.covariance[i] = found.verification.covariance(i / 6, i % 6);
     loop.verified = found.verified;
     loop.fitness = found.verification.fitness;
     return loop;
   }
-  // T_query<-match from the descriptor prior (yaw, and the viewpoint's offset): large variances.
-  const double half_sector = M_PI / config_.num_sectors;
-  const double diagonal[6] = {options_.covariance_translation, options_.covariance_translation,
-                              options_.covariance_translation, options_.covariance_rotation,
-                              options_.covariance_rotation, half_sector * half_sector};
-  for (int i = 0; i < 6; ++i) loop.covariance[i * 6 + i] = diagonal[i];
+  // T_query<-match from the descriptor prior (yaw, and the viewpoint's offset), large variances.
   loop.verified = false;
   loop.fitness = 0.0;
   return loop;

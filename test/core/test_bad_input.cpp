@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include "scan_context_loop/detector.h"
+#include "scan_context_loop/settings.h"
 #include "test_scenes.h"
 
 namespace scan_context_loop {
@@ -130,24 +131,23 @@ namespace {
 
 TEST(ConfigKeys, EveryKeyIsSettableAndBadValuesLeaveTheConfigAlone) {
   Config config;
-  for (const std::string& key : configKeys()) {
-    const std::string value = key == "ring_key"                  ? "mean_height"
-                              : key == "verify"                  ? "true"
-                              : key == "verify_allow_degenerate" ? "true"
-                              : key == "verify_method"           ? "ndt"
-                              : key == "levelling"               ? "ground"
-                                                                 : "3";
+  for (const auto& setting : configSettings()) {
+    // A value of the key's type: its last choice, true, or 3.
+    const std::string value = setting.type == SettingType::kChoice ? setting.choices.back()
+                              : setting.type == SettingType::kBool ? "true"
+                                                                   : "3";
     std::string error;
-    EXPECT_TRUE(setConfigValue(&config, key, value, &error)) << key << ": " << error;
+    EXPECT_TRUE(setConfigValue(&config, setting.key, value, &error)) << setting.key << ": " << error;
   }
+  EXPECT_EQ(configKeys().size(), configSettings().size());
   EXPECT_EQ(config.num_rings, 3);
   EXPECT_EQ(config.distance_threshold, 3.0);
-  EXPECT_EQ(config.ring_key, RingKeyType::kMeanHeight);
-  EXPECT_EQ(config.verify_method, RegistrationMethod::kNdt);
+  EXPECT_EQ(config.ring_key, RingKeyType::kOccupancy);
+  EXPECT_EQ(config.verification.method, RegistrationMethod::kNdt);
   EXPECT_EQ(config.lateral_offset_step, 3.0);
-  EXPECT_EQ(config.levelling, LevellingMode::kGround);
-  EXPECT_EQ(config.verify_max_violation, 3.0);
-  EXPECT_TRUE(config.verify_allow_degenerate);
+  EXPECT_EQ(config.levelling, LevellingMode::kOff);
+  EXPECT_EQ(config.verification.max_violation, 3.0);
+  EXPECT_TRUE(config.verification.allow_degenerate);
   const Config before = config;
   std::string error;
   EXPECT_FALSE(setConfigValue(&config, "num_rings", "20.5", &error));

@@ -46,7 +46,7 @@ struct Drive {
 
 Config checked() {
   Config c;
-  c.verify = true;
+  c.verification.enabled = true;
   c.consistency_min_support = 1;
   c.consistency_window = 5;
   return c;
@@ -177,7 +177,7 @@ TEST(Consistency, ALoopThatNeedsSupportIsConfirmedOnlyByAConfirmedFullLoopThatAg
 TEST(Consistency, WithoutVerificationDescriptorMatchesAreReportedAtOnce) {
   Config c;
   ASSERT_GT(c.consistency_min_support, 0);  // on by default, but it only looks at verified loops
-  c.verify = false;
+  c.verification.enabled = false;
   EXPECT_TRUE(c.validate().empty());
   c.exclude_recent_frames = 0;
   LoopDetector detector(c);
@@ -194,7 +194,7 @@ TEST(Consistency, WithoutVerificationDescriptorMatchesAreReportedAtOnce) {
 TEST(Consistency, VerifiedLoopWaitsForASecondOneThroughTheDetector) {
   Config c;
   c.exclude_recent_frames = 2;
-  c.verify = true;
+  c.verification.enabled = true;
   LoopDetector detector(c);
   KeyframeInfo info;
   const auto feed = [&](std::uint32_t scene, double x) {

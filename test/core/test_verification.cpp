@@ -298,7 +298,7 @@ TEST(Verification, EveryRegistrationMethodRecoversAKnownTransform) {
 TEST(VerifiedDetection, RealPairsThroughTheDetector) {
   Config config;
   config.exclude_recent_frames = 0;
-  config.verify = true;
+  config.verification.enabled = true;
   config.consistency_min_support = 0;  // single pairs: report each verified loop at once
   LoopDetector detector(config);
   KeyframeInfo info;
@@ -317,7 +317,7 @@ TEST(VerifiedDetection, RealPairsThroughTheDetector) {
   EXPECT_TRUE(reverse.loops[0].verified);
   EXPECT_EQ(reverse.loops[0].match, 0u);
   EXPECT_EQ(reverse.verifications.back().index, 0u);
-  EXPECT_GT(reverse.verifications.back().result.inlier_ratio, config.verify_min_inlier_ratio);
+  EXPECT_GT(reverse.verifications.back().result.inlier_ratio, config.verification.min_inlier_ratio);
   // 198 is 58 m from 94: never a loop.
   const Detection far = feed("00", 198);
   EXPECT_TRUE(far.loops.empty());

@@ -62,7 +62,7 @@ struct LaneChange {
 TEST(Viewpoints, DetectorFindsARevisitOneLaneOverFromTheMatchingViewpoint) {
   const LaneChange scene;
   Config plain;
-  plain.verify = false;  // the descriptor's own loop, with the viewpoint as its prior
+  plain.verification.enabled = false;  // the descriptor's own loop, with the viewpoint as its prior
   plain.lateral_offset_step = 0.0;
   const Detection without = scene.run(plain);
   ASSERT_NE(without.query.best(), nullptr);
@@ -88,8 +88,8 @@ TEST(Viewpoints, VerificationStartsFromTheViewpointAndRecoversTheLaneChange) {
   const LaneChange scene;
   Config config;
   config.lateral_offset_step = 4.0;
-  config.verify = true;
-  config.verify_threshold = 0.5;
+  config.verification.enabled = true;
+  config.verification.threshold = 0.5;
   config.consistency_min_support = 0;  // a single loop: report it at once
   const Detection d = scene.run(config);
   ASSERT_TRUE(d.verified) << (d.verifications.empty() ? "nothing verified" : d.verifications.back().result.reason);

@@ -1,10 +1,13 @@
+#include <algorithm>
 #include <fstream>
 #include <sstream>
 
 #include <gtest/gtest.h>
+#include <yaml-cpp/yaml.h>
 
 #include "scan_context_loop/eval/config_file.h"
 #include "scan_context_loop/eval/evaluation.h"
+#include "scan_context_loop/settings.h"
 #include "scan_context_loop/sim/sequence_writer.h"
 #include "scan_context_loop/sim/trajectory.h"
 #include "../common/sim_drive.h"
@@ -17,29 +20,59 @@ std::string temp(const std::string& name) { return testing::TempDir() + "/scl_ev
 
 TEST(ConfigFile, ReadsNodeKeysIgnoresRosKeysAndRejectsBadValues) {
   std::ofstream(temp("good.yaml")) << "# comment\nnum_sectors: 90\ndistance_threshold: 0.3\nring_key: mean_height\n"
-                                      "pose_source: odom\nvoxel_leaf: 0.4\nmystery: 1\n";
+                                      "pose_source: odom\nvoxel_leaf: 0.4\nverify_min_inlier_ratio: 0.6\n";
   Config config;
-  std::vector<std::string> warnings;
   std::string error;
-  ASSERT_TRUE(loadConfigFile(temp("good.yaml"), &config, &warnings, &error)) << error;
+  ASSERT_TRUE(loadConfigFile(temp("good.yaml"), &config, &error)) << error;
   EXPECT_EQ(config.num_sectors, 90);
   EXPECT_DOUBLE_EQ(config.distance_threshold, 0.3);
   EXPECT_EQ(config.ring_key, RingKeyType::kMeanHeight);
-  ASSERT_EQ(warnings.size(), 1u);  // only "mystery"; the ROS keys are known
-  EXPECT_NE(warnings[0].find("mystery"), std::string::npos);
+  EXPECT_DOUBLE_EQ(config.verification.min_inlier_ratio, 0.6);
+  // A key that is neither the core's nor the node's is an error that names it, like the node's.
+  std::ofstream(temp("mystery.yaml")) << "num_sectors: 90\nmystery: 1\n";
+  Config before;
+  EXPECT_FALSE(loadConfigFile(temp("mystery.yaml"), &before, &error));
+  EXPECT_NE(error.find("mystery"), std::string::npos) << error;
+  EXPECT_EQ(before.num_sectors, Config().num_sectors);
 
   std::ofstream(temp("bad.yaml")) << "num_rings: twenty\n";
   Config untouched;
-  EXPECT_FALSE(loadConfigFile(temp("bad.yaml"), &untouched, &warnings, &error));
+  EXPECT_FALSE(loadConfigFile(temp("bad.yaml"), &untouched, &error));
   EXPECT_NE(error.find("num_rings"), std::string::npos) << error;
   EXPECT_EQ(untouched.num_rings, Config().num_rings);
-  EXPECT_FALSE(loadConfigFile(temp("absent.yaml"), &untouched, &warnings, &error));
+  EXPECT_FALSE(loadConfigFile(temp("absent.yaml"), &untouched, &error));
   std::ofstream(temp("list.yaml")) << "- 1\n- 2\n";
-  EXPECT_FALSE(loadConfigFile(temp("list.yaml"), &untouched, &warnings, &error));
+  EXPECT_FALSE(loadConfigFile(temp("list.yaml"), &untouched, &error));
 
   EXPECT_TRUE(applyOverride("search_ratio=1.0", &config, &error));
   EXPECT_DOUBLE_EQ(config.search_ratio, 1.0);
   EXPECT_FALSE(applyOverride("search_ratio", &config, &error));
+}
+
+/// Checks that the file's keys are exactly the table's and that each value is the table's default.
+template <typename T>
+void expectDefaults(const YAML::Node& file, const std::vector<Setting<T>>& table, std::vector<std::string>* seen) {
+  const T defaults;
+  for (const auto& s : table) {
+    seen->push_back(s.key);
+    ASSERT_TRUE(file[s.key]) << s.key << " is missing from config/default.yaml";
+    T parsed;
+    ASSERT_TRUE(s.set(&parsed, file[s.key].template as<std::string>())) << s.key;
+    EXPECT_EQ(s.get(parsed), s.get(defaults)) << s.key << ": config/default.yaml disagrees with the code";
+    EXPECT_EQ(s.check(defaults), "") << s.key << ": the default breaks its own rule";
+  }
+}
+
+TEST(ConfigFile, DefaultsFileListsEveryKeyWithTheCodesDefault) {
+  const YAML::Node file = YAML::LoadFile(std::string(SCL_REPO_ROOT) + "/config/default.yaml");
+  std::vector<std::string> keys;
+  expectDefaults(file, configSettings(), &keys);
+  expectDefaults(file, nodeSettings(), &keys);
+  for (const auto& item : file) {
+    const std::string key = item.first.as<std::string>();
+    EXPECT_NE(std::find(keys.begin(), keys.end(), key), keys.end()) << key << " in config/default.yaml is no key";
+  }
+  EXPECT_TRUE(Config().validate().empty());
 }
 
 /// Twice around a block, the second lap in reverse: every keyframe of lap 2 revisits lap 1. Written
@@ -92,7 +125,7 @@ TEST(Evaluation, VerifiedLoopsAreScoredOnTheirOwnQueriesWhenReportedLate) {
   ASSERT_FALSE(sequence.frames.empty());
   Config config;
   config.exclude_recent_frames = 30;
-  config.verify = true;  // with the consistency check (on by default)
+  config.verification.enabled = true;  // with the consistency check (on by default)
   const Evaluation e = evaluate(sequence, config, 5.0);
   ASSERT_TRUE(e.verification);
   const VerifiedMetrics& v = e.verified;

@@ -51,7 +51,7 @@ TEST(LoopClosureNode, PublishesTrueRevisitsWithTheirYawAndMarkers) {
     EXPECT_GE(loop.support, static_cast<std::uint32_t>(expect_support)) << "loop " << q << " -> " << m;
     if (expect_verified) {
       // The registered pose, not the prior: translation and yaw against the truth.
-      EXPECT_LT(loop.distance, Config().verify_threshold);  // the launch files keep the default
+      EXPECT_LT(loop.distance, Config().verification.threshold);  // the launch files keep the default
       EXPECT_LT((relative.translation() - truth.translation()).norm(), 0.3) << "loop " << q << " -> " << m;
       EXPECT_LT(std::fabs(wrapAngle(yawOf(relative) - yawOf(truth))), 1.0 * M_PI / 180.0);
       EXPECT_GT(loop.fitness, 0.0);

@@ -7,6 +7,7 @@
 #include <Eigen/Geometry>
 
 #include "scan_context_loop/config.h"
+#include "scan_context_loop/consistency.h"
 #include "scan_context_loop/eval/metrics.h"
 #include "scan_context_loop/verification.h"
 
@@ -53,10 +54,12 @@ struct Evaluation {
   std::size_t rejected = 0;  ///< keyframes the detector refused (see errors)
   std::size_t loops_dropped = 0;  ///< verified loops the consistency check dropped
   std::vector<std::string> errors;
+  /// Every loop reported, in order, as the node publishes them (keyframe numbers in arrival order).
+  std::vector<Loop> loops;
 };
 
-/// Feeds every keyframe to a LoopDetector in order, exactly as the node does, and scores each query
-/// with the ground-truth protocol (isRevisit with `revisit_radius`).
+/// Feeds every keyframe in order through KeyframePipeline (keyframes.h), the node's own code, and
+/// scores each query with the ground-truth protocol (isRevisit with `revisit_radius`).
 Evaluation evaluate(const Sequence& sequence, const Config& config, double revisit_radius);
 
 bool writeResultsCsv(const std::string& path, const Evaluation& evaluation, std::string* error);

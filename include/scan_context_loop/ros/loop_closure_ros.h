@@ -22,7 +22,7 @@
 #include <tf2_ros/buffer.h>
 #include <tf2_ros/transform_listener.h>
 
-#include "scan_context_loop/detector.h"
+#include "scan_context_loop/keyframes.h"
 #include "scan_context_loop/LoopClosure.h"
 #include "scan_context_loop/ros/parameters.h"
 
@@ -57,7 +57,6 @@ class LoopClosureRos {
   void work();
   void process(Item item);
   bool lookUpPose(Item* item);
-  bool selectKeyframe(const Eigen::Isometry3d& pose);
   void publishLoops(const Detection& detection, const std::string& frame);
   void publishRejected(const Loop& rejected, const std::string& frame);
   scan_context_loop::LoopClosure makeLoop(const Loop& loop, const std::string& frame) const;
@@ -97,7 +96,7 @@ class LoopClosureRos {
   std::atomic<double> last_cloud_wall_{0.0}, last_pair_wall_{0.0}, first_unpaired_wall_{0.0};
 
   // Worker-only state: touched by the worker thread alone, no lock.
-  std::unique_ptr<LoopDetector> detector_;
+  std::unique_ptr<KeyframePipeline> pipeline_;
   std::vector<Eigen::Vector3d> positions_;  // keyframe positions in the pose frame, by keyframe number
   std::vector<ros::Time> stamps_;           // keyframe stamps, by keyframe number
   struct Edge {
@@ -105,8 +104,6 @@ class LoopClosureRos {
     double distance;
   };
   std::vector<Edge> edges_, rejected_edges_;
-  bool has_last_keyframe_ = false;
-  Eigen::Isometry3d last_keyframe_pose_ = Eigen::Isometry3d::Identity();
 };
 
 }  // namespace scan_context_loop

@@ -1,0 +1,49 @@
+// Keyframe input shared by the node and the evaluator: selection by odometry motion, registered clouds
+// moved back into the sensor frame, the voxel filter, and the covariance reported for a loop. Both call
+// KeyframePipeline, so an A-LOAM- or LIO-SAM-style input (registered clouds, a voxel filter) evaluates
+// offline with the same settings file as the node runs.
+#pragma once
+
+#include <Eigen/Geometry>
+#include <pcl/point_cloud.h>
+#include <pcl/point_types.h>
+
+#include "scan_context_loop/config.h"
+#include "scan_context_loop/detector.h"
+
+namespace scan_context_loop {
+
+/// Covariance of loop `loop` in (x, y, z, roll, pitch, yaw): the registration's when it was registered
+/// (verified, waiting for support, or rejected with a reason), else diagonal for the descriptor's prior:
+/// Config::covariance_translation for x, y, z, covariance_rotation for roll and pitch, and (half a
+/// sector)^2 for yaw.
+Eigen::Matrix<double, 6, 6> loopCovariance(const Loop& loop, const Config& config);
+
+/// Selects, prepares and processes keyframes (Config::keyframe_min_distance / keyframe_min_angle,
+/// cloud_in_world_frame, voxel_leaf), then runs the LoopDetector. Not thread-safe (one owner).
+class KeyframePipeline {
+ public:
+  explicit KeyframePipeline(const Config& config) : detector_(config) {}
+
+  /// Processes one keyframe cloud with its info (a registered cloud needs info.pose). A keyframe that
+  /// keyframe selection passes over comes back with `selected` false and nothing else changed.
+  Detection process(const PointView& cloud, const KeyframeInfo& info);
+
+  template <typename PointT>
+  Detection process(const pcl::PointCloud<PointT>& cloud, const KeyframeInfo& info) {
+    return process(viewOf(cloud), info);
+  }
+
+  const LoopDetector& detector() const { return detector_; }
+  const Config& config() const { return detector_.config(); }
+
+ private:
+  /// Keyframe selection against the pose of the last keyframe that was processed.
+  bool selected(const KeyframeInfo& info) const;
+
+  LoopDetector detector_;
+  bool has_last_ = false;
+  Eigen::Isometry3d last_pose_ = Eigen::Isometry3d::Identity();
+};
+
+}  // namespace scan_context_loop

@@ -1,0 +1,21 @@
+// The node's own settings (ROS input, threading, publishing), ROS-free so that the evaluator knows
+// their keys (settings.h) and accepts a node's configuration file.
+#pragma once
+
+#include <string>
+
+namespace scan_context_loop {
+
+struct NodeOptions {
+  std::string pose_source = "odom";     ///< "odom": keyframe_odom messages; "tf": look the pose up
+  std::string fixed_frame = "odom";     ///< tf mode: the frame poses are looked up in
+  double tf_timeout = 0.1;              ///< tf mode: how long to wait for a transform [s]
+  std::string sensor_frame;             ///< tf mode: the sensor's frame (empty: the cloud's frame_id)
+  bool approximate_sync = true;         ///< approximate (true) or exact time synchronisation
+  int sync_queue_size = 20;             ///< message_filters queue per input
+  int queue_size = 20;                  ///< keyframes waiting for the worker; more are dropped and counted
+  bool lio_sam_output = false;          ///< also publish std_msgs/Float64MultiArray [query, match stamps]
+  double unsynchronised_warning = 5.0;  ///< warn when clouds come without poses for this long [s]
+};
+
+}  // namespace scan_context_loop

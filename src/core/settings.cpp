@@ -1,0 +1,297 @@
+#include "scan_context_loop/settings.h"
+
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+namespace scan_context_loop {
+
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+bool parseBool(const std::string& text, bool* out) {
+  if (text == "true" || text == "1") {
+    *out = true;
+    return true;
+  }
+  if (text == "false" || text == "0") {
+    *out = false;
+    return true;
+  }
+  return false;
+}
+
+bool parseInt(const std::string& text, int* out) {
+  std::istringstream in(text);
+  long long v;
+  char extra;
+  if (!(in >> v) || (in >> extra) || v < -2147483647LL || v > 2147483647LL) return false;
+  *out = static_cast<int>(v);
+  return true;
+}
+
+bool parseDouble(const std::string& text, double* out) {
+  std::istringstream in(text);
+  double v;
+  char extra;
+  if (!(in >> v) || (in >> extra)) return false;
+  *out = v;
+  return true;
+}
+
+std::string textOf(double v) {
+  std::ostringstream out;
+  out.precision(15);
+  out << v;
+  return out.str();
+}
+
+/// An allowed interval; `open_low` / `open_high` exclude the bound.
+struct Range {
+  double low = -kInf, high = kInf;
+  bool open_low = false, open_high = false;
+  const char* note = "";  ///< appended to the rule, e.g. " (0 disables)"
+
+  bool contains(double v) const {
+    if (!std::isfinite(v)) return false;
+    return (open_low ? v > low : v >= low) && (open_high ? v < high : v <= high);
+  }
+  std::string rule() const {
+    std::string r;
+    if (low == -kInf && high == kInf) {
+      r = "must be finite";
+    } else if (high == kInf) {
+      r = std::string("must be finite and ") + (open_low ? "> " : ">= ") + textOf(low);
+    } else {
+      r = std::string("must be in ") + (open_low ? "(" : "[") + textOf(low) + ", " + textOf(high) +
+          (open_high ? ")" : "]");
+    }
+    return r + note;
+  }
+};
+
+Range closed(double low, double high, const char* note = "") { return {low, high, false, false, note}; }
+Range atLeast(double low, const char* note = "") { return {low, kInf, false, false, note}; }
+Range positive(const char* note = "") { return {0.0, kInf, true, false, note}; }
+
+template <typename T, typename V>
+using Ref = V& (*)(T&);
+
+template <typename T>
+Setting<T> intSetting(const char* key, Ref<T, int> ref, Range range, const char* doc) {
+  Setting<T> s;
+  s.key = key;
+  s.type = SettingType::kInt;
+  s.doc = doc;
+  s.get = [ref](const T& t) { return std::to_string(ref(const_cast<T&>(t))); };
+  s.set = [ref](T* t, const std::string& text) { return parseInt(text, &ref(*t)); };
+  s.check = [ref, range](const T& t) { return range.contains(ref(const_cast<T&>(t))) ? "" : range.rule(); };
+  return s;
+}
+
+template <typename T>
+Setting<T> doubleSetting(const char* key, Ref<T, double> ref, Range range, const char* doc) {
+  Setting<T> s;
+  s.key = key;
+  s.type = SettingType::kDouble;
+  s.doc = doc;
+  s.get = [ref](const T& t) { return textOf(ref(const_cast<T&>(t))); };
+  s.set = [ref](T* t, const std::string& text) { return parseDouble(text, &ref(*t)); };
+  s.check = [ref, range](const T& t) { return range.contains(ref(const_cast<T&>(t))) ? "" : range.rule(); };
+  return s;
+}
+
+template <typename T>
+Setting<T> boolSetting(const char* key, Ref<T, bool> ref, const char* doc) {
+  Setting<T> s;
+  s.key = key;
+  s.type = SettingType::kBool;
+  s.doc = doc;
+  s.get = [ref](const T& t) { return std::string(ref(const_cast<T&>(t)) ? "true" : "false"); };
+  s.set = [ref](T* t, const std::string& text) { return parseBool(text, &ref(*t)); };
+  s.check = [](const T&) { return std::string(); };
+  return s;
+}
+
+/// A string member; `allowed` (empty: any) lists the accepted values.
+template <typename T>
+Setting<T> stringSetting(const char* key, Ref<T, std::string> ref, std::vector<std::string> allowed, const char* doc) {
+  Setting<T> s;
+  s.key = key;
+  s.type = allowed.empty() ? SettingType::kString : SettingType::kChoice;
+  s.doc = doc;
+  s.choices = allowed;
+  s.get = [ref](const T& t) { return ref(const_cast<T&>(t)); };
+  s.set = [ref, allowed](T* t, const std::string& text) {
+    for (const auto& a : allowed) {
+      if (a == text) {
+        ref(*t) = text;
+        return true;
+      }
+    }
+    if (!allowed.empty()) return false;
+    ref(*t) = text;
+    return true;
+  };
+  s.check = [](const T&) { return std::string(); };
+  return s;
+}
+
+/// An enum member with its parse and name functions.
+template <typename T, typename E>
+Setting<T> enumSetting(const char* key, Ref<T, E> ref, bool (*parse)(const std::string&, E*),
+                       const char* (*name)(E), std::vector<E> values, const char* doc) {
+  Setting<T> s;
+  s.key = key;
+  s.type = SettingType::kChoice;
+  s.doc = doc;
+  for (E v : values) s.choices.push_back(name(v));
+  s.get = [ref, name](const T& t) { return std::string(name(ref(const_cast<T&>(t)))); };
+  s.set = [ref, parse](T* t, const std::string& text) { return parse(text, &ref(*t)); };
+  s.check = [](const T&) { return std::string(); };
+  return s;
+}
+
+#define SCL_MEMBER(T, expr) +[](T& c) -> decltype((c.expr)) { return c.expr; }
+#define C(expr) SCL_MEMBER(Config, expr)
+#define N(expr) SCL_MEMBER(NodeOptions, expr)
+
+std::vector<Setting<Config>> makeConfigSettings() {
+  using Cfg = Config;
+  return {
+      // keyframe input
+      boolSetting<Cfg>("cloud_in_world_frame", C(cloud_in_world_frame), "clouds arrive registered in the pose frame"),
+      doubleSetting<Cfg>("keyframe_min_distance", C(keyframe_min_distance), atLeast(0, " (0 disables)"),
+                         "keyframe selection: metres since the last keyframe"),
+      doubleSetting<Cfg>("keyframe_min_angle", C(keyframe_min_angle), atLeast(0, " (0 disables)"),
+                         "keyframe selection: degrees of yaw since the last keyframe"),
+      doubleSetting<Cfg>("voxel_leaf", C(voxel_leaf), atLeast(0, " (0 disables)"), "voxel filter before describing [m]"),
+      doubleSetting<Cfg>("covariance_translation", C(covariance_translation), positive(),
+                         "x, y, z variance of a yaw-prior-only loop [m^2]"),
+      doubleSetting<Cfg>("covariance_rotation", C(covariance_rotation), positive(),
+                         "roll, pitch variance of a yaw-prior-only loop [rad^2]"),
+      // descriptor
+      intSetting<Cfg>("num_rings", C(num_rings), closed(1, 1000), "radial bins of the polar grid"),
+      intSetting<Cfg>("num_sectors", C(num_sectors), closed(3, 3600), "azimuthal bins of the polar grid"),
+      doubleSetting<Cfg>("max_radius", C(max_radius), positive(), "points beyond this horizontal range are ignored [m]"),
+      doubleSetting<Cfg>("min_range", C(min_range), atLeast(0), "points closer than this horizontal range are ignored [m]"),
+      doubleSetting<Cfg>("lidar_height", C(lidar_height), {}, "added to every z before taking the bin maximum [m]"),
+      enumSetting<Cfg, RingKeyType>("ring_key", C(ring_key), parseRingKeyType, ringKeyTypeName,
+                                    {RingKeyType::kMeanHeight, RingKeyType::kOccupancy}, "what the ring key holds"),
+      enumSetting<Cfg, LevellingMode>("levelling", C(levelling), parseLevellingMode, levellingModeName,
+                                      {LevellingMode::kAuto, LevellingMode::kPose, LevellingMode::kGround,
+                                       LevellingMode::kOff},
+                                      "where each keyframe's gravity alignment comes from"),
+      doubleSetting<Cfg>("levelling_max_tilt", C(levelling_max_tilt), closed(0, 90),
+                         "auto levelling: a pose tilted more than this is not trusted [deg]"),
+      // search
+      intSetting<Cfg>("num_candidates", C(num_candidates), closed(1, 10000), "ring-key neighbours scored in full"),
+      doubleSetting<Cfg>("search_ratio", C(search_ratio), closed(0, 1), "column search width around the coarse shift"),
+      doubleSetting<Cfg>("distance_threshold", C(distance_threshold), {0, 2, true, false},
+                         "a descriptor match is below this distance"),
+      doubleSetting<Cfg>("lateral_offset_step", C(lateral_offset_step), atLeast(0, " (0 disables)"),
+                         "spacing of the virtual lateral viewpoints [m]"),
+      intSetting<Cfg>("lateral_offset_count", C(lateral_offset_count), closed(1, 10), "virtual viewpoints per side"),
+      // exclusion and gate
+      intSetting<Cfg>("exclude_recent_frames", C(exclude_recent_frames), atLeast(0, " (0 disables)"),
+                      "the most recent keyframes are never candidates"),
+      doubleSetting<Cfg>("exclude_recent_seconds", C(exclude_recent_seconds), atLeast(0, " (0 disables)"),
+                         "keyframes younger than this are never candidates [s]"),
+      doubleSetting<Cfg>("exclude_recent_distance", C(exclude_recent_distance), atLeast(0, " (0 disables)"),
+                         "keyframes less than this path behind are never candidates [m]"),
+      doubleSetting<Cfg>("gate_odometry_distance", C(gate_odometry_distance), atLeast(0, " (0 disables)"),
+                         "odometry gate: fixed allowance [m]"),
+      doubleSetting<Cfg>("gate_odometry_drift", C(gate_odometry_drift), atLeast(0, " (0 disables)"),
+                         "odometry gate: allowance per metre of path"),
+      // verification
+      boolSetting<Cfg>("verify", C(verification.enabled), "verify candidates by registration"),
+      doubleSetting<Cfg>("verify_threshold", C(verification.threshold), {0, 2, true, false},
+                         "candidates below this distance are verified"),
+      intSetting<Cfg>("verify_max_candidates", C(verification.max_candidates), closed(1, 100),
+                      "candidates verified per keyframe at most"),
+      doubleSetting<Cfg>("verify_max_bytes", C(verification.max_bytes), atLeast(1e6),
+                         "memory for the registration data [bytes]"),
+      doubleSetting<Cfg>("verify_voxel_leaf", C(verification.voxel_leaf), positive(), "registration voxel edge [m]"),
+      doubleSetting<Cfg>("verify_max_range", C(verification.max_range), positive(), "registration crop range [m]"),
+      doubleSetting<Cfg>("verify_min_inlier_ratio", C(verification.min_inlier_ratio), closed(0, 1),
+                         "symmetric structure overlap a loop needs on its own"),
+      doubleSetting<Cfg>("verify_supported_inlier_ratio", C(verification.supported_inlier_ratio), closed(0, 1),
+                         "overlap a loop that needs support must reach"),
+      doubleSetting<Cfg>("verify_max_fitness", C(verification.max_fitness), positive(),
+                         "largest mean squared point-to-plane distance [m^2]"),
+      doubleSetting<Cfg>("verify_max_violation", C(verification.max_violation), closed(0, 1),
+                         "largest free-space violation of a loop on its own"),
+      doubleSetting<Cfg>("verify_supported_max_violation", C(verification.supported_max_violation), closed(0, 1),
+                         "largest free-space violation of a loop that needs support"),
+      enumSetting<Cfg, RegistrationMethod>(
+          "verify_method", C(verification.method), parseRegistrationMethod, registrationMethodName,
+          {RegistrationMethod::kVgicp, RegistrationMethod::kGicp, RegistrationMethod::kIcp, RegistrationMethod::kNdt},
+          "the fine registration"),
+      doubleSetting<Cfg>("verify_odometry_rotation", C(verification.odometry_rotation), atLeast(0, " (0 disables)"),
+                         "largest disagreement with the odometry's rotation [deg]"),
+      doubleSetting<Cfg>("verify_odometry_rotation_drift", C(verification.odometry_rotation_drift), atLeast(0),
+                         "and per metre of odometry path [deg/m]"),
+      intSetting<Cfg>("verify_submap", C(verification.submap), closed(0, 20), "candidate neighbours registered too"),
+      boolSetting<Cfg>("verify_allow_degenerate", C(verification.allow_degenerate),
+                       "accept loops the scene does not fix along one direction"),
+      // consistency
+      intSetting<Cfg>("consistency_min_support", C(consistency_min_support), closed(0, 100, " (0 disables)"),
+                      "agreeing loops a verified loop needs"),
+      intSetting<Cfg>("consistency_window", C(consistency_window), closed(1, 100000),
+                      "keyframes a loop waits for support"),
+      doubleSetting<Cfg>("consistency_translation", C(consistency_translation), positive(),
+                         "cycle translation tolerance [m]"),
+      doubleSetting<Cfg>("consistency_rotation", C(consistency_rotation), positive(), "cycle rotation tolerance [deg]"),
+      doubleSetting<Cfg>("consistency_drift", C(consistency_drift), atLeast(0), "tolerance per metre of path"),
+  };
+}
+
+std::vector<Setting<NodeOptions>> makeNodeSettings() {
+  using O = NodeOptions;
+  return {
+      stringSetting<O>("pose_source", N(pose_source), {"odom", "tf"}, "odom: keyframe_odom messages; tf: tf lookups"),
+      stringSetting<O>("fixed_frame", N(fixed_frame), {}, "tf mode: the frame poses are looked up in"),
+      doubleSetting<O>("tf_timeout", N(tf_timeout), atLeast(0), "tf mode: how long to wait for a transform [s]"),
+      stringSetting<O>("sensor_frame", N(sensor_frame), {}, "tf mode: the sensor's frame (empty: the cloud's)"),
+      boolSetting<O>("approximate_sync", N(approximate_sync), "approximate (true) or exact time synchronisation"),
+      intSetting<O>("sync_queue_size", N(sync_queue_size), closed(1, 10000), "message_filters queue per input"),
+      intSetting<O>("queue_size", N(queue_size), closed(1, 100000), "keyframes waiting for the worker"),
+      boolSetting<O>("lio_sam_output", N(lio_sam_output), "also publish LIO-SAM's loop message"),
+      doubleSetting<O>("unsynchronised_warning", N(unsynchronised_warning), positive(),
+                       "warn when clouds come without poses this long [s]"),
+  };
+}
+
+#undef N
+#undef C
+#undef SCL_MEMBER
+
+}  // namespace
+
+const std::vector<Setting<Config>>& configSettings() {
+  static const std::vector<Setting<Config>> table = makeConfigSettings();
+  return table;
+}
+
+const std::vector<Setting<NodeOptions>>& nodeSettings() {
+  static const std::vector<Setting<NodeOptions>> table = makeNodeSettings();
+  return table;
+}
+
+std::string settingTypeName(SettingType type, const std::vector<std::string>& choices) {
+  switch (type) {
+    case SettingType::kInt: return "an integer";
+    case SettingType::kDouble: return "a number";
+    case SettingType::kBool: return "true or false";
+    case SettingType::kString: return "a string";
+    case SettingType::kChoice: {
+      std::string text = "one of";
+      for (std::size_t i = 0; i < choices.size(); ++i) text += (i ? ", " : " ") + choices[i];
+      return text;
+    }
+  }
+  return "a value";
+}
+
+}  // namespace scan_context_loop

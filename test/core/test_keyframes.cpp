@@ -1,0 +1,101 @@
+// Keyframe input shared by the node and the evaluator (KeyframePipeline, loopCovariance).
+#include <cmath>
+
+#include <gtest/gtest.h>
+#include <pcl/common/transforms.h>
+
+#include "scan_context_loop/keyframes.h"
+#include "test_scenes.h"
+
+namespace scan_context_loop {
+namespace {
+
+KeyframeInfo at(double x, double yaw_deg, double stamp) {
+  KeyframeInfo info;
+  info.stamp = stamp;
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  pose.translation() = Eigen::Vector3d(x, 0.5 * x, 0.2);
+  pose.linear() = Eigen::AngleAxisd(yaw_deg * M_PI / 180.0, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  info.pose = pose;
+  return info;
+}
+
+TEST(KeyframePipeline, SelectsByDistanceOrYawSinceTheLastKeyframe) {
+  Config c;
+  c.keyframe_min_distance = 1.0;
+  c.keyframe_min_angle = 10.0;
+  KeyframePipeline pipeline(c);
+  const auto scene = test::streetScene(3);
+  // Poses at (x, x / 2) [m] turned by yaw [deg]: selected?
+  const struct {
+    double x, yaw;
+    bool selected;
+  } steps[] = {{0.0, 0.0, true}, {0.5, 0.0, false}, {0.95, 0.0, true}, {1.2, 5.0, false}, {1.3, 12.0, true},
+               {1.4, 15.0, false}};
+  double stamp = 0.0;
+  for (const auto& s : steps) {
+    const Detection d = pipeline.process(scene, at(s.x, s.yaw, stamp += 1.0));
+    EXPECT_EQ(d.selected, s.selected) << "x " << s.x << ", yaw " << s.yaw;
+    if (d.selected) EXPECT_TRUE(d.accepted) << d.error;
+  }
+  EXPECT_EQ(pipeline.detector().database().size(), 3u);
+}
+
+TEST(KeyframePipeline, RegisteredCloudsDescribeLikeSensorFrameClouds) {
+  Config sensor_frame;
+  Config world_frame;
+  world_frame.cloud_in_world_frame = true;
+  KeyframePipeline a(sensor_frame), b(world_frame);
+  const auto scene = test::streetScene(4);
+  const KeyframeInfo info = at(40.0, 30.0, 1.0);
+  pcl::PointCloud<pcl::PointXYZ> registered;
+  pcl::transformPointCloud(scene, registered, info.pose->matrix().cast<float>());
+  ASSERT_TRUE(a.process(scene, info).accepted);
+  ASSERT_TRUE(b.process(registered, info).accepted);
+  const Descriptor& da = a.detector().database().keyframe(0).descriptor;
+  const Descriptor& db = b.detector().database().keyframe(0).descriptor;
+  ASSERT_EQ(da.ring_key.size(), db.ring_key.size());
+  for (std::size_t i = 0; i < da.ring_key.size(); ++i) EXPECT_NEAR(da.ring_key[i], db.ring_key[i], 1e-3) << i;
+  EXPECT_LT(align(da, db, sensor_frame).distance, 1e-3);
+
+  // Without its pose a registered cloud cannot be brought back: refused, nothing added.
+  KeyframeInfo no_pose;
+  no_pose.stamp = 2.0;
+  const Detection refused = b.process(registered, no_pose);
+  EXPECT_FALSE(refused.accepted);
+  EXPECT_NE(refused.error.find("cloud_in_world_frame"), std::string::npos) << refused.error;
+  EXPECT_EQ(b.detector().database().size(), 1u);
+}
+
+TEST(KeyframePipeline, VoxelFilterThinsTheCloudBeforeDescribing) {
+  Config plain, filtered;
+  filtered.voxel_leaf = 1.0;
+  KeyframePipeline a(plain), b(filtered);
+  const auto scene = test::streetScene(5);
+  const Detection da = a.process(scene, at(0.0, 0.0, 1.0));
+  const Detection db = b.process(scene, at(0.0, 0.0, 1.0));
+  ASSERT_TRUE(da.accepted && db.accepted);
+  EXPECT_LT(db.points_used, da.points_used / 2) << da.points_used << " -> " << db.points_used;
+  EXPECT_GT(db.points_used, 0u);
+}
+
+TEST(LoopCovariance, DescriptorPriorIsDiagonalAndARegisteredLoopKeepsItsOwn) {
+  Config c;
+  c.covariance_translation = 50.0;
+  c.covariance_rotation = 0.02;
+  Loop prior;
+  const Eigen::Matrix<double, 6, 6> p = loopCovariance(prior, c);
+  EXPECT_DOUBLE_EQ(p(0, 0), 50.0);
+  EXPECT_DOUBLE_EQ(p(2, 2), 50.0);
+  EXPECT_DOUBLE_EQ(p(3, 3), 0.02);
+  const double half_sector = M_PI / c.num_sectors;
+  EXPECT_DOUBLE_EQ(p(5, 5), half_sector * half_sector);
+  EXPECT_DOUBLE_EQ(p(0, 1), 0.0);
+  Loop registered;
+  registered.verified = true;
+  registered.verification.covariance = Eigen::Matrix<double, 6, 6>::Identity() * 0.03;
+  EXPECT_DOUBLE_EQ(loopCovariance(registered, c)(4, 4), 0.03);
+}
+
+}  // namespace
+}  // namespace scan_context_loop

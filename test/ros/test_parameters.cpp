@@ -1,0 +1,101 @@
+// The node's parameter reader: every key of the settings tables, with its type checked, and unknown
+// private parameters refused by name.
+#include <algorithm>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <ros/ros.h>
+
+#include "scan_context_loop/ros/parameters.h"
+#include "scan_context_loop/settings.h"
+
+namespace scan_context_loop {
+namespace {
+
+/// Reads the parameters set under namespace `ns` (standing in for a node's private one).
+std::vector<std::string> readIn(const std::string& ns, Config* config, RosOptions* options) {
+  ros::NodeHandle pnh(ns);
+  return readParameters(pnh, config, options);
+}
+
+bool mentions(const std::vector<std::string>& problems, const std::string& key) {
+  return std::any_of(problems.begin(), problems.end(),
+                     [&](const std::string& p) { return p.compare(0, key.size() + 1, key + ":") == 0 ||
+                                                        p.compare(0, key.size() + 3, key + " = ") == 0; });
+}
+
+TEST(Parameters, DefaultsWhenNothingIsSetAndEveryKeyIsRead) {
+  Config config;
+  RosOptions options;
+  EXPECT_TRUE(readIn("/empty", &config, &options).empty());
+  EXPECT_EQ(config.num_rings, Config().num_rings);
+  ros::NodeHandle pnh("/typed");
+  pnh.setParam("num_sectors", 90);
+  pnh.setParam("verify_min_inlier_ratio", 0.6);
+  pnh.setParam("verify", false);
+  pnh.setParam("ring_key", std::string("occupancy"));
+  pnh.setParam("keyframe_min_distance", 2);  // an integer where a number is wanted: fine
+  pnh.setParam("pose_source", std::string("tf"));
+  pnh.setParam("fixed_frame", std::string("map"));
+  const auto problems = readIn("/typed", &config, &options);
+  EXPECT_TRUE(problems.empty()) << problems.front();
+  EXPECT_EQ(config.num_sectors, 90);
+  EXPECT_DOUBLE_EQ(config.verification.min_inlier_ratio, 0.6);
+  EXPECT_FALSE(config.verification.enabled);
+  EXPECT_EQ(config.ring_key, RingKeyType::kOccupancy);
+  EXPECT_DOUBLE_EQ(config.keyframe_min_distance, 2.0);
+  EXPECT_EQ(options.fixed_frame, "map");
+}
+
+TEST(Parameters, WrongTypesUnknownKeysAndBadValuesAreNamed) {
+  ros::NodeHandle pnh("/bad");
+  pnh.setParam("verify", 1);                      // an integer for a boolean
+  pnh.setParam("exclude_recent_frames", 0.4);     // a number for an integer
+  pnh.setParam("max_radius", std::string("far"));  // a string for a number
+  pnh.setParam("ring_key", std::string("median"));
+  pnh.setParam("distance_treshold", 0.3);         // misspelt
+  pnh.setParam("num_rings", 0);                   // out of range
+  Config config;
+  RosOptions options;
+  const auto problems = readIn("/bad", &config, &options);
+  for (const char* key : {"verify", "exclude_recent_frames", "max_radius", "ring_key", "distance_treshold", "num_rings"}) {
+    EXPECT_TRUE(mentions(problems, key)) << key << " not reported";
+  }
+  EXPECT_EQ(problems.size(), 6u);
+  EXPECT_NE(std::find_if(problems.begin(), problems.end(),
+                         [](const std::string& p) { return p.find("unknown parameter") != std::string::npos; }),
+            problems.end());
+}
+
+/// Sets every key of `table` to its value in `defaults`, with the parameter type the key wants.
+template <typename T>
+void setAll(ros::NodeHandle& pnh, const std::vector<Setting<T>>& table, const T& defaults) {
+  for (const auto& s : table) {
+    const std::string text = s.get(defaults);
+    if (s.type == SettingType::kInt) pnh.setParam(s.key, std::stoi(text));
+    else if (s.type == SettingType::kDouble) pnh.setParam(s.key, std::stod(text));
+    else if (s.type == SettingType::kBool) pnh.setParam(s.key, text == "true");
+    else pnh.setParam(s.key, text);
+  }
+}
+
+TEST(Parameters, EveryTableKeyIsAcceptedWithItsDefault) {
+  // Writing each key's default back is accepted: the reader and the table agree on every type.
+  ros::NodeHandle pnh("/round_trip");
+  setAll(pnh, configSettings(), Config());
+  setAll(pnh, nodeSettings(), RosOptions());
+  Config config;
+  RosOptions options;
+  const auto problems = readIn("/round_trip", &config, &options);
+  EXPECT_TRUE(problems.empty()) << problems.front();
+}
+
+}  // namespace
+}  // namespace scan_context_loop
+
+int main(int argc, char** argv) {
+  testing::InitGoogleTest(&argc, argv);
+  ros::init(argc, argv, "test_parameters");
+  ros::NodeHandle nh;
+  return RUN_ALL_TESTS();
+}
