@@ -31,11 +31,15 @@ install(TARGETS scan_context_loop_core
   LIBRARY DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION})
 install(DIRECTORY include/${PROJECT_NAME}/ DESTINATION ${CATKIN_PACKAGE_INCLUDE_DESTINATION})
 
+# The command-line parser every tool uses (tools/cli.h).
+add_library(scan_context_loop_cli STATIC tools/cli.cpp)
+target_include_directories(scan_context_loop_cli PUBLIC tools)
+
 # Tools built on the core alone.
 add_executable(scan_context_pairs tools/pairs_demo.cpp)
-target_link_libraries(scan_context_pairs scan_context_loop_core)
+target_link_libraries(scan_context_pairs scan_context_loop_core scan_context_loop_cli)
 add_executable(scan_context_bench tools/bench.cpp)
-target_link_libraries(scan_context_bench scan_context_loop_core ${PCL_FILTERS_LIBRARIES})
+target_link_libraries(scan_context_bench scan_context_loop_core scan_context_loop_cli ${PCL_FILTERS_LIBRARIES})
 
 if(CATKIN_ENABLE_TESTING)
   catkin_add_gtest(test_core
@@ -56,4 +60,7 @@ if(CATKIN_ENABLE_TESTING)
   )
   target_link_libraries(test_core scan_context_loop_core ${PCL_IO_LIBRARIES})
   target_compile_definitions(test_core PRIVATE SCL_SHARED_DATA="${SCL_SHARED_DATA}")
+
+  catkin_add_gtest(test_cli test/test_main.cpp test/tools/test_cli.cpp)
+  target_link_libraries(test_cli scan_context_loop_cli)
 endif()

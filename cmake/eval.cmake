@@ -5,7 +5,7 @@ target_include_directories(scan_context_loop_eval PUBLIC include ${YAML_CPP_INCL
 target_link_libraries(scan_context_loop_eval PUBLIC scan_context_loop_core yaml-cpp)
 
 add_executable(scan_context_evaluate tools/evaluate_main.cpp)
-target_link_libraries(scan_context_evaluate scan_context_loop_eval)
+target_link_libraries(scan_context_evaluate scan_context_loop_eval scan_context_loop_cli)
 
 if(CATKIN_ENABLE_TESTING)
   catkin_add_gtest(test_eval test/test_main.cpp test/eval/test_metrics.cpp test/eval/test_evaluation.cpp

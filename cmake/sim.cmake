@@ -19,7 +19,7 @@ target_link_libraries(scan_context_loop_sim PUBLIC scan_context_loop_core ${PCL_
 
 add_executable(scan_context_simulate tools/simulate_main.cpp tools/sim_bag.cpp)
 target_include_directories(scan_context_simulate PRIVATE ${catkin_INCLUDE_DIRS})
-target_link_libraries(scan_context_simulate scan_context_loop_sim ${catkin_LIBRARIES})
+target_link_libraries(scan_context_simulate scan_context_loop_sim scan_context_loop_cli ${catkin_LIBRARIES})
 
 if(CATKIN_ENABLE_TESTING)
   catkin_add_gtest(test_sim test/test_main.cpp test/sim/test_world.cpp test/sim/test_sensor.cpp

@@ -25,9 +25,11 @@ scl_log() { echo "[scan_context_loop] $*" >&2; }
 
 scl_install_deps() {
   local missing=()
-  local pkg
+  local pkg installed
+  # One dpkg-query for all of them (one call per package took seconds).
+  installed=$'\n'"$(dpkg-query -W -f='${Package} ${Status}\n' "${SCL_PACKAGES[@]}" "$@" 2>/dev/null || true)"$'\n'
   for pkg in "${SCL_PACKAGES[@]}" "$@"; do
-    if ! dpkg-query -W -f='${Status}' "$pkg" 2>/dev/null | grep -q "install ok installed"; then
+    if [[ "$installed" != *$'\n'"$pkg install ok installed"$'\n'* ]]; then
       missing+=("$pkg")
     fi
   done
@@ -61,18 +63,66 @@ scl_make_workspace() {
   return 0
 }
 
+# What the build reads from the repository: a change to any of these (a file's or a folder's mtime, so
+# added and removed files count too) makes the next scl_build run catkin_make.
+SCL_BUILD_INPUTS=(CMakeLists.txt cmake package.xml nodelets.xml include src tools test msg launch config)
+
+# True when TARGET ("all" for the default target) was built after the last change to the inputs: its
+# stamp (or, for a tool, the "all" stamp) is newer than every input, the workspace is configured, and a
+# tool's binary exists.
+scl_build_fresh() {
+  local target="$1" stamp inputs=() entry
+  [ -f "$SCL_WS/build/Makefile" ] && [ -f "$SCL_WS/devel/setup.bash" ] || return 1
+  case "$target" in
+    all|tests|run_tests) ;;
+    *) [ -x "$(scl_bin "$target")" ] || return 1 ;;
+  esac
+  for entry in "${SCL_BUILD_INPUTS[@]}"; do
+    [ -e "$SCL_ROOT/$entry" ] && inputs+=("$SCL_ROOT/$entry")
+  done
+  for stamp in "$SCL_WS/.scl_built_$target" "$SCL_WS/.scl_built_all"; do
+    [ "$stamp" = "$SCL_WS/.scl_built_all" ] && [ "$target" = tests ] && continue
+    [ -f "$stamp" ] || continue
+    if [ -z "$(find "${inputs[@]}" -newer "$stamp" -print -quit 2>/dev/null)" ]; then return 0; fi
+  done
+  return 1
+}
+
+# scl_build [TARGET...]: builds the targets (default: all) in Release unless nothing they depend on
+# changed since they were last built (scl_build_fresh); SCL_FORCE_BUILD=1 always runs catkin_make.
 scl_build() {
   scl_install_deps
   scl_make_workspace
-  scl_log "building in $SCL_WS (Release)"
+  local targets=("$@") target stale=0
+  [ ${#targets[@]} -eq 0 ] && targets=(all)
+  if [ "${SCL_FORCE_BUILD:-0}" = 1 ]; then
+    stale=1
+  else
+    for target in "${targets[@]}"; do
+      scl_build_fresh "$target" || { stale=1; break; }
+    done
+  fi
+  if [ "$stale" = 0 ]; then
+    scl_log "up to date in $SCL_WS (${targets[*]})"
+    return 0
+  fi
+  scl_log "building in $SCL_WS (Release): ${targets[*]}"
+  # The stamp's time is the build's start, so an edit made during the build still counts as a change.
+  local marker="$SCL_WS/.scl_build_started.$$"
+  touch "$marker"
   (
     cd "$SCL_WS"
     catkin_make -DCMAKE_BUILD_TYPE=Release -DCATKIN_ENABLE_TESTING=ON "$@" >"$SCL_WS/build.log" 2>&1 || {
       tail -n 60 "$SCL_WS/build.log" >&2
       scl_log "build failed, full log: $SCL_WS/build.log"
+      rm -f "$marker"
       exit 1
     }
   )
+  for target in "${targets[@]}"; do
+    cp -p "$marker" "$SCL_WS/.scl_built_$target"
+  done
+  rm -f "$marker"
 }
 
 # Sources the workspace so rosrun/roslaunch/rostest find the package.

@@ -1,6 +1,6 @@
 // Prints the core's benchmark table: descriptor time on real KITTI scans (raw and 0.4 m voxel
 // downsampled), ground-plane levelling time on them, pair distance time, online insert + query time at several database sizes, and memory.
-// Usage: scan_context_bench DATA_DIR [max_database_size]
+// Usage: scan_context_bench [DATA_DIR [MAX_DATABASE_SIZE]]  (--help lists the arguments)
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -19,6 +19,7 @@
 #include "scan_context_loop/kitti_io.h"
 #include "scan_context_loop/levelling.h"
 #include "scan_context_loop/verification.h"
+#include "cli.h"
 
 namespace scl = scan_context_loop;
 using Clock = std::chrono::steady_clock;
@@ -89,8 +90,25 @@ class GridStream {
 }  // namespace
 
 int main(int argc, char** argv) {
-  const std::string data = argc > 1 ? argv[1] : "../shared/data";
-  const std::size_t max_size = argc > 2 ? std::stoul(argv[2]) : 100000;
+  std::string data = "../shared/data";
+  std::size_t max_size = 100000;
+  scl::cli::Parser cli("scan_context_bench",
+                       "Prints the core's benchmark table as Markdown: descriptor time on six real KITTI scans (raw "
+                       "and 0.4 m voxels), levelling, pair distance, online query + insert at 1k, 10k and 100k "
+                       "keyframes (up to MAX_DATABASE_SIZE), verification, and bytes per keyframe.");
+  cli.positional("DATA_DIR", "the real data, holding kitti/00 and kitti/08 (default ../shared/data)", &data, false)
+      .positional("MAX_DATABASE_SIZE", "largest database size for the online rows (default 100000)",
+                  [&max_size](const std::string& v, std::string* error) {
+                    std::uint64_t n = 0;
+                    if (scl::cli::toUnsigned(v, &n) && n > 0) {
+                      max_size = static_cast<std::size_t>(n);
+                      return true;
+                    }
+                    *error = "needs a positive integer, got '" + v + "'";
+                    return false;
+                  },
+                  false);
+  if (const int status = cli.parse(argc, argv); status >= 0) return status;
   scl::Config config;
 
   struct Scan {

@@ -1,32 +1,14 @@
 // scan_context_evaluate: runs the detector online over a KITTI-format sequence and scores it.
 #include <cstdio>
 #include <string>
-#include <sys/stat.h>
+#include <vector>
 
 #include "scan_context_loop/eval/config_file.h"
 #include "scan_context_loop/eval/evaluation.h"
+#include "cli.h"
 
 namespace scl = scan_context_loop;
 namespace eval = scan_context_loop::eval;
-
-namespace {
-
-const char* kUsage = R"(usage: scan_context_evaluate SEQUENCE_DIR OUT_DIR [options]
-
-Runs the Scan Context detector frame by frame over a KITTI-format sequence (velodyne/*.bin, poses.txt,
-calib.txt, optional times.txt and odom_poses.txt) exactly as the node does, and writes OUT_DIR/results.csv,
-metrics.json and trajectory.csv (scripts/evaluate adds pr.png and map.png); with verification also
-verifications.csv, one row per candidate registered, scored against the truth.
-
-  --config FILE            YAML with the node's configuration keys (config/default.yaml)
-  --set KEY=VALUE          override one configuration key (repeatable)
-  --keyframe-spacing M     one keyframe every M metres along the truth (default 0: every frame)
-  --first N, --last N      frame window
-  --revisit-radius R       ground-truth revisit radius [m] (default 5)
-  --truth-odometry         feed the true poses even when odom_poses.txt exists
-)";
-
-}  // namespace
 
 int main(int argc, char** argv) {
   std::string sequence_dir, out_dir, error;
@@ -35,44 +17,24 @@ int main(int argc, char** argv) {
   double radius = 5.0;
   std::vector<std::string> overrides;
   std::string config_file;
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    const bool more = i + 1 < argc;
-    try {
-      if (arg == "--help" || arg == "-h") {
-        std::fputs(kUsage, stdout);
-        return 0;
-      } else if (arg == "--config" && more) {
-        config_file = argv[++i];
-      } else if (arg == "--set" && more) {
-        overrides.push_back(argv[++i]);
-      } else if (arg == "--keyframe-spacing" && more) {
-        options.keyframe_spacing = std::stod(argv[++i]);
-      } else if (arg == "--first" && more) {
-        options.first = std::stoi(argv[++i]);
-      } else if (arg == "--last" && more) {
-        options.last = std::stoi(argv[++i]);
-      } else if (arg == "--revisit-radius" && more) {
-        radius = std::stod(argv[++i]);
-      } else if (arg == "--truth-odometry") {
-        options.use_odometry_file = false;
-      } else if (arg.rfind("--", 0) != 0 && sequence_dir.empty()) {
-        sequence_dir = arg;
-      } else if (arg.rfind("--", 0) != 0 && out_dir.empty()) {
-        out_dir = arg;
-      } else {
-        std::fprintf(stderr, "scan_context_evaluate: unknown or incomplete option %s\n\n%s", arg.c_str(), kUsage);
-        return 2;
-      }
-    } catch (const std::exception&) {
-      std::fprintf(stderr, "scan_context_evaluate: %s needs a number\n", arg.c_str());
-      return 2;
-    }
-  }
-  if (sequence_dir.empty() || out_dir.empty()) {
-    std::fputs(kUsage, stderr);
-    return 2;
-  }
+  scl::cli::Parser cli("scan_context_evaluate",
+                       "Runs the Scan Context detector frame by frame over a KITTI-format sequence (velodyne/*.bin, "
+                       "poses.txt, calib.txt, optional times.txt and odom_poses.txt) through the node's own code "
+                       "(KeyframePipeline), and writes OUT_DIR/results.csv, metrics.json and trajectory.csv (scripts/evaluate adds pr.png and "
+                       "map.png); with verification also verifications.csv, one row per candidate registered, scored "
+                       "against the truth. Prints a summary, and last the line `output: OUT_DIR`.");
+  cli.positional("SEQUENCE_DIR", "the KITTI-format sequence", &sequence_dir)
+      .positional("OUT_DIR", "where the results go (created with its parents when missing)", &out_dir)
+      .option("--config", "FILE", "YAML with the node's configuration keys (config/default.yaml)", &config_file)
+      .option("--set", "KEY=VALUE", "override one configuration key", &overrides)
+      .option("--keyframe-spacing", "M", "one keyframe every M metres along the truth (default 0: every frame)",
+              &options.keyframe_spacing)
+      .option("--first", "N", "first frame of the window (default 0)", &options.first)
+      .option("--last", "N", "last frame of the window (default: to the end)", &options.last)
+      .option("--revisit-radius", "R", "ground-truth revisit radius [m] (default 5)", &radius)
+      .flag("--truth-odometry", "feed the true poses even when odom_poses.txt exists",
+            [&options] { options.use_odometry_file = false; });
+  if (const int status = cli.parse(argc, argv); status >= 0) return status;
   if (!config_file.empty() && !eval::loadConfigFile(config_file, &config, &error)) {
     std::fprintf(stderr, "scan_context_evaluate: %s\n", error.c_str());
     return 2;
@@ -99,8 +61,8 @@ int main(int argc, char** argv) {
   for (std::size_t i = 0; i < result.errors.size() && i < 5; ++i) {
     std::fprintf(stderr, "scan_context_evaluate: skipped %s\n", result.errors[i].c_str());
   }
-  mkdir(out_dir.c_str(), 0755);
-  if (!eval::writeResultsCsv(out_dir + "/results.csv", result, &error) ||
+  if (!scl::cli::makeDirectories(out_dir, &error) ||
+      !eval::writeResultsCsv(out_dir + "/results.csv", result, &error) ||
       !eval::writeMetricsJson(out_dir + "/metrics.json", result, sequence, config, radius, &error) ||
       !eval::writeTrajectoryCsv(out_dir + "/trajectory.csv", sequence, &error) ||
       (result.verification && !eval::writeVerificationsCsv(out_dir + "/verifications.csv", result, &error))) {
@@ -134,5 +96,6 @@ int main(int argc, char** argv) {
                   v.reported_late, result.loops_dropped);
     }
   }
+  std::printf("output: %s\n", out_dir.c_str());
   return 0;
 }

@@ -1,5 +1,5 @@
 // Scores the real KITTI scan pairs in ../shared/data against their ground truth: descriptor distance,
-// match decision and yaw prior beside the true yaw. Usage: scan_context_pairs DATA_DIR [CONFIG_YAML]
+// match decision and yaw prior beside the true yaw. Usage: scan_context_pairs [DATA_DIR]
 #include <cmath>
 #include <cstdio>
 #include <string>
@@ -9,6 +9,7 @@
 #include "scan_context_loop/descriptor.h"
 #include "scan_context_loop/detector.h"
 #include "scan_context_loop/kitti_io.h"
+#include "cli.h"
 
 namespace scl = scan_context_loop;
 
@@ -40,7 +41,13 @@ bool truthYaw(const std::string& dir, int query, int match, double* yaw, double*
 }  // namespace
 
 int main(int argc, char** argv) {
-  const std::string data = argc > 1 ? argv[1] : "../shared/data";
+  std::string data = "../shared/data";
+  scl::cli::Parser cli("scan_context_pairs",
+                       "Scores the real KITTI scan pairs against their ground truth with the default configuration: "
+                       "descriptor distance (the best over the lateral viewpoints), match decision, and the yaw "
+                       "prior beside the true yaw.");
+  cli.positional("DATA_DIR", "the real data, holding kitti/00 and kitti/08 (default ../shared/data)", &data, false);
+  if (const int status = cli.parse(argc, argv); status >= 0) return status;
   scl::Config config;
   const std::vector<Pair> pairs = {
       {"00", 94, 95, "consecutive frames, same place"},

@@ -3,8 +3,8 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
-#include <map>
 #include <string>
 #include <thread>
 #include <vector>
@@ -16,75 +16,13 @@
 #include "scan_context_loop/sim/platform_tilt.h"
 #include "scan_context_loop/sim/sequence_writer.h"
 #include "scan_context_loop/sim/trajectory.h"
+#include "cli.h"
 #include "sim_bag.h"
 
 namespace scl = scan_context_loop;
 namespace sim = scan_context_loop::sim;
 
 namespace {
-
-const char* kUsage = R"(usage: scan_context_simulate OUT_DIR [options]
-
-Ray-casts LiDAR keyframes through a generated street world and writes OUT_DIR in the KITTI odometry
-layout: velodyne/%06d.bin, poses.txt (ground truth), odom_poses.txt (drifted odometry), times.txt,
-calib.txt (Tr: identity, so poses.txt holds LiDAR poses), sequence.txt (what was simulated).
-
-trajectory (one of):
-  --procedural               a 2.1 km city drive with same-direction, reverse and one-lane-offset
-                             revisits (default)
-  --city                     a 2.2-3 km drive through oblique, partly curved streets: a loop, then after
-                             an hour's stop the same streets again one lane over, in the same lane and
-                             the other way
-  --narrow                   a 1.0-1.4 km walk (1.5 m/s) through a campus or old town: lanes 5.5 m
-                             wide between buildings, a loop, then the same lanes the same way, the
-                             other way and back to the start; no vehicles
-  --kitti-poses DIR          a real KITTI trajectory: DIR/poses.txt, DIR/calib.txt, DIR/times.txt
-  --first N, --last N        frame window of the KITTI trajectory (default: all)
-  --keyframe-spacing M       one keyframe every M metres of travel (default 2)
-
-sensor:
-  --sensor NAME              hdl64 | vlp16 | os1-64 (default hdl64)
-  --noise M                  Gaussian range noise sigma [m] (default: the sensor's, 0.02-0.03)
-  --dropout P                probability a return is lost (default 0.02)
-  --max-range M              maximum range [m] (default: the sensor's, 100-120)
-  --mount-height M           sensor height above the ground [m] (default 1.73)
-  --tilt DEG                 hand-held or legged platform: the sensor rolls and pitches (a slow sway and
-                             a gait), |tilt| median about 0.7 x DEG, 90th percentile 1.25 x DEG
-                             (default 0: level)
-  --dim-range M              range at which a dim return (10 % reflectivity, head-on) is detected half
-                             the time; brighter surfaces reach further, grazing ground fades sooner
-                             (default: the sensor's, 55-80; 0: no fading)
-  --voxel M                  write clouds downsampled to M-metre voxels (default 0: raw scans)
-
-world and odometry:
-  --seed N                   world, noise and drift seed (default 1)
-  --dynamic-cars F           fraction of parked cars that leave, arrive or move a few metres at some
-                             time during the drive, so revisits differ (default 0.3)
-  --changed-world F          revisits as days later, more the later (0: off, default; 1: strong):
-                             parked cars and vegetation change, construction sites, traffic, people
-  --repeat-templates         buildings and frontage from a few designs per district: streets alike
-  --drift-trans F            odometry translation error per metre travelled (default 0.01: 1 %)
-  --drift-yaw-per-m D        odometry heading error per metre travelled [deg/m] (default 0.003)
-  --drift-yaw F, --drift-yaw-per-deg F
-                             odometry heading error per degree turned [deg/deg] (default 0.005)
-  --drift-correlation M      distance over which the odometry's error biases change [m] (default 300)
-
-rosbag:
-  --bag FILE                 also write a bag: keyframe clouds (PointCloud2, x y z intensity, sensor
-                             frame), drifted odometry and ground truth (nav_msgs/Odometry)
-  --cloud-topic T            (default keyframe_cloud)
-  --odom-topic T             (default keyframe_odom)
-  --truth-topic T            (default ground_truth)
-  --sensor-frame F           (default velodyne)
-  --odom-frame F             (default odom)
-
-  --threads N                ray-casting threads (default: all cores)
-
-scripts/simulate only:
-  --render                   also render OUT_DIR/render_map.png (whole map), render_detail.png (120 m
-                             around keyframe 20) and render_scan.png (keyframe 20: top-down, side view,
-                             range image) with scripts/render_sequence.py
-)";
 
 struct Options {
   std::string out;
@@ -104,84 +42,111 @@ struct Options {
   int threads = 0;
 };
 
-bool parse(int argc, char** argv, Options* o, std::string* error) {
-  std::map<std::string, std::string*> strings = {{"--kitti-poses", &o->kitti},  {"--sensor", &o->sensor},
-                                                 {"--bag", &o->bag.path},        {"--cloud-topic", &o->bag.cloud_topic},
-                                                 {"--odom-topic", &o->bag.odom_topic}, {"--truth-topic", &o->bag.truth_topic},
-                                                 {"--sensor-frame", &o->bag.sensor_frame}, {"--odom-frame", &o->bag.odom_frame}};
-  std::map<std::string, double*> numbers = {
-      {"--keyframe-spacing", &o->spacing}, {"--noise", &o->noise}, {"--dropout", &o->dropout},
-      {"--max-range", &o->max_range}, {"--mount-height", &o->mount}, {"--dim-range", &o->dim_range},
-      {"--voxel", &o->voxel},
-      {"--tilt", &o->tilt},
-      {"--changed-world", &o->changed_world},
-      {"--dynamic-cars", &o->dynamic_cars}, {"--drift-trans", &o->drift.translation_per_metre},
-      {"--drift-yaw-per-m", &o->drift.yaw_per_metre}, {"--drift-yaw-per-deg", &o->drift.yaw_per_degree},
-      {"--drift-yaw", &o->drift.yaw_per_degree}, {"--drift-correlation", &o->drift.correlation_length}};
-  std::map<std::string, int*> integers = {{"--first", &o->first}, {"--last", &o->last}, {"--threads", &o->threads}};
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    if (arg == "--procedural") {
-      o->kitti.clear();
-      o->city = o->narrow = false;
-      continue;
-    }
-    if (arg == "--city" || arg == "--narrow") {
-      (arg == "--city" ? o->city : o->narrow) = true;
-      continue;
-    }
-    if (arg == "--repeat-templates") {
-      o->repeat_templates = true;
-      continue;
-    }
-    const bool has_value = i + 1 < argc;
-    try {
-      if (strings.count(arg) && has_value) {
-        *strings[arg] = argv[++i];
-      } else if (numbers.count(arg) && has_value) {
-        *numbers[arg] = std::stod(argv[++i]);
-      } else if (integers.count(arg) && has_value) {
-        *integers[arg] = std::stoi(argv[++i]);
-      } else if (arg == "--seed" && has_value) {
-        o->seed = static_cast<std::uint32_t>(std::stoul(argv[++i]));
-      } else if (arg.rfind("--", 0) != 0 && o->out.empty()) {
-        o->out = arg;
-      } else {
-        *error = "unknown or incomplete option: " + arg;
-        return false;
-      }
-    } catch (const std::exception&) {
-      *error = "not a number: " + arg + " " + argv[i];
-      return false;
-    }
-  }
-  if (o->out.empty()) *error = "OUT_DIR is missing";
-  else if (!(o->spacing > 0.0)) *error = "--keyframe-spacing must be positive";
-  else if (o->dropout >= 1.0) *error = "--dropout must be below 1";
-  else if (o->drift.translation_per_metre < 0 || o->drift.yaw_per_metre < 0 || o->drift.yaw_per_degree < 0)
-    *error = "drift rates must be >= 0";
-  else if (o->voxel < 0.0) *error = "--voxel must be >= 0";
-  else if (o->city + o->narrow + !o->kitti.empty() > 1) *error = "--city, --narrow and --kitti-poses exclude each other";
-  else if (o->tilt < 0.0) *error = "--tilt must be >= 0";
-  else if (o->changed_world < 0.0) *error = "--changed-world must be >= 0";
-  return error->empty();
+/// The usage text lists the options in the groups they are registered in.
+void addOptions(scl::cli::Parser* cli, Options* o) {
+  cli->positional("OUT_DIR", "the sequence folder (created with its parents when missing)", &o->out)
+      .section("trajectory (one of)")
+      .flag("--procedural",
+            "a 2.1 km city drive with same-direction, reverse and one-lane-offset revisits (default)",
+            [o] {
+              o->kitti.clear();
+              o->city = o->narrow = false;
+            })
+      .flag("--city",
+            "a 2.2-3 km drive through oblique, partly curved streets: a loop, then after an hour's stop the same "
+            "streets again one lane over, in the same lane and the other way",
+            &o->city)
+      .flag("--narrow",
+            "a 1.0-1.4 km walk (1.5 m/s) through a campus or old town: lanes 5.5 m wide between buildings, a loop, "
+            "then the same lanes the same way, the other way and back to the start; no vehicles",
+            &o->narrow)
+      .option("--kitti-poses", "DIR", "a real KITTI trajectory: DIR/poses.txt, DIR/calib.txt, DIR/times.txt",
+              &o->kitti)
+      .option("--first", "N", "first frame of the KITTI trajectory's window (default: all)", &o->first)
+      .option("--last", "N", "last frame of the KITTI trajectory's window (default: all)", &o->last)
+      .option("--keyframe-spacing", "M", "one keyframe every M metres of travel (default 2)", &o->spacing)
+      .section("sensor")
+      .option("--sensor", "NAME", "hdl64 | vlp16 | os1-64 (default hdl64)", &o->sensor)
+      .option("--noise", "M", "Gaussian range noise sigma [m] (default: the sensor's, 0.02-0.03)", &o->noise)
+      .option("--dropout", "P", "probability a return is lost (default 0.02)", &o->dropout)
+      .option("--max-range", "M", "maximum range [m] (default: the sensor's, 100-120)", &o->max_range)
+      .option("--mount-height", "M", "sensor height above the ground [m] (default 1.73)", &o->mount)
+      .option("--tilt", "DEG",
+              "hand-held or legged platform: the sensor rolls and pitches (a slow sway and a gait), |tilt| median "
+              "about 0.7 x DEG, 90th percentile 1.25 x DEG (default 0: level)",
+              &o->tilt)
+      .option("--dim-range", "M",
+              "range at which a dim return (10 % reflectivity, head-on) is detected half the time; brighter "
+              "surfaces reach further, grazing ground fades sooner (default: the sensor's, 55-80; 0: no fading)",
+              &o->dim_range)
+      .option("--voxel", "M", "write clouds downsampled to M-metre voxels (default 0: raw scans)", &o->voxel)
+      .section("world and odometry")
+      .option("--seed", "N", "world, noise and drift seed (default 1)", &o->seed)
+      .option("--dynamic-cars", "F",
+              "fraction of parked cars that leave, arrive or move a few metres at some time during the drive, so "
+              "revisits differ (default 0.3)",
+              &o->dynamic_cars)
+      .option("--changed-world", "F",
+              "revisits as days later, more the later (0: off, default; 1: strong): parked cars and vegetation "
+              "change, construction sites, traffic, people",
+              &o->changed_world)
+      .flag("--repeat-templates", "buildings and frontage from a few designs per district: streets alike",
+            &o->repeat_templates)
+      .option("--drift-trans", "F", "odometry translation error per metre travelled (default 0.01: 1 %)",
+              &o->drift.translation_per_metre)
+      .option("--drift-yaw-per-m", "D", "odometry heading error per metre travelled [deg/m] (default 0.003)",
+              &o->drift.yaw_per_metre)
+      .option("--drift-yaw", "F", "odometry heading error per degree turned [deg/deg] (default 0.005)",
+              &o->drift.yaw_per_degree)
+      .alias("--drift-yaw-per-deg")
+      .option("--drift-correlation", "M", "distance over which the odometry's error biases change [m] (default 300)",
+              &o->drift.correlation_length)
+      .section("rosbag")
+      .option("--bag", "FILE",
+              "also write a bag (its folder is created when missing): keyframe clouds (PointCloud2, x y z "
+              "intensity, sensor frame), drifted odometry and ground truth (nav_msgs/Odometry)",
+              &o->bag.path)
+      .option("--cloud-topic", "T", "the clouds' topic (default keyframe_cloud)", &o->bag.cloud_topic)
+      .option("--odom-topic", "T", "the drifted odometry's topic (default keyframe_odom)", &o->bag.odom_topic)
+      .option("--truth-topic", "T", "the ground truth's topic (default ground_truth)", &o->bag.truth_topic)
+      .option("--sensor-frame", "F", "the clouds' frame (default velodyne)", &o->bag.sensor_frame)
+      .option("--odom-frame", "F", "the odometry's frame (default odom)", &o->bag.odom_frame)
+      .section("other")
+      .option("--threads", "N", "ray-casting threads (default: all cores)", &o->threads)
+      .epilogue(
+          "scripts/simulate only:\n"
+          "  --render                   also render OUT_DIR/render_map.png (whole map), render_detail.png (120 m\n"
+          "                             around keyframe 20) and render_scan.png (keyframe 20: top-down, side view,\n"
+          "                             range image) with scripts/render_sequence.py");
+}
+
+/// Checks the values together; empty when they are fine.
+std::string check(const Options& o) {
+  if (!(o.spacing > 0.0)) return "--keyframe-spacing must be positive";
+  if (o.dropout >= 1.0) return "--dropout must be below 1";
+  if (o.drift.translation_per_metre < 0 || o.drift.yaw_per_metre < 0 || o.drift.yaw_per_degree < 0)
+    return "drift rates must be >= 0";
+  if (o.voxel < 0.0) return "--voxel must be >= 0";
+  if (o.city + o.narrow + !o.kitti.empty() > 1) return "--city, --narrow and --kitti-poses exclude each other";
+  if (o.tilt < 0.0) return "--tilt must be >= 0";
+  if (o.changed_world < 0.0) return "--changed-world must be >= 0";
+  return "";
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
-  for (int i = 1; i < argc; ++i) {
-    if (std::string(argv[i]) == "--help" || std::string(argv[i]) == "-h") {
-      std::fputs(kUsage, stdout);
-      return 0;
-    }
-  }
   Options o;
   std::string error;
-  if (!parse(argc, argv, &o, &error)) {
-    std::fprintf(stderr, "scan_context_simulate: %s\n\n%s", error.c_str(), kUsage);
-    return 2;
-  }
+  scl::cli::Parser cli("scan_context_simulate",
+                       "Ray-casts LiDAR keyframes through a generated street world and writes OUT_DIR in the KITTI "
+                       "odometry layout: velodyne/%06d.bin, poses.txt (ground truth), odom_poses.txt (drifted "
+                       "odometry), times.txt, calib.txt (Tr: identity, so poses.txt holds LiDAR poses), "
+                       "sequence.txt (what was simulated).");
+  addOptions(&cli, &o);
+  if (const int status = cli.parse(argc, argv); status >= 0) return status;
+  error = check(o);
+  if (!error.empty()) return cli.fail(error);
   sim::SensorModel sensor;
   if (!sim::sensorPreset(o.sensor, &sensor)) {
     std::fprintf(stderr, "scan_context_simulate: unknown sensor '%s' (hdl64, vlp16, os1-64)\n", o.sensor.c_str());
@@ -264,6 +229,12 @@ int main(int argc, char** argv) {
   o.drift.seed = o.seed;
   data.odometry = sim::driftedOdometry(data.truth, o.drift);
   const int threads = o.threads > 0 ? o.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  if (!scl::cli::makeDirectories(o.out, &error) ||
+      (!o.bag.path.empty() && std::filesystem::path(o.bag.path).has_parent_path() &&
+       !scl::cli::makeDirectories(std::filesystem::path(o.bag.path).parent_path().string(), &error))) {
+    std::fprintf(stderr, "scan_context_simulate: %s\n", error.c_str());
+    return 1;
+  }
   const double mean_points = sim::writeSequence(o.out, world, sensor, data, o.voxel, o.seed, threads, &error);
   if (mean_points < 0) {
     std::fprintf(stderr, "scan_context_simulate: %s\n", error.c_str());
