@@ -7,7 +7,6 @@ add_library(scan_context_loop_core
   src/core/alignment.cpp
   src/core/database.cpp
   src/core/detector.cpp
-  src/core/kitti_io.cpp
   src/core/registration.cpp
   src/core/coarse_search.cpp
   src/core/free_space.cpp
@@ -31,16 +30,6 @@ install(TARGETS scan_context_loop_core
   LIBRARY DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION})
 install(DIRECTORY include/${PROJECT_NAME}/ DESTINATION ${CATKIN_PACKAGE_INCLUDE_DESTINATION})
 
-# The command-line parser every tool uses (tools/cli.h).
-add_library(scan_context_loop_cli STATIC tools/cli.cpp)
-target_include_directories(scan_context_loop_cli PUBLIC tools)
-
-# Tools built on the core alone.
-add_executable(scan_context_pairs tools/pairs_demo.cpp)
-target_link_libraries(scan_context_pairs scan_context_loop_core scan_context_loop_cli)
-add_executable(scan_context_bench tools/bench.cpp)
-target_link_libraries(scan_context_bench scan_context_loop_core scan_context_loop_cli ${PCL_FILTERS_LIBRARIES})
-
 if(CATKIN_ENABLE_TESTING)
   catkin_add_gtest(test_core
     test/test_main.cpp
@@ -48,7 +37,6 @@ if(CATKIN_ENABLE_TESTING)
     test/core/test_alignment.cpp
     test/core/test_database.cpp
     test/core/test_bad_input.cpp
-    test/core/test_kitti_io.cpp
     test/core/test_real_data.cpp
     test/core/test_scenes.cpp
     test/core/test_verification.cpp
@@ -57,10 +45,10 @@ if(CATKIN_ENABLE_TESTING)
     test/core/test_viewpoints.cpp
     test/core/test_levelling.cpp
     test/core/test_keyframes.cpp
+    test/core/test_kitti_io.cpp
   )
-  target_link_libraries(test_core scan_context_loop_core ${PCL_IO_LIBRARIES})
+  # The real-data tests read KITTI scans (eval/kitti_io.h).
+  target_link_libraries(test_core scan_context_loop_eval ${PCL_IO_LIBRARIES})
   target_compile_definitions(test_core PRIVATE SCL_SHARED_DATA="${SCL_SHARED_DATA}")
 
-  catkin_add_gtest(test_cli test/test_main.cpp test/tools/test_cli.cpp)
-  target_link_libraries(test_cli scan_context_loop_cli)
 endif()

@@ -1,11 +1,11 @@
-# KITTI-format evaluator: a ROS-free library (metrics, ground truth, YAML config) and its tool.
+# KITTI-format evaluator: a ROS-free library (KITTI I/O, metrics, ground truth, YAML config); its tool is in
+# tools.cmake.
 find_package(yaml-cpp REQUIRED)
-add_library(scan_context_loop_eval src/eval/metrics.cpp src/eval/config_file.cpp src/eval/evaluation.cpp)
+add_library(scan_context_loop_eval src/eval/kitti_io.cpp src/eval/metrics.cpp src/eval/config_file.cpp
+  src/eval/evaluation.cpp)
 target_include_directories(scan_context_loop_eval PUBLIC include ${YAML_CPP_INCLUDE_DIR})
 target_link_libraries(scan_context_loop_eval PUBLIC scan_context_loop_core yaml-cpp)
 
-add_executable(scan_context_evaluate tools/evaluate_main.cpp)
-target_link_libraries(scan_context_evaluate scan_context_loop_eval scan_context_loop_cli)
 
 if(CATKIN_ENABLE_TESTING)
   catkin_add_gtest(test_eval test/test_main.cpp test/eval/test_metrics.cpp test/eval/test_evaluation.cpp

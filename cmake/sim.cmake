@@ -1,4 +1,5 @@
-# Street LiDAR simulator: a ROS-free library, and a tool that also writes rosbags.
+# Street LiDAR simulator: a ROS-free library (writes sequences with eval/kitti_io.h); its tool, which also
+# writes rosbags, is in tools.cmake.
 add_library(scan_context_loop_sim
   src/sim/world.cpp
   src/sim/placement.cpp
@@ -15,11 +16,8 @@ add_library(scan_context_loop_sim
   src/sim/sequence_writer.cpp
 )
 target_include_directories(scan_context_loop_sim PUBLIC include ${EIGEN3_INCLUDE_DIRS} ${PCL_INCLUDE_DIRS})
-target_link_libraries(scan_context_loop_sim PUBLIC scan_context_loop_core ${PCL_COMMON_LIBRARIES} ${PCL_FILTERS_LIBRARIES} pthread)
+target_link_libraries(scan_context_loop_sim PUBLIC scan_context_loop_eval ${PCL_COMMON_LIBRARIES} ${PCL_FILTERS_LIBRARIES} pthread)
 
-add_executable(scan_context_simulate tools/simulate_main.cpp tools/sim_bag.cpp)
-target_include_directories(scan_context_simulate PRIVATE ${catkin_INCLUDE_DIRS})
-target_link_libraries(scan_context_simulate scan_context_loop_sim scan_context_loop_cli ${catkin_LIBRARIES})
 
 if(CATKIN_ENABLE_TESTING)
   catkin_add_gtest(test_sim test/test_main.cpp test/sim/test_world.cpp test/sim/test_sensor.cpp

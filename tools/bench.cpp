@@ -14,11 +14,12 @@
 #include <pcl/filters/voxel_grid.h>
 #include <unistd.h>
 
-#include "scan_context_loop/alignment.h"
-#include "scan_context_loop/database.h"
-#include "scan_context_loop/kitti_io.h"
-#include "scan_context_loop/levelling.h"
-#include "scan_context_loop/verification.h"
+#include "scan_context_loop/core/pcl_adapters.h"
+#include "scan_context_loop/core/alignment.h"
+#include "scan_context_loop/core/database.h"
+#include "scan_context_loop/eval/kitti_io.h"
+#include "scan_context_loop/core/levelling.h"
+#include "scan_context_loop/core/verification.h"
 #include "cli.h"
 
 namespace scl = scan_context_loop;

@@ -5,10 +5,11 @@
 #include <string>
 #include <vector>
 
-#include "scan_context_loop/alignment.h"
-#include "scan_context_loop/descriptor.h"
-#include "scan_context_loop/detector.h"
-#include "scan_context_loop/kitti_io.h"
+#include "scan_context_loop/core/pcl_adapters.h"
+#include "scan_context_loop/core/alignment.h"
+#include "scan_context_loop/core/descriptor.h"
+#include "scan_context_loop/core/detector.h"
+#include "scan_context_loop/eval/kitti_io.h"
 #include "cli.h"
 
 namespace scl = scan_context_loop;

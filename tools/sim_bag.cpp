@@ -6,7 +6,7 @@
 #include <sensor_msgs/PointCloud2.h>
 #include <tf2_eigen/tf2_eigen.h>
 
-#include "scan_context_loop/kitti_io.h"
+#include "scan_context_loop/eval/kitti_io.h"
 
 namespace scan_context_loop {
 namespace sim {

@@ -10,7 +10,7 @@
 #include <vector>
 
 
-#include "scan_context_loop/kitti_io.h"
+#include "scan_context_loop/eval/kitti_io.h"
 #include "scan_context_loop/sim/city_drive.h"
 #include "scan_context_loop/sim/narrow_drive.h"
 #include "scan_context_loop/sim/platform_tilt.h"

@@ -1,4 +1,4 @@
-#include "scan_context_loop/alignment.h"
+#include "scan_context_loop/core/alignment.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "scan_context_loop/coarse_search.h"
+#include "scan_context_loop/core/coarse_search.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,6 +1,6 @@
-#include "scan_context_loop/config.h"
+#include "scan_context_loop/core/config.h"
 
-#include "scan_context_loop/settings.h"
+#include "scan_context_loop/core/settings.h"
 
 #include <cmath>
 #include <sstream>

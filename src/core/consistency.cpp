@@ -1,8 +1,8 @@
-#include "scan_context_loop/consistency.h"
+#include "scan_context_loop/core/consistency.h"
 
 #include <cmath>
 
-#include "scan_context_loop/database.h"
+#include "scan_context_loop/core/database.h"
 
 namespace scan_context_loop {
 

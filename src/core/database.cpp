@@ -1,4 +1,4 @@
-#include "scan_context_loop/database.h"
+#include "scan_context_loop/core/database.h"
 
 #include <algorithm>
 #include <cmath>

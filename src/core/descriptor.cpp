@@ -1,4 +1,4 @@
-#include "scan_context_loop/descriptor.h"
+#include "scan_context_loop/core/descriptor.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,10 +1,11 @@
-#include "scan_context_loop/detector.h"
+#include "scan_context_loop/core/pcl_adapters.h"
+#include "scan_context_loop/core/detector.h"
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 
-#include "scan_context_loop/levelling.h"
+#include "scan_context_loop/core/levelling.h"
 
 namespace scan_context_loop {
 

@@ -1,4 +1,4 @@
-#include "scan_context_loop/free_space.h"
+#include "scan_context_loop/core/free_space.h"
 
 #include <algorithm>
 #include <cmath>

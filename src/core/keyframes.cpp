@@ -1,10 +1,11 @@
-#include "scan_context_loop/keyframes.h"
+#include "scan_context_loop/core/pcl_adapters.h"
+#include "scan_context_loop/core/keyframes.h"
 
 #include <cmath>
 
 #include <pcl/filters/voxel_grid.h>
 
-#include "scan_context_loop/levelling.h"
+#include "scan_context_loop/core/levelling.h"
 
 namespace scan_context_loop {
 

@@ -1,4 +1,5 @@
-#include "scan_context_loop/levelling.h"
+#include "scan_context_loop/core/pcl_adapters.h"
+#include "scan_context_loop/core/levelling.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "scan_context_loop/pcl_refinement.h"
+#include "scan_context_loop/core/pcl_refinement.h"
 
 #include <pcl/registration/gicp.h>
 #include <pcl/registration/icp.h>

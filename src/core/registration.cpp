@@ -1,4 +1,4 @@
-#include "scan_context_loop/registration.h"
+#include "scan_context_loop/core/registration.h"
 
 #include <algorithm>
 #include <cmath>

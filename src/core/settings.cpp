@@ -1,4 +1,4 @@
-#include "scan_context_loop/settings.h"
+#include "scan_context_loop/core/settings.h"
 
 #include <cmath>
 #include <limits>
@@ -78,28 +78,30 @@ Range positive(const char* note = "") { return {0.0, kInf, true, false, note}; }
 template <typename T, typename V>
 using Ref = V& (*)(T&);
 
-template <typename T>
-Setting<T> intSetting(const char* key, Ref<T, int> ref, Range range, const char* doc) {
+/// A number member of type V (int or double), parsed with `parse` and printed with `print`.
+template <typename T, typename V>
+Setting<T> numberSetting(const char* key, SettingType type, Ref<T, V> ref, Range range, const char* doc,
+                         bool (*parse)(const std::string&, V*), std::string (*print)(V)) {
   Setting<T> s;
   s.key = key;
-  s.type = SettingType::kInt;
+  s.type = type;
   s.doc = doc;
-  s.get = [ref](const T& t) { return std::to_string(ref(const_cast<T&>(t))); };
-  s.set = [ref](T* t, const std::string& text) { return parseInt(text, &ref(*t)); };
+  s.get = [ref, print](const T& t) { return print(ref(const_cast<T&>(t))); };
+  s.set = [ref, parse](T* t, const std::string& text) { return parse(text, &ref(*t)); };
   s.check = [ref, range](const T& t) { return range.contains(ref(const_cast<T&>(t))) ? "" : range.rule(); };
   return s;
 }
 
+std::string intText(int v) { return std::to_string(v); }
+
+template <typename T>
+Setting<T> intSetting(const char* key, Ref<T, int> ref, Range range, const char* doc) {
+  return numberSetting<T, int>(key, SettingType::kInt, ref, range, doc, parseInt, intText);
+}
+
 template <typename T>
 Setting<T> doubleSetting(const char* key, Ref<T, double> ref, Range range, const char* doc) {
-  Setting<T> s;
-  s.key = key;
-  s.type = SettingType::kDouble;
-  s.doc = doc;
-  s.get = [ref](const T& t) { return textOf(ref(const_cast<T&>(t))); };
-  s.set = [ref](T* t, const std::string& text) { return parseDouble(text, &ref(*t)); };
-  s.check = [ref, range](const T& t) { return range.contains(ref(const_cast<T&>(t))) ? "" : range.rule(); };
-  return s;
+  return numberSetting<T, double>(key, SettingType::kDouble, ref, range, doc, parseDouble, textOf);
 }
 
 template <typename T>

@@ -1,4 +1,4 @@
-#include "scan_context_loop/verification.h"
+#include "scan_context_loop/core/verification.h"
 
 #include <algorithm>
 #include <chrono>
@@ -8,7 +8,7 @@
 
 #include <Eigen/Eigenvalues>
 
-#include "scan_context_loop/pcl_refinement.h"
+#include "scan_context_loop/core/pcl_refinement.h"
 
 namespace scan_context_loop {
 

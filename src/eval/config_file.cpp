@@ -2,7 +2,7 @@
 
 #include <yaml-cpp/yaml.h>
 
-#include "scan_context_loop/settings.h"
+#include "scan_context_loop/core/settings.h"
 
 namespace scan_context_loop {
 namespace eval {

@@ -4,9 +4,10 @@
 #include <fstream>
 #include <sys/stat.h>
 
-#include "scan_context_loop/alignment.h"
-#include "scan_context_loop/keyframes.h"
-#include "scan_context_loop/kitti_io.h"
+#include "scan_context_loop/core/pcl_adapters.h"
+#include "scan_context_loop/core/alignment.h"
+#include "scan_context_loop/core/keyframes.h"
+#include "scan_context_loop/eval/kitti_io.h"
 
 namespace scan_context_loop {
 namespace eval {
@@ -89,7 +90,7 @@ Evaluation evaluate(const Sequence& s, const Config& config, double revisit_radi
     info.stamp = s.stamps[k];
     info.pose = s.odometry[k];
     info.tag = s.frames[k];
-    const Detection d = pipeline.process(cloud, info);
+    const Detection d = pipeline.process(viewOf(cloud), info);
     if (!d.selected) continue;  // keyframe selection (keyframe_min_distance / keyframe_min_angle)
     if (!d.accepted) {
       e.errors.push_back("frame " + std::to_string(s.frames[k]) + ": " + d.error);

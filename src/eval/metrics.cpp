@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "scan_context_loop/alignment.h"
+#include "scan_context_loop/core/alignment.h"
 
 namespace scan_context_loop {
 namespace eval {

@@ -5,7 +5,7 @@
 
 #include <xmlrpcpp/XmlRpcValue.h>
 
-#include "scan_context_loop/settings.h"
+#include "scan_context_loop/core/settings.h"
 
 namespace scan_context_loop {
 

@@ -8,7 +8,7 @@
 #include <pcl/filters/voxel_grid.h>
 #include <sys/stat.h>
 
-#include "scan_context_loop/kitti_io.h"
+#include "scan_context_loop/eval/kitti_io.h"
 
 namespace scan_context_loop {
 namespace sim {

@@ -3,7 +3,8 @@
 
 #include <gtest/gtest.h>
 
-#include "scan_context_loop/alignment.h"
+#include "scan_context_loop/core/pcl_adapters.h"
+#include "scan_context_loop/core/alignment.h"
 #include "test_scenes.h"
 
 namespace scan_context_loop {

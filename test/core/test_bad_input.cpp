@@ -3,8 +3,9 @@
 
 #include <gtest/gtest.h>
 
-#include "scan_context_loop/detector.h"
-#include "scan_context_loop/settings.h"
+#include "scan_context_loop/core/pcl_adapters.h"
+#include "scan_context_loop/core/detector.h"
+#include "scan_context_loop/core/settings.h"
 #include "test_scenes.h"
 
 namespace scan_context_loop {
@@ -65,14 +66,14 @@ TEST(BadInput, DetectorRejectsOutOfOrderStampsAndKeepsItsDatabase) {
   KeyframeInfo info;
   info.stamp = 5.0;
   const auto scene = test::streetScene(2);
-  ASSERT_TRUE(detector.process(scene, info).accepted);
+  ASSERT_TRUE(detector.process(viewOf(scene), info).accepted);
   info.stamp = 4.0;
-  const Detection late = detector.process(scene, info);
+  const Detection late = detector.process(viewOf(scene), info);
   EXPECT_FALSE(late.accepted);
   EXPECT_FALSE(late.error.empty());
   EXPECT_TRUE(late.query.candidates.empty()) << "a rejected keyframe is not even queried";
   info.stamp = 6.0;
-  const Detection next = detector.process(scene, info);
+  const Detection next = detector.process(viewOf(scene), info);
   EXPECT_TRUE(next.accepted);
   EXPECT_EQ(next.index, 1u);
   EXPECT_TRUE(next.query.matched);

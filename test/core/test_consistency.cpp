@@ -3,9 +3,10 @@
 
 #include <gtest/gtest.h>
 
-#include "scan_context_loop/consistency.h"
-#include "scan_context_loop/database.h"
-#include "scan_context_loop/detector.h"
+#include "scan_context_loop/core/pcl_adapters.h"
+#include "scan_context_loop/core/consistency.h"
+#include "scan_context_loop/core/database.h"
+#include "scan_context_loop/core/detector.h"
 #include "test_scenes.h"
 
 namespace scan_context_loop {
@@ -42,6 +43,19 @@ struct Drive {
   }
   Config config;
   Database database;
+};
+
+/// Feeds loops to a ConsistencyFilter one keyframe at a time; `confirmed` holds the last step's output.
+struct Stepper {
+  explicit Stepper(const Drive& d) : drive(d), filter(d.config) {}
+  void operator()(const Loop& loop) {
+    confirmed.clear();
+    filter.advance(loop.query, &dropped);
+    filter.offer(loop, drive.database, &confirmed);
+  }
+  const Drive& drive;
+  ConsistencyFilter filter;
+  std::vector<Loop> confirmed, dropped;
 };
 
 Config checked() {
@@ -88,13 +102,10 @@ TEST(Consistency, KeyframesWithoutPosesNeverAgree) {
 
 TEST(Consistency, FilterReportsARunOfAgreeingLoopsFromItsSecondLoopOnAndDropsALoneWrongOne) {
   Drive drive(checked());
-  ConsistencyFilter filter(drive.config);
-  std::vector<Loop> confirmed, dropped;
-  const auto step = [&](const Loop& loop) {
-    confirmed.clear();
-    filter.advance(loop.query, &dropped);
-    filter.offer(loop, drive.database, &confirmed);
-  };
+  Stepper step(drive);
+  ConsistencyFilter& filter = step.filter;
+  std::vector<Loop>& confirmed = step.confirmed;
+  std::vector<Loop>& dropped = step.dropped;
   step(Drive::loop(40, 2));  // a true loop: waits for support
   EXPECT_TRUE(confirmed.empty());
   EXPECT_EQ(filter.waiting(), 1u);
@@ -134,13 +145,10 @@ Loop needingSupport(const Loop& loop) {
 
 TEST(Consistency, ALoopThatNeedsSupportIsConfirmedOnlyByAConfirmedFullLoopThatAgreesStrictly) {
   Drive drive(checked());
-  ConsistencyFilter filter(drive.config);
-  std::vector<Loop> confirmed, dropped;
-  const auto step = [&](const Loop& loop) {
-    confirmed.clear();
-    filter.advance(loop.query, &dropped);
-    filter.offer(loop, drive.database, &confirmed);
-  };
+  Stepper step(drive);
+  ConsistencyFilter& filter = step.filter;
+  std::vector<Loop>& confirmed = step.confirmed;
+  std::vector<Loop>& dropped = step.dropped;
   // Two loops that need support agree with each other, yet neither confirms the other.
   step(needingSupport(Drive::loop(40, 2)));
   step(needingSupport(Drive::loop(41, 3)));
@@ -183,9 +191,9 @@ TEST(Consistency, WithoutVerificationDescriptorMatchesAreReportedAtOnce) {
   LoopDetector detector(c);
   KeyframeInfo info;
   info.pose = Eigen::Isometry3d::Identity();
-  detector.process(test::streetScene(9), info);
+  detector.process(viewOf(test::streetScene(9)), info);
   info.stamp = 1.0;
-  const Detection d = detector.process(test::streetScene(9), info);
+  const Detection d = detector.process(viewOf(test::streetScene(9)), info);
   ASSERT_EQ(d.loops.size(), 1u);
   EXPECT_EQ(d.loops[0].query, 1u);
   EXPECT_FALSE(d.loops[0].verified);
@@ -203,7 +211,7 @@ TEST(Consistency, VerifiedLoopWaitsForASecondOneThroughTheDetector) {
     info.pose = pose;
     info.stamp += 1.0;
     // Each scene seen from the keyframe's own position (the street moves by -x in the sensor frame).
-    return detector.process(test::rotateTranslate(test::streetScene(scene), 0.0, 0.0, 0.0), info);
+    return detector.process(viewOf(test::rotateTranslate(test::streetScene(scene), 0.0, 0.0, 0.0)), info);
   };
   feed(21, 0.0);
   feed(22, 30.0);

@@ -5,8 +5,9 @@
 
 #include <gtest/gtest.h>
 
-#include "scan_context_loop/database.h"
-#include "scan_context_loop/detector.h"
+#include "scan_context_loop/core/pcl_adapters.h"
+#include "scan_context_loop/core/database.h"
+#include "scan_context_loop/core/detector.h"
 #include "test_scenes.h"
 
 namespace scan_context_loop {
@@ -205,13 +206,13 @@ TEST(Database, EmptyDescriptorNeverMatchesAndMemoryStaysInBudget) {
   config.exclude_recent_frames = 0;
   LoopDetector detector(config);
   const auto scene = test::streetScene(9);
-  ASSERT_TRUE(detector.process(scene, at(0)).accepted);
-  const Detection empty = detector.process(pcl::PointCloud<pcl::PointXYZ>(), at(1));
+  ASSERT_TRUE(detector.process(viewOf(scene), at(0)).accepted);
+  const Detection empty = detector.process(viewOf(pcl::PointCloud<pcl::PointXYZ>()), at(1));
   EXPECT_TRUE(empty.accepted);
   EXPECT_FALSE(empty.query.matched);
   EXPECT_TRUE(empty.query.candidates.empty());
   // The same scene again matches keyframe 0, never the empty keyframe 1.
-  const Detection again = detector.process(scene, at(2));
+  const Detection again = detector.process(viewOf(scene), at(2));
   ASSERT_TRUE(again.query.matched);
   EXPECT_EQ(again.query.best()->index, 0u);
   EXPECT_NEAR(again.query.best()->alignment.distance, 0.0, 1e-5);

@@ -2,7 +2,8 @@
 
 #include <gtest/gtest.h>
 
-#include "scan_context_loop/descriptor.h"
+#include "scan_context_loop/core/pcl_adapters.h"
+#include "scan_context_loop/core/descriptor.h"
 #include "test_scenes.h"
 
 namespace scan_context_loop {

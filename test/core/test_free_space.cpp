@@ -4,8 +4,9 @@
 #include <gtest/gtest.h>
 #include <pcl/point_types.h>
 
-#include "scan_context_loop/free_space.h"
-#include "scan_context_loop/verification.h"
+#include "scan_context_loop/core/pcl_adapters.h"
+#include "scan_context_loop/core/free_space.h"
+#include "scan_context_loop/core/verification.h"
 
 namespace scan_context_loop {
 namespace {

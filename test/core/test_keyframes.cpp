@@ -4,7 +4,8 @@
 #include <gtest/gtest.h>
 #include <pcl/common/transforms.h>
 
-#include "scan_context_loop/keyframes.h"
+#include "scan_context_loop/core/pcl_adapters.h"
+#include "scan_context_loop/core/keyframes.h"
 #include "test_scenes.h"
 
 namespace scan_context_loop {
@@ -34,9 +35,11 @@ TEST(KeyframePipeline, SelectsByDistanceOrYawSinceTheLastKeyframe) {
                {1.4, 15.0, false}};
   double stamp = 0.0;
   for (const auto& s : steps) {
-    const Detection d = pipeline.process(scene, at(s.x, s.yaw, stamp += 1.0));
+    const Detection d = pipeline.process(viewOf(scene), at(s.x, s.yaw, stamp += 1.0));
     EXPECT_EQ(d.selected, s.selected) << "x " << s.x << ", yaw " << s.yaw;
-    if (d.selected) EXPECT_TRUE(d.accepted) << d.error;
+    if (d.selected) {
+      EXPECT_TRUE(d.accepted) << d.error;
+    }
   }
   EXPECT_EQ(pipeline.detector().database().size(), 3u);
 }
@@ -50,8 +53,8 @@ TEST(KeyframePipeline, RegisteredCloudsDescribeLikeSensorFrameClouds) {
   const KeyframeInfo info = at(40.0, 30.0, 1.0);
   pcl::PointCloud<pcl::PointXYZ> registered;
   pcl::transformPointCloud(scene, registered, info.pose->matrix().cast<float>());
-  ASSERT_TRUE(a.process(scene, info).accepted);
-  ASSERT_TRUE(b.process(registered, info).accepted);
+  ASSERT_TRUE(a.process(viewOf(scene), info).accepted);
+  ASSERT_TRUE(b.process(viewOf(registered), info).accepted);
   const Descriptor& da = a.detector().database().keyframe(0).descriptor;
   const Descriptor& db = b.detector().database().keyframe(0).descriptor;
   ASSERT_EQ(da.ring_key.size(), db.ring_key.size());
@@ -61,7 +64,7 @@ TEST(KeyframePipeline, RegisteredCloudsDescribeLikeSensorFrameClouds) {
   // Without its pose a registered cloud cannot be brought back: refused, nothing added.
   KeyframeInfo no_pose;
   no_pose.stamp = 2.0;
-  const Detection refused = b.process(registered, no_pose);
+  const Detection refused = b.process(viewOf(registered), no_pose);
   EXPECT_FALSE(refused.accepted);
   EXPECT_NE(refused.error.find("cloud_in_world_frame"), std::string::npos) << refused.error;
   EXPECT_EQ(b.detector().database().size(), 1u);
@@ -72,8 +75,8 @@ TEST(KeyframePipeline, VoxelFilterThinsTheCloudBeforeDescribing) {
   filtered.voxel_leaf = 1.0;
   KeyframePipeline a(plain), b(filtered);
   const auto scene = test::streetScene(5);
-  const Detection da = a.process(scene, at(0.0, 0.0, 1.0));
-  const Detection db = b.process(scene, at(0.0, 0.0, 1.0));
+  const Detection da = a.process(viewOf(scene), at(0.0, 0.0, 1.0));
+  const Detection db = b.process(viewOf(scene), at(0.0, 0.0, 1.0));
   ASSERT_TRUE(da.accepted && db.accepted);
   EXPECT_LT(db.points_used, da.points_used / 2) << da.points_used << " -> " << db.points_used;
   EXPECT_GT(db.points_used, 0u);

@@ -8,8 +8,9 @@
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
 
-#include "scan_context_loop/alignment.h"
-#include "scan_context_loop/levelling.h"
+#include "scan_context_loop/core/pcl_adapters.h"
+#include "scan_context_loop/core/alignment.h"
+#include "scan_context_loop/core/levelling.h"
 #include "test_scenes.h"
 
 namespace scan_context_loop {

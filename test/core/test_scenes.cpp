@@ -7,7 +7,7 @@
 
 #include <gtest/gtest.h>
 
-#include "scan_context_loop/kitti_io.h"
+#include "scan_context_loop/eval/kitti_io.h"
 
 namespace scan_context_loop {
 namespace test {

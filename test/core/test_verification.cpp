@@ -6,9 +6,10 @@
 #include <pcl/common/transforms.h>
 #include <pcl/io/pcd_io.h>
 
-#include "scan_context_loop/alignment.h"
-#include "scan_context_loop/detector.h"
-#include "scan_context_loop/verification.h"
+#include "scan_context_loop/core/pcl_adapters.h"
+#include "scan_context_loop/core/alignment.h"
+#include "scan_context_loop/core/detector.h"
+#include "scan_context_loop/core/verification.h"
 #include "test_scenes.h"
 
 namespace scan_context_loop {
@@ -304,7 +305,7 @@ TEST(VerifiedDetection, RealPairsThroughTheDetector) {
   KeyframeInfo info;
   const auto feed = [&](const std::string& sequence, int frame) {
     info.stamp += 1.0;
-    return detector.process(test::kittiScan(sequence, frame), info);
+    return detector.process(viewOf(test::kittiScan(sequence, frame)), info);
   };
   ASSERT_TRUE(feed("08", 720).accepted);
   ASSERT_TRUE(feed("00", 94).accepted);

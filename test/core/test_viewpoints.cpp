@@ -4,8 +4,9 @@
 
 #include <gtest/gtest.h>
 
-#include "scan_context_loop/alignment.h"
-#include "scan_context_loop/detector.h"
+#include "scan_context_loop/core/pcl_adapters.h"
+#include "scan_context_loop/core/alignment.h"
+#include "scan_context_loop/core/detector.h"
 #include "test_scenes.h"
 
 namespace scan_context_loop {
@@ -53,9 +54,9 @@ struct LaneChange {
     LoopDetector detector(config);
     KeyframeInfo info;
     info.stamp = 0.0;
-    detector.process(first, info);
+    detector.process(viewOf(first), info);
     info.stamp = 1.0;
-    return detector.process(again, info);
+    return detector.process(viewOf(again), info);
   }
 };
 

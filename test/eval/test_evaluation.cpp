@@ -7,7 +7,7 @@
 
 #include "scan_context_loop/eval/config_file.h"
 #include "scan_context_loop/eval/evaluation.h"
-#include "scan_context_loop/settings.h"
+#include "scan_context_loop/core/settings.h"
 #include "scan_context_loop/sim/sequence_writer.h"
 #include "scan_context_loop/sim/trajectory.h"
 #include "../common/sim_drive.h"

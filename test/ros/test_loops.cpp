@@ -5,8 +5,8 @@
 #include <tf2_eigen/tf2_eigen.h>
 
 #include "harness.h"
-#include "scan_context_loop/alignment.h"
-#include "scan_context_loop/config.h"
+#include "scan_context_loop/core/alignment.h"
+#include "scan_context_loop/core/config.h"
 
 namespace scan_context_loop {
 namespace test {

@@ -7,7 +7,7 @@
 #include <ros/ros.h>
 
 #include "scan_context_loop/ros/parameters.h"
-#include "scan_context_loop/settings.h"
+#include "scan_context_loop/core/settings.h"
 
 namespace scan_context_loop {
 namespace {

@@ -11,7 +11,7 @@
 
 #include "harness.h"
 #include "scan_context_loop/eval/evaluation.h"
-#include "scan_context_loop/kitti_io.h"
+#include "scan_context_loop/eval/kitti_io.h"
 #include "scan_context_loop/ros/parameters.h"
 
 namespace scan_context_loop {

@@ -6,7 +6,7 @@
 
 
 #include "harness.h"
-#include "scan_context_loop/alignment.h"
+#include "scan_context_loop/core/alignment.h"
 
 namespace scan_context_loop {
 namespace test {

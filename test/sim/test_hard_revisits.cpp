@@ -5,7 +5,8 @@
 
 #include <gtest/gtest.h>
 
-#include "scan_context_loop/detector.h"
+#include "scan_context_loop/core/pcl_adapters.h"
+#include "scan_context_loop/core/detector.h"
 #include "scan_context_loop/sim/sensor.h"
 #include "scan_context_loop/sim/trajectory.h"
 #include "scan_context_loop/sim/world.h"
@@ -56,10 +57,10 @@ Detection detect(const Street& s, const Eigen::Isometry3d& match, double match_t
   KeyframeInfo info;
   info.stamp = match_time;
   info.pose = match;
-  EXPECT_TRUE(detector.process(scan(s.world, s.sensor, match, match_time, 1), info).accepted);
+  EXPECT_TRUE(detector.process(viewOf(scan(s.world, s.sensor, match, match_time, 1)), info).accepted);
   info.stamp = query_time;
   info.pose = query;
-  return detector.process(scan(s.world, s.sensor, query, query_time, 2), info);
+  return detector.process(viewOf(scan(s.world, s.sensor, query, query_time, 2)), info);
 }
 
 void expectTrueLoop(const Detection& d, const Eigen::Isometry3d& truth, const char* what) {

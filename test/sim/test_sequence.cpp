@@ -6,8 +6,9 @@
 
 #include <gtest/gtest.h>
 
-#include "scan_context_loop/alignment.h"
-#include "scan_context_loop/kitti_io.h"
+#include "scan_context_loop/core/pcl_adapters.h"
+#include "scan_context_loop/core/alignment.h"
+#include "scan_context_loop/eval/kitti_io.h"
 #include "scan_context_loop/sim/sequence_writer.h"
 #include "scan_context_loop/sim/trajectory.h"
 

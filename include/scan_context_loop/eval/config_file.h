@@ -4,7 +4,7 @@
 #include <string>
 #include <vector>
 
-#include "scan_context_loop/config.h"
+#include "scan_context_loop/core/config.h"
 
 namespace scan_context_loop {
 namespace eval {

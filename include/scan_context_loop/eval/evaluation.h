@@ -6,10 +6,10 @@
 
 #include <Eigen/Geometry>
 
-#include "scan_context_loop/config.h"
-#include "scan_context_loop/consistency.h"
+#include "scan_context_loop/core/config.h"
+#include "scan_context_loop/core/consistency.h"
 #include "scan_context_loop/eval/metrics.h"
-#include "scan_context_loop/verification.h"
+#include "scan_context_loop/core/verification.h"
 
 namespace scan_context_loop {
 namespace eval {

@@ -5,7 +5,7 @@
 
 #include <sensor_msgs/PointCloud2.h>
 
-#include "scan_context_loop/descriptor.h"
+#include "scan_context_loop/core/descriptor.h"
 
 namespace scan_context_loop {
 

@@ -22,7 +22,7 @@
 #include <tf2_ros/buffer.h>
 #include <tf2_ros/transform_listener.h>
 
-#include "scan_context_loop/keyframes.h"
+#include "scan_context_loop/core/keyframes.h"
 #include "scan_context_loop/LoopClosure.h"
 #include "scan_context_loop/ros/parameters.h"
 

@@ -10,7 +10,7 @@
 
 #include <Eigen/Geometry>
 
-#include "scan_context_loop/registration.h"
+#include "scan_context_loop/core/registration.h"
 
 namespace scan_context_loop {
 

@@ -6,10 +6,10 @@
 #include <string>
 #include <vector>
 
-#include "scan_context_loop/consistency.h"
-#include "scan_context_loop/database.h"
-#include "scan_context_loop/descriptor.h"
-#include "scan_context_loop/verification.h"
+#include "scan_context_loop/core/consistency.h"
+#include "scan_context_loop/core/database.h"
+#include "scan_context_loop/core/descriptor.h"
+#include "scan_context_loop/core/verification.h"
 
 namespace scan_context_loop {
 
@@ -64,11 +64,6 @@ class LoopDetector {
         verification_(config.verification), verifier_(verification_), consistency_(config) {}
 
   Detection process(const PointView& points, const KeyframeInfo& info);
-
-  template <typename PointT>
-  Detection process(const pcl::PointCloud<PointT>& cloud, const KeyframeInfo& info) {
-    return process(viewOf(cloud), info);
-  }
 
   const Database& database() const { return database_; }
   const Config& config() const { return database_.config(); }

@@ -1,4 +1,4 @@
-#include "scan_context_loop/kitti_io.h"
+#include "scan_context_loop/eval/kitti_io.h"
 
 #include <cmath>
 #include <cstdio>

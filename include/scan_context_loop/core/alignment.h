@@ -3,8 +3,8 @@
 
 #include <vector>
 
-#include "scan_context_loop/config.h"
-#include "scan_context_loop/descriptor.h"
+#include "scan_context_loop/core/config.h"
+#include "scan_context_loop/core/descriptor.h"
 
 namespace scan_context_loop {
 

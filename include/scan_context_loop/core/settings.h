@@ -7,8 +7,8 @@
 #include <string>
 #include <vector>
 
-#include "scan_context_loop/config.h"
-#include "scan_context_loop/node_options.h"
+#include "scan_context_loop/core/config.h"
+#include "scan_context_loop/core/node_options.h"
 
 namespace scan_context_loop {
 

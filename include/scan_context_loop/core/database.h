@@ -11,9 +11,9 @@
 
 #include <Eigen/Geometry>
 
-#include "scan_context_loop/alignment.h"
-#include "scan_context_loop/config.h"
-#include "scan_context_loop/descriptor.h"
+#include "scan_context_loop/core/alignment.h"
+#include "scan_context_loop/core/config.h"
+#include "scan_context_loop/core/descriptor.h"
 
 namespace scan_context_loop {
 

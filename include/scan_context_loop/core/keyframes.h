@@ -5,11 +5,9 @@
 #pragma once
 
 #include <Eigen/Geometry>
-#include <pcl/point_cloud.h>
-#include <pcl/point_types.h>
 
-#include "scan_context_loop/config.h"
-#include "scan_context_loop/detector.h"
+#include "scan_context_loop/core/config.h"
+#include "scan_context_loop/core/detector.h"
 
 namespace scan_context_loop {
 
@@ -28,11 +26,6 @@ class KeyframePipeline {
   /// Processes one keyframe cloud with its info (a registered cloud needs info.pose). A keyframe that
   /// keyframe selection passes over comes back with `selected` false and nothing else changed.
   Detection process(const PointView& cloud, const KeyframeInfo& info);
-
-  template <typename PointT>
-  Detection process(const pcl::PointCloud<PointT>& cloud, const KeyframeInfo& info) {
-    return process(viewOf(cloud), info);
-  }
 
   const LoopDetector& detector() const { return detector_; }
   const Config& config() const { return detector_.config(); }

@@ -15,10 +15,8 @@
 #include <string>
 
 #include <Eigen/Core>
-#include <pcl/point_cloud.h>
-#include <pcl/point_types.h>
 
-#include "scan_context_loop/descriptor.h"
+#include "scan_context_loop/core/descriptor.h"
 
 namespace scan_context_loop {
 
@@ -105,9 +103,5 @@ struct GroundFit {
 bool levellingFromGround(const PointView& points, const GroundFitOptions& options, Eigen::Matrix3d* L_R_sensor,
                          GroundFit* fit);
 
-/// The finite points of `points`, each rotated by R (NaN/Inf points are dropped).
-pcl::PointCloud<pcl::PointXYZ> rotatedCloud(const PointView& points, const Eigen::Matrix3f& R);
-/// The finite points of `points`, each moved by `transform` (NaN/Inf points are dropped).
-pcl::PointCloud<pcl::PointXYZ> transformedCloud(const PointView& points, const Eigen::Affine3f& transform);
 
 }  // namespace scan_context_loop

@@ -10,10 +10,10 @@
 
 #include <Eigen/Geometry>
 
-#include "scan_context_loop/coarse_search.h"
-#include "scan_context_loop/descriptor.h"
-#include "scan_context_loop/free_space.h"
-#include "scan_context_loop/registration.h"
+#include "scan_context_loop/core/coarse_search.h"
+#include "scan_context_loop/core/descriptor.h"
+#include "scan_context_loop/core/free_space.h"
+#include "scan_context_loop/core/registration.h"
 
 namespace scan_context_loop {
 

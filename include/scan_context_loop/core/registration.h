@@ -14,7 +14,7 @@
 
 #include <Eigen/Geometry>
 
-#include "scan_context_loop/descriptor.h"
+#include "scan_context_loop/core/descriptor.h"
 
 namespace scan_context_loop {
 

@@ -8,9 +8,9 @@
 
 #include <Eigen/Geometry>
 
-#include "scan_context_loop/alignment.h"
-#include "scan_context_loop/config.h"
-#include "scan_context_loop/verification.h"
+#include "scan_context_loop/core/alignment.h"
+#include "scan_context_loop/core/config.h"
+#include "scan_context_loop/core/verification.h"
 
 namespace scan_context_loop {
 

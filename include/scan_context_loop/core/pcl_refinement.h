@@ -4,8 +4,8 @@
 
 #include <Eigen/Geometry>
 
-#include "scan_context_loop/registration.h"
-#include "scan_context_loop/verification.h"
+#include "scan_context_loop/core/registration.h"
+#include "scan_context_loop/core/verification.h"
 
 namespace scan_context_loop {
 

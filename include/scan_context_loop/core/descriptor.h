@@ -7,13 +7,12 @@
 #include <vector>
 
 #include <Eigen/Core>
-#include <pcl/point_cloud.h>
 
-#include "scan_context_loop/config.h"
+#include "scan_context_loop/core/config.h"
 
 namespace scan_context_loop {
 
-/// A read-only view of points stored with a fixed stride, x, y and z as float32 at given byte offsets.
+/// A read-only view of points stored with a fixed stride (pcl_adapters.h makes one of a PCL cloud), x, y and z as float32 at given byte offsets.
 /// Works on PCL clouds, raw sensor_msgs/PointCloud2 data and KITTI .bin buffers without copying.
 struct PointView {
   const std::uint8_t* data = nullptr;
@@ -23,22 +22,6 @@ struct PointView {
   std::size_t offset_y = 4;
   std::size_t offset_z = 8;
 };
-
-/// A view of any PCL cloud whose point type has float x, y, z members.
-template <typename PointT>
-PointView viewOf(const pcl::PointCloud<PointT>& cloud) {
-  PointView view;
-  if (cloud.empty()) return view;
-  const auto* base = reinterpret_cast<const std::uint8_t*>(cloud.points.data());
-  const auto* first = &cloud.points.front();
-  view.data = base;
-  view.count = cloud.size();
-  view.stride = sizeof(PointT);
-  view.offset_x = reinterpret_cast<const std::uint8_t*>(&first->x) - base;
-  view.offset_y = reinterpret_cast<const std::uint8_t*>(&first->y) - base;
-  view.offset_z = reinterpret_cast<const std::uint8_t*>(&first->z) - base;
-  return view;
-}
 
 /// The raw polar grid. heights(r, s) is the maximum of z + lidar_height over the points in ring r,
 /// sector s, or 0 when the bin holds no point; occupied(r, s) says whether it holds any, so a bin whose
@@ -60,12 +43,6 @@ struct HeightGrid {
 /// detector uses it to search for revisits a lane or two to the side (Config::lateral_offset_step).
 HeightGrid makeHeightGrid(const PointView& points, const Config& config,
                           const Eigen::Vector2f& viewpoint = Eigen::Vector2f::Zero());
-
-template <typename PointT>
-HeightGrid makeHeightGrid(const pcl::PointCloud<PointT>& cloud, const Config& config,
-                          const Eigen::Vector2f& viewpoint = Eigen::Vector2f::Zero()) {
-  return makeHeightGrid(viewOf(cloud), config, viewpoint);
-}
 
 /// What the distance and the database need, in float, about 5 KB at 20 x 60.
 struct Descriptor {
@@ -92,10 +69,5 @@ Descriptor makeDescriptor(const HeightGrid& grid, const Config& config);
 Descriptor makeDescriptor(const PointView& points, const Config& config,
                           const Eigen::Vector2f& viewpoint = Eigen::Vector2f::Zero());
 
-template <typename PointT>
-Descriptor makeDescriptor(const pcl::PointCloud<PointT>& cloud, const Config& config,
-                          const Eigen::Vector2f& viewpoint = Eigen::Vector2f::Zero()) {
-  return makeDescriptor(viewOf(cloud), config, viewpoint);
-}
 
 }  // namespace scan_context_loop
