@@ -58,3 +58,8 @@ if(CATKIN_ENABLE_TESTING)
   target_link_libraries(test_ros_same_loops scan_context_loop_ros_harness scan_context_loop_nodelet scan_context_loop_eval)
   add_dependencies(test_ros_same_loops loop_closure_node scan_context_loop_nodelet)
 endif()
+
+if(CATKIN_ENABLE_TESTING)
+  catkin_add_gtest(test_ros_markers test/test_main.cpp test/ros/test_markers.cpp)
+  target_link_libraries(test_ros_markers scan_context_loop_nodelet)
+endif()

@@ -260,6 +260,8 @@ std::vector<Setting<NodeOptions>> makeNodeSettings() {
       intSetting<O>("sync_queue_size", N(sync_queue_size), closed(1, 10000), "message_filters queue per input"),
       intSetting<O>("queue_size", N(queue_size), closed(1, 100000), "keyframes waiting for the worker"),
       boolSetting<O>("lio_sam_output", N(lio_sam_output), "also publish LIO-SAM's loop message"),
+      doubleSetting<O>("lio_sam_min_interval", N(lio_sam_min_interval), atLeast(0),
+                       "lio_loop: at most one message per this many seconds"),
       doubleSetting<O>("unsynchronised_warning", N(unsynchronised_warning), positive(),
                        "warn when clouds come without poses this long [s]"),
   };

@@ -47,7 +47,17 @@ bool LoopClosureRos::start() {
 
   loop_pub_ = nh_.advertise<scan_context_loop::LoopClosure>("loop_closures", 100);
   if (config_.verification.enabled) rejected_pub_ = nh_.advertise<scan_context_loop::LoopClosure>("loop_candidates_rejected", 100);
-  marker_pub_ = nh_.advertise<visualization_msgs::MarkerArray>("loop_markers", 1, true);
+  // Markers go out incrementally; a new subscriber (RViz opened late) gets every marker once.
+  marker_pub_ = nh_.advertise<visualization_msgs::MarkerArray>(
+      "loop_markers", 1,
+      [this](const ros::SingleSubscriberPublisher&) {
+        {
+          std::lock_guard<std::mutex> lock(queue_mutex_);
+          redraw_markers_ = true;
+        }
+        queue_cv_.notify_all();
+      },
+      ros::SubscriberStatusCallback(), ros::VoidConstPtr(), true);
   if (options_.lio_sam_output) lio_pub_ = nh_.advertise<std_msgs::Float64MultiArray>("lio_loop", 100);
 
   if (options_.pose_source == "tf") {
@@ -143,15 +153,24 @@ void LoopClosureRos::checkSynchronisation(const ros::WallTimerEvent&) {
 void LoopClosureRos::work() {
   while (true) {
     Item item;
+    bool have_item = false, redraw = false;
     {
       std::unique_lock<std::mutex> lock(queue_mutex_);
-      queue_cv_.wait(lock, [this] { return stop_ || !queue_.empty(); });
+      queue_cv_.wait(lock, [this] { return stop_ || !queue_.empty() || redraw_markers_; });
       if (stop_) return;
-      item = std::move(queue_.front());
-      queue_.pop_front();
-      queue_length_ = queue_.size();
+      std::swap(redraw, redraw_markers_);
+      if (!queue_.empty()) {
+        item = std::move(queue_.front());
+        queue_.pop_front();
+        queue_length_ = queue_.size();
+        have_item = true;
+      }
     }
-    process(std::move(item));
+    if (redraw && !positions_.empty()) {
+      markers_shown_ = MarkerState();
+      publishMarkers(marker_frame_);
+    }
+    if (have_item) process(std::move(item));
   }
 }
 
@@ -209,6 +228,7 @@ void LoopClosureRos::process(Item item) {
   last_query_ms_ = (detection.descriptor_seconds + detection.query_seconds) * 1e3;
   loops_waiting_ = pipeline_->detector().consistency().waiting();
   publishLoops(detection, item.pose_frame);
+  marker_frame_ = item.pose_frame;
   if (marker_pub_.getNumSubscribers() > 0) publishMarkers(item.pose_frame);
 }
 
@@ -268,22 +288,42 @@ void LoopClosureRos::publishLoops(const Detection& detection, const std::string&
     ++loops_found_;
     edges_.push_back({loop.query_id, loop.match_id, loop.distance});
     loop_pub_.publish(loop);
-    ROS_DEBUG_NAMED(name_, "loop %u -> %u, distance %.3f, yaw %.1f deg%s", loop.query_id, loop.match_id,
-                    loop.distance, loop.yaw * 180.0 / M_PI, loop.verified ? ", verified" : "");
-    if (options_.lio_sam_output) {
-      std_msgs::Float64MultiArray hook;
-      hook.data = {loop.query_stamp.toSec(), loop.match_stamp.toSec()};
-      lio_pub_.publish(hook);
+    const double apart = (positions_[found.query] - positions_[found.match]).norm();
+    if (loop.verified) {
+      ROS_INFO_THROTTLE_NAMED(1.0, name_,
+                              "loop %u -> %u: %.1f m apart by odometry, yaw %.1f deg, distance %.3f, verified "
+                              "(fitness %.4f m^2, support %u)",
+                              loop.query_id, loop.match_id, apart, loop.yaw * 180.0 / M_PI, loop.distance,
+                              loop.fitness, loop.support);
+    } else {
+      ROS_INFO_THROTTLE_NAMED(1.0, name_, "loop %u -> %u: %.1f m apart by odometry, yaw %.1f deg, distance %.3f",
+                              loop.query_id, loop.match_id, apart, loop.yaw * 180.0 / M_PI, loop.distance);
     }
+    if (options_.lio_sam_output) sendToLioSam(loop);
   }
 }
 
+void LoopClosureRos::sendToLioSam(const scan_context_loop::LoopClosure& loop) {
+  // LIO-SAM reads its loop hook one message at a time, once per loop-closure cycle (1 Hz by default):
+  // send only verified loops (all when verification is off), one per keyframe, at most one per
+  // lio_sam_min_interval; the rest are skipped and counted.
+  const ros::Time now = ros::Time::now();
+  const bool due = lio_last_sent_.isZero() || (now - lio_last_sent_).toSec() >= options_.lio_sam_min_interval;
+  if ((config_.verification.enabled && !loop.verified) || loop.query_id == lio_last_query_ || !due) {
+    ++lio_skipped_;
+    return;
+  }
+  std_msgs::Float64MultiArray hook;
+  hook.data = {loop.query_stamp.toSec(), loop.match_stamp.toSec()};
+  lio_pub_.publish(hook);
+  lio_last_sent_ = now;
+  lio_last_query_ = loop.query_id;
+}
+
 void LoopClosureRos::publishMarkers(const std::string& frame) {
-  std::vector<LoopEdge> edges, rejected;
-  for (const auto& e : edges_) edges.push_back({e.query, e.match, e.distance});
-  for (const auto& e : rejected_edges_) rejected.push_back({e.query, e.match, e.distance});
-  marker_pub_.publish(
-      makeLoopMarkers(positions_, edges, rejected, frame, stamps_.back(), config_.distance_threshold));
+  const auto update = makeLoopMarkers(positions_, edges_, rejected_edges_, frame, stamps_.back(),
+                                      config_.distance_threshold, &markers_shown_);
+  if (!update.markers.empty()) marker_pub_.publish(update);
 }
 
 void LoopClosureRos::diagnose(diagnostic_updater::DiagnosticStatusWrapper& status) {
@@ -300,6 +340,7 @@ void LoopClosureRos::diagnose(diagnostic_updater::DiagnosticStatusWrapper& statu
   status.add("verified loops waiting for support", loops_waiting_.load());
   status.add("keyframes dropped", dropped);
   status.add("keyframes rejected", rejected_.load());
+  if (options_.lio_sam_output) status.add("loops not sent to LIO-SAM (not verified, repeated or too soon)", lio_skipped_.load());
 }
 
 }  // namespace scan_context_loop

@@ -37,66 +37,100 @@ visualization_msgs::Marker base(const std::string& frame, const ros::Time& stamp
   return m;
 }
 
+/// The first chunk that changed when `published` items of a list were already out: the chunk of the
+/// last published item (it may have grown, and a strip's chunk ends on the next chunk's first point).
+std::size_t firstChangedChunk(std::size_t published) {
+  return published == 0 ? 0 : (published - 1) / kMarkerChunk;
+}
+
+void addKeyframeChunk(const std::vector<Eigen::Vector3d>& positions, std::size_t chunk, const std::string& frame,
+                      const ros::Time& stamp, visualization_msgs::MarkerArray* array) {
+  const std::size_t begin = chunk * kMarkerChunk, end = std::min(positions.size(), begin + kMarkerChunk);
+  auto keyframes = base(frame, stamp, "keyframes", static_cast<int>(chunk), visualization_msgs::Marker::SPHERE_LIST);
+  keyframes.scale.x = keyframes.scale.y = keyframes.scale.z = 0.6;
+  keyframes.color = colour(0.2f, 0.5f, 1.0f);
+  auto trajectory = base(frame, stamp, "trajectory", static_cast<int>(chunk), visualization_msgs::Marker::LINE_STRIP);
+  trajectory.scale.x = 0.25;
+  trajectory.color = colour(0.8f, 0.8f, 0.8f);
+  for (std::size_t k = begin; k < end; ++k) keyframes.points.push_back(point(positions[k]));
+  // The strip runs on to the next chunk's first keyframe, so the chunks join.
+  for (std::size_t k = begin; k < std::min(positions.size(), end + 1); ++k) trajectory.points.push_back(point(positions[k]));
+  array->markers.push_back(keyframes);
+  if (trajectory.points.size() >= 2) array->markers.push_back(trajectory);
+}
+
+void addLoop(const std::vector<Eigen::Vector3d>& positions, const LoopEdge& loop, std::size_t index,
+             const std::string& frame, const ros::Time& stamp, double threshold,
+             visualization_msgs::MarkerArray* array) {
+  const int id = static_cast<int>(index);
+  const float t = static_cast<float>(std::min(1.0, std::max(0.0, loop.distance / threshold)));
+  const auto c = colour(t, 1.0f - t, 0.0f);
+  auto edge = base(frame, stamp, "loops", id, visualization_msgs::Marker::LINE_LIST);
+  edge.scale.x = 0.8;
+  edge.color = c;
+  // Both ends, large enough to see a revisit on a city-scale map from above.
+  auto ends = base(frame, stamp, "loop_ends", id, visualization_msgs::Marker::SPHERE_LIST);
+  ends.scale.x = ends.scale.y = ends.scale.z = 2.5;
+  ends.color = c;
+  for (std::size_t end : {loop.query, loop.match}) {
+    edge.points.push_back(point(positions[end]));
+    ends.points.push_back(point(positions[end]));
+  }
+  auto label = base(frame, stamp, "labels", id, visualization_msgs::Marker::TEXT_VIEW_FACING);
+  label.pose.position = point(positions[loop.query] + Eigen::Vector3d(0.0, 0.0, 3.5));
+  label.scale.z = 1.5;
+  label.color = colour(1.0f, 1.0f, 1.0f);
+  char text[64];
+  std::snprintf(text, sizeof text, "%zu -> %zu (%.2f)", loop.query, loop.match, loop.distance);
+  label.text = text;
+  array->markers.push_back(edge);
+  array->markers.push_back(ends);
+  array->markers.push_back(label);
+}
+
+void addRejectedChunk(const std::vector<Eigen::Vector3d>& positions, const std::vector<LoopEdge>& rejected,
+                      std::size_t chunk, const std::string& frame, const ros::Time& stamp,
+                      visualization_msgs::MarkerArray* array) {
+  auto lines = base(frame, stamp, "rejected", static_cast<int>(chunk), visualization_msgs::Marker::LINE_LIST);
+  lines.scale.x = 0.15;
+  lines.color = colour(0.6f, 0.6f, 0.6f, 0.25f);
+  const std::size_t begin = chunk * kMarkerChunk, end = std::min(rejected.size(), begin + kMarkerChunk);
+  for (std::size_t i = begin; i < end; ++i) {
+    if (rejected[i].query >= positions.size() || rejected[i].match >= positions.size()) continue;
+    lines.points.push_back(point(positions[rejected[i].query]));
+    lines.points.push_back(point(positions[rejected[i].match]));
+  }
+  if (!lines.points.empty()) array->markers.push_back(lines);
+}
+
 }  // namespace
 
 visualization_msgs::MarkerArray makeLoopMarkers(const std::vector<Eigen::Vector3d>& positions,
                                                 const std::vector<LoopEdge>& loops,
                                                 const std::vector<LoopEdge>& rejected, const std::string& frame,
-                                                const ros::Time& stamp, double threshold) {
+                                                const ros::Time& stamp, double threshold, MarkerState* published) {
+  MarkerState none;
+  MarkerState& since = published != nullptr ? *published : none;
   visualization_msgs::MarkerArray array;
-  auto keyframes = base(frame, stamp, "keyframes", 0, visualization_msgs::Marker::SPHERE_LIST);
-  keyframes.scale.x = keyframes.scale.y = keyframes.scale.z = 0.6;
-  keyframes.color = colour(0.2f, 0.5f, 1.0f);
-  auto trajectory = base(frame, stamp, "trajectory", 0, visualization_msgs::Marker::LINE_STRIP);
-  trajectory.scale.x = 0.25;
-  trajectory.color = colour(0.8f, 0.8f, 0.8f);
-  for (const auto& p : positions) {
-    keyframes.points.push_back(point(p));
-    trajectory.points.push_back(point(p));
-  }
-  array.markers.push_back(keyframes);
-  if (trajectory.points.size() >= 2) array.markers.push_back(trajectory);
-
-  auto edges = base(frame, stamp, "loops", 0, visualization_msgs::Marker::LINE_LIST);
-  edges.scale.x = 0.8;
-  edges.color = colour(0.0f, 1.0f, 0.0f);
-  // Both ends of every loop, large enough to see a revisit on a city-scale map from above.
-  auto ends = base(frame, stamp, "loop_ends", 0, visualization_msgs::Marker::SPHERE_LIST);
-  ends.scale.x = ends.scale.y = ends.scale.z = 2.5;
-  ends.color = colour(0.0f, 1.0f, 0.0f);
-  int label_id = 0;
-  for (const auto& loop : loops) {
-    if (loop.query >= positions.size() || loop.match >= positions.size()) continue;
-    const float t = static_cast<float>(std::min(1.0, std::max(0.0, loop.distance / threshold)));
-    const auto c = colour(t, 1.0f - t, 0.0f);
-    for (std::size_t end : {loop.query, loop.match}) {
-      edges.points.push_back(point(positions[end]));
-      edges.colors.push_back(c);
-      ends.points.push_back(point(positions[end]));
-      ends.colors.push_back(c);
+  if (positions.size() > since.keyframes) {
+    const std::size_t last = (positions.size() - 1) / kMarkerChunk;
+    for (std::size_t c = firstChangedChunk(since.keyframes); c <= last; ++c) {
+      addKeyframeChunk(positions, c, frame, stamp, &array);
     }
-    auto label = base(frame, stamp, "labels", label_id++, visualization_msgs::Marker::TEXT_VIEW_FACING);
-    label.pose.position = point(positions[loop.query] + Eigen::Vector3d(0.0, 0.0, 3.5));
-    label.scale.z = 1.5;
-    label.color = colour(1.0f, 1.0f, 1.0f);
-    char text[64];
-    std::snprintf(text, sizeof text, "%zu -> %zu (%.2f)", loop.query, loop.match, loop.distance);
-    label.text = text;
-    array.markers.push_back(label);
   }
-  if (!edges.points.empty()) {
-    array.markers.push_back(edges);
-    array.markers.push_back(ends);
+  for (std::size_t i = since.loops; i < loops.size(); ++i) {
+    if (loops[i].query >= positions.size() || loops[i].match >= positions.size()) continue;
+    addLoop(positions, loops[i], i, frame, stamp, threshold, &array);
   }
-  auto turned_down = base(frame, stamp, "rejected", 0, visualization_msgs::Marker::LINE_LIST);
-  turned_down.scale.x = 0.15;
-  turned_down.color = colour(0.6f, 0.6f, 0.6f, 0.25f);
-  for (const auto& r : rejected) {
-    if (r.query >= positions.size() || r.match >= positions.size()) continue;
-    turned_down.points.push_back(point(positions[r.query]));
-    turned_down.points.push_back(point(positions[r.match]));
+  if (rejected.size() > since.rejected) {
+    const std::size_t last = (rejected.size() - 1) / kMarkerChunk;
+    for (std::size_t c = firstChangedChunk(since.rejected); c <= last; ++c) {
+      addRejectedChunk(positions, rejected, c, frame, stamp, &array);
+    }
   }
-  if (!turned_down.points.empty()) array.markers.push_back(turned_down);
+  since.keyframes = positions.size();
+  since.loops = loops.size();
+  since.rejected = rejected.size();
   return array;
 }
 

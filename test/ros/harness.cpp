@@ -1,5 +1,6 @@
 #include "harness.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include <gtest/gtest.h>
@@ -24,13 +25,19 @@ Harness::Harness(ros::NodeHandle nh) : nh_(nh) {
   marker_sub_ = nh_.subscribe<visualization_msgs::MarkerArray>(
       "loop_markers", 10, [this](const visualization_msgs::MarkerArray::ConstPtr& m) {
         std::lock_guard<std::mutex> lock(mutex_);
-        markers_ = *m;
+        std::size_t points = 0;
+        for (const auto& marker : m->markers) {
+          markers_[{marker.ns, marker.id}] = marker;
+          points += marker.points.size();
+        }
+        largest_marker_message_ = std::max(largest_marker_message_, points);
         ++marker_messages_;
       });
   lio_sub_ = nh_.subscribe<std_msgs::Float64MultiArray>("lio_loop", 1000,
                                                         [this](const std_msgs::Float64MultiArray::ConstPtr& m) {
                                                           std::lock_guard<std::mutex> lock(mutex_);
                                                           lio_.push_back(*m);
+                                                          lio_arrivals_.push_back(ros::WallTime::now().toSec());
                                                         });
 }
 
@@ -116,9 +123,21 @@ std::vector<std_msgs::Float64MultiArray> Harness::lioLoops() const {
   return lio_;
 }
 
-visualization_msgs::MarkerArray Harness::lastMarkers() const {
+visualization_msgs::MarkerArray Harness::shownMarkers() const {
   std::lock_guard<std::mutex> lock(mutex_);
-  return markers_;
+  visualization_msgs::MarkerArray shown;
+  for (const auto& m : markers_) shown.markers.push_back(m.second);
+  return shown;
+}
+
+std::size_t Harness::largestMarkerMessage() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return largest_marker_message_;
+}
+
+std::vector<double> Harness::lioArrivals() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return lio_arrivals_;
 }
 
 std::size_t Harness::markerMessages() const {

@@ -1,7 +1,10 @@
 // Publishes a simulated drive to the loop-closure node and collects what it publishes.
 #pragma once
 
+#include <map>
 #include <mutex>
+#include <string>
+#include <utility>
 #include <vector>
 
 #include <nav_msgs/Odometry.h>
@@ -35,8 +38,13 @@ class Harness {
 
   std::vector<scan_context_loop::LoopClosure> loops() const;
   std::vector<std_msgs::Float64MultiArray> lioLoops() const;
-  visualization_msgs::MarkerArray lastMarkers() const;
+  /// Every marker as RViz would show it now: the latest of each (namespace, id).
+  visualization_msgs::MarkerArray shownMarkers() const;
   std::size_t markerMessages() const;
+  /// The most points any one marker message carried (markers go out incrementally).
+  std::size_t largestMarkerMessage() const;
+  /// When each lio_loop message arrived [wall seconds].
+  std::vector<double> lioArrivals() const;
 
   ros::Publisher cloud_pub, odom_pub;
   ros::Time base{1000.0};
@@ -47,8 +55,9 @@ class Harness {
   mutable std::mutex mutex_;  // guards everything below (callbacks vs. test thread)
   std::vector<scan_context_loop::LoopClosure> loops_;
   std::vector<std_msgs::Float64MultiArray> lio_;
-  visualization_msgs::MarkerArray markers_;
-  std::size_t marker_messages_ = 0;
+  std::map<std::pair<std::string, int>, visualization_msgs::Marker> markers_;
+  std::size_t marker_messages_ = 0, largest_marker_message_ = 0;
+  std::vector<double> lio_arrivals_;
   ros::WallTime last_loop_ = ros::WallTime::now();
 };
 

@@ -15,6 +15,7 @@ struct NodeOptions {
   int sync_queue_size = 20;             ///< message_filters queue per input
   int queue_size = 20;                  ///< keyframes waiting for the worker; more are dropped and counted
   bool lio_sam_output = false;          ///< also publish std_msgs/Float64MultiArray [query, match stamps]
+  double lio_sam_min_interval = 1.0;    ///< lio_loop: at most one message per this many seconds
   double unsynchronised_warning = 5.0;  ///< warn when clouds come without poses for this long [s]
 };
 

@@ -24,6 +24,7 @@
 
 #include "scan_context_loop/core/keyframes.h"
 #include "scan_context_loop/LoopClosure.h"
+#include "scan_context_loop/ros/markers.h"
 #include "scan_context_loop/ros/parameters.h"
 
 namespace scan_context_loop {
@@ -61,6 +62,8 @@ class LoopClosureRos {
   void publishRejected(const Loop& rejected, const std::string& frame);
   scan_context_loop::LoopClosure makeLoop(const Loop& loop, const std::string& frame) const;
   void publishMarkers(const std::string& frame);
+  /// lio_sam_output: the loop on lio_loop if it is verified, new and due (lio_sam_min_interval).
+  void sendToLioSam(const scan_context_loop::LoopClosure& loop);
   void checkSynchronisation(const ros::WallTimerEvent&);
   void diagnose(diagnostic_updater::DiagnosticStatusWrapper& status);
 
@@ -82,16 +85,17 @@ class LoopClosureRos {
   ros::Timer diagnostics_timer_;
   std::unique_ptr<diagnostic_updater::Updater> diagnostics_;
 
-  // queue_mutex_ guards queue_ and stop_; queue_cv_ wakes the worker.
+  // queue_mutex_ guards queue_, stop_ and redraw_markers_; queue_cv_ wakes the worker.
   std::mutex queue_mutex_;
   std::condition_variable queue_cv_;
   std::deque<Item> queue_;
   bool stop_ = false;
+  bool redraw_markers_ = false;  // a marker subscriber connected: publish every marker once
   std::thread worker_;
 
   // Counters read by diagnostics and the synchronisation check; written by callbacks and the worker.
   std::atomic<std::size_t> dropped_{0}, rejected_{0}, loops_found_{0}, database_size_{0}, queue_length_{0},
-      loops_waiting_{0};
+      loops_waiting_{0}, lio_skipped_{0};
   std::atomic<double> last_query_ms_{0.0};
   std::atomic<double> last_cloud_wall_{0.0}, last_pair_wall_{0.0}, first_unpaired_wall_{0.0};
 
@@ -99,11 +103,11 @@ class LoopClosureRos {
   std::unique_ptr<KeyframePipeline> pipeline_;
   std::vector<Eigen::Vector3d> positions_;  // keyframe positions in the pose frame, by keyframe number
   std::vector<ros::Time> stamps_;           // keyframe stamps, by keyframe number
-  struct Edge {
-    std::size_t query, match;
-    double distance;
-  };
-  std::vector<Edge> edges_, rejected_edges_;
+  std::vector<LoopEdge> edges_, rejected_edges_;
+  MarkerState markers_shown_;   // what the published markers already show
+  std::string marker_frame_;    // the pose frame of the newest keyframe
+  ros::Time lio_last_sent_;     // lio_loop: when the last message went out, and its query keyframe
+  std::size_t lio_last_query_ = static_cast<std::size_t>(-1);
 };
 
 }  // namespace scan_context_loop

@@ -15,12 +15,25 @@ struct LoopEdge {
   double distance;
 };
 
-/// Keyframe positions (spheres), the trajectory (a line strip), loop edges (lines from green at
-/// distance 0 to red at the threshold), a label per loop ("query -> match, distance"), and candidates
-/// that verification rejected as thin grey lines.
+/// Keyframes and rejected candidates are drawn in chunks of this many (one marker id per chunk), loops
+/// one marker id each, so an update carries what changed, not the whole map.
+constexpr std::size_t kMarkerChunk = 100;
+
+/// How much of each list the markers already show.
+struct MarkerState {
+  std::size_t keyframes = 0, loops = 0, rejected = 0;
+};
+
+/// Keyframe positions (spheres), the trajectory (line strips), loop edges (lines from green at
+/// distance 0 to red at the threshold) with both ends marked, a label per loop ("query -> match,
+/// distance"), and candidates that verification rejected as thin grey lines. With `published`, only
+/// what changed since it (the last keyframe and rejected chunks, the new loops) is made, and
+/// `published` is advanced; without it (or from a zero state) everything. Markers keep their ids
+/// (namespace, id) across updates, so RViz replaces a chunk and keeps the rest.
 visualization_msgs::MarkerArray makeLoopMarkers(const std::vector<Eigen::Vector3d>& positions,
                                                 const std::vector<LoopEdge>& loops,
                                                 const std::vector<LoopEdge>& rejected, const std::string& frame,
-                                                const ros::Time& stamp, double threshold);
+                                                const ros::Time& stamp, double threshold,
+                                                MarkerState* published = nullptr);
 
 }  // namespace scan_context_loop
