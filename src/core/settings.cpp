@@ -256,6 +256,8 @@ std::vector<Setting<NodeOptions>> makeNodeSettings() {
       stringSetting<O>("fixed_frame", N(fixed_frame), {}, "tf mode: the frame poses are looked up in"),
       doubleSetting<O>("tf_timeout", N(tf_timeout), atLeast(0), "tf mode: how long to wait for a transform [s]"),
       stringSetting<O>("sensor_frame", N(sensor_frame), {}, "tf mode: the sensor's frame (empty: the cloud's)"),
+      boolSetting<O>("sensor_extrinsic_from_tf", N(sensor_extrinsic_from_tf),
+                     "odometry of another frame: extrinsic child <- sensor from tf"),
       boolSetting<O>("approximate_sync", N(approximate_sync), "approximate (true) or exact time synchronisation"),
       intSetting<O>("sync_queue_size", N(sync_queue_size), closed(1, 10000), "message_filters queue per input"),
       intSetting<O>("queue_size", N(queue_size), closed(1, 100000), "keyframes waiting for the worker"),

@@ -60,9 +60,11 @@ bool LoopClosureRos::start() {
       ros::SubscriberStatusCallback(), ros::VoidConstPtr(), true);
   if (options_.lio_sam_output) lio_pub_ = nh_.advertise<std_msgs::Float64MultiArray>("lio_loop", 100);
 
-  if (options_.pose_source == "tf") {
+  if (options_.pose_source == "tf" || options_.sensor_extrinsic_from_tf) {
     tf_buffer_.reset(new tf2_ros::Buffer(ros::Duration(30.0)));
     tf_listener_.reset(new tf2_ros::TransformListener(*tf_buffer_, nh_));
+  }
+  if (options_.pose_source == "tf") {
     cloud_only_sub_ = nh_.subscribe("keyframe_cloud", options_.sync_queue_size, &LoopClosureRos::onCloudOnly, this);
   } else {
     cloud_sub_.subscribe(nh_, "keyframe_cloud", options_.sync_queue_size);
@@ -111,6 +113,7 @@ void LoopClosureRos::onCloudAndOdom(const sensor_msgs::PointCloud2ConstPtr& clou
   item.has_pose = true;
   tf2::fromMsg(odom->pose.pose, item.pose);
   item.pose_frame = odom->header.frame_id;
+  item.child_frame = odom->child_frame_id;
   enqueue(std::move(item));
 }
 
@@ -190,9 +193,38 @@ bool LoopClosureRos::lookUpPose(Item* item) {
   }
 }
 
+void LoopClosureRos::applyExtrinsic(Item* item) {
+  if (item->child_frame.empty() || !options_.sensor_extrinsic_from_tf) return;
+  if (!extrinsic_known_) {
+    // A registered cloud's own frame is the world's: only a named sensor_frame says where the sensor is.
+    const std::string sensor = !options_.sensor_frame.empty()   ? options_.sensor_frame
+                               : config_.cloud_in_world_frame ? item->child_frame
+                                                              : item->cloud->header.frame_id;
+    if (sensor.empty() || sensor == item->child_frame) {
+      extrinsic_known_ = true;  // the odometry is the sensor's own
+    } else {
+      try {
+        extrinsic_ = tf2::transformToEigen(tf_buffer_->lookupTransform(item->child_frame, sensor, ros::Time(0),
+                                                                       ros::Duration(options_.tf_timeout)));
+        extrinsic_known_ = true;
+        ROS_INFO_NAMED(name_, "odometry of %s, clouds in %s: poses are moved to the sensor with the tf extrinsic",
+                       item->child_frame.c_str(), sensor.c_str());
+      } catch (const tf2::TransformException& e) {
+        ROS_WARN_THROTTLE_NAMED(10.0, name_,
+                                "the odometry's child frame %s is not the clouds' frame %s and tf has no "
+                                "transform between them (%s): poses are used as the sensor's, which is wrong "
+                                "if the axes differ (publish the extrinsic as a static tf)",
+                                item->child_frame.c_str(), sensor.c_str(), e.what());
+      }
+    }
+  }
+  item->pose = item->pose * extrinsic_;
+}
+
 void LoopClosureRos::process(Item item) {
   const sensor_msgs::PointCloud2& msg = *item.cloud;
   if (!item.has_pose && !lookUpPose(&item)) return;
+  applyExtrinsic(&item);
   if (!item.pose.matrix().allFinite()) {
     ++rejected_;
     ROS_ERROR_THROTTLE_NAMED(5.0, name_, "keyframe at %.3f skipped: its pose is not finite", msg.header.stamp.toSec());

@@ -33,6 +33,17 @@ class Harness {
   void publish(const Drive& drive, std::size_t first, std::size_t last, double rate);
   /// The same with poses as tf (odom -> velodyne) and clouds registered in odom.
   void publishTfAndWorldClouds(const Drive& drive, double rate);
+  /// How an odometry stack publishes: the clouds' frame, registered in the odometry frame or not, the
+  /// odometry's frame and child frame, and camera axes (LeGO-LOAM: y up; x_camera = y_lidar, y_camera =
+  /// z_lidar, z_camera = x_lidar, with the static tf child -> cloud frame between them).
+  struct StackShape {
+    std::string cloud_frame, odom_frame, child_frame;
+    bool registered = false, camera_axes = false;
+  };
+  /// The shapes of LeGO-LOAM, LIO-SAM, FAST-LIO and A-LOAM by name ("lego_loam", ...); false if unknown.
+  static bool stackShape(const std::string& name, StackShape* shape);
+  /// Publishes every keyframe shaped like that stack's clouds and odometry, with equal stamps.
+  void publishShaped(const Drive& drive, const StackShape& shape, double rate);
   /// Spins until no loop arrived for `quiet` seconds (at most `limit`).
   void settle(double quiet, double limit);
 

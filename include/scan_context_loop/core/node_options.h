@@ -10,7 +10,10 @@ struct NodeOptions {
   std::string pose_source = "odom";     ///< "odom": keyframe_odom messages; "tf": look the pose up
   std::string fixed_frame = "odom";     ///< tf mode: the frame poses are looked up in
   double tf_timeout = 0.1;              ///< tf mode: how long to wait for a transform [s]
-  std::string sensor_frame;             ///< tf mode: the sensor's frame (empty: the cloud's frame_id)
+  std::string sensor_frame;             ///< the sensor's tf frame (empty: the cloud's frame_id)
+  /// Odometry whose child frame is not the sensor's: move the poses to the sensor with the extrinsic
+  /// child <- sensor from tf (looked up once; a warning names both frames while it is missing).
+  bool sensor_extrinsic_from_tf = true;
   bool approximate_sync = true;         ///< approximate (true) or exact time synchronisation
   int sync_queue_size = 20;             ///< message_filters queue per input
   int queue_size = 20;                  ///< keyframes waiting for the worker; more are dropped and counted

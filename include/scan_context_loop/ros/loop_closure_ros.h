@@ -47,6 +47,7 @@ class LoopClosureRos {
     bool has_pose = false;  ///< false in tf mode: the worker looks it up
     Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
     std::string pose_frame;
+    std::string child_frame;  ///< the odometry's child_frame_id (odom mode)
   };
   using ApproxPolicy = message_filters::sync_policies::ApproximateTime<sensor_msgs::PointCloud2, nav_msgs::Odometry>;
   using ExactPolicy = message_filters::sync_policies::ExactTime<sensor_msgs::PointCloud2, nav_msgs::Odometry>;
@@ -62,6 +63,9 @@ class LoopClosureRos {
   void publishRejected(const Loop& rejected, const std::string& frame);
   scan_context_loop::LoopClosure makeLoop(const Loop& loop, const std::string& frame) const;
   void publishMarkers(const std::string& frame);
+  /// Odometry of another frame than the sensor's (LeGO-LOAM's camera axes, an IMU body): the pose is
+  /// turned into the sensor's with the extrinsic from tf (child <- sensor), looked up once.
+  void applyExtrinsic(Item* item);
   /// lio_sam_output: the loop on lio_loop if it is verified, new and due (lio_sam_min_interval).
   void sendToLioSam(const scan_context_loop::LoopClosure& loop);
   void checkSynchronisation(const ros::WallTimerEvent&);
@@ -108,6 +112,8 @@ class LoopClosureRos {
   std::string marker_frame_;    // the pose frame of the newest keyframe
   ros::Time lio_last_sent_;     // lio_loop: when the last message went out, and its query keyframe
   std::size_t lio_last_query_ = static_cast<std::size_t>(-1);
+  bool extrinsic_known_ = false;  // child <- sensor extrinsic found (or not needed)
+  Eigen::Isometry3d extrinsic_ = Eigen::Isometry3d::Identity();
 };
 
 }  // namespace scan_context_loop
