@@ -18,6 +18,14 @@ Eigen::Matrix<double, 6, 6> loopCovariance(const Loop& loop, const Config& confi
   return diagonal.asDiagonal();
 }
 
+struct KeyframePipeline::Scan {
+  double stamp = 0.0, path = 0.0;
+  pcl::PointCloud<pcl::PointXYZ> world;
+};
+
+KeyframePipeline::KeyframePipeline(const Config& config) : detector_(config) {}
+KeyframePipeline::~KeyframePipeline() = default;
+
 bool KeyframePipeline::selected(const KeyframeInfo& info) const {
   const Config& c = config();
   if (c.keyframe_min_distance <= 0.0 && c.keyframe_min_angle <= 0.0) return true;
@@ -29,8 +37,36 @@ bool KeyframePipeline::selected(const KeyframeInfo& info) const {
   return moved || turned;
 }
 
+void KeyframePipeline::remember(const PointView& cloud, const KeyframeInfo& info) {
+  const Config& c = config();
+  if (has_previous_) path_ += (info.pose->translation() - previous_pose_.translation()).norm();
+  has_previous_ = true;
+  previous_pose_ = *info.pose;
+  // Kept in the world frame, so that any later keyframe can take it into its own.
+  auto scan = std::make_unique<Scan>();
+  scan->stamp = info.stamp;
+  scan->path = path_;
+  scan->world = c.cloud_in_world_frame ? transformedCloud(cloud, Eigen::Affine3f::Identity())
+                                       : transformedCloud(cloud, Eigen::Affine3f(info.pose->matrix().cast<float>()));
+  recent_.push_back(std::move(scan));
+  while (!recent_.empty() &&
+         ((c.accumulate_seconds > 0.0 && recent_.front()->stamp < info.stamp - c.accumulate_seconds) ||
+          (c.accumulate_distance > 0.0 && recent_.front()->path < path_ - c.accumulate_distance))) {
+    recent_.pop_front();
+  }
+}
+
 Detection KeyframePipeline::process(const PointView& cloud, const KeyframeInfo& info) {
   const Config& c = config();
+  const bool accumulate = c.accumulate_seconds > 0.0 || c.accumulate_distance > 0.0;
+  if ((c.cloud_in_world_frame || accumulate) && !info.pose) {
+    Detection refused;
+    refused.error = c.cloud_in_world_frame
+                        ? "a cloud registered in the world frame (cloud_in_world_frame) needs its pose"
+                        : "accumulating scans into keyframes (accumulate_seconds / accumulate_distance) needs poses";
+    return refused;
+  }
+  if (accumulate) remember(cloud, info);
   if (!selected(info)) {
     Detection skipped;
     skipped.selected = false;
@@ -38,28 +74,25 @@ Detection KeyframePipeline::process(const PointView& cloud, const KeyframeInfo& 
   }
   PointView view = cloud;
   pcl::PointCloud<pcl::PointXYZ> copy;
-  if (c.cloud_in_world_frame || c.voxel_leaf > 0.0) {
-    Eigen::Affine3f to_sensor = Eigen::Affine3f::Identity();
-    if (c.cloud_in_world_frame) {
-      if (!info.pose) {
-        Detection refused;
-        refused.error = "a cloud registered in the world frame (cloud_in_world_frame) needs its pose";
-        return refused;
-      }
-      to_sensor = Eigen::Affine3f(info.pose->inverse().matrix().cast<float>());
-    }
-    copy = transformedCloud(cloud, to_sensor);
-    if (c.voxel_leaf > 0.0 && !copy.empty()) {
-      pcl::PointCloud<pcl::PointXYZ> filtered;
-      pcl::VoxelGrid<pcl::PointXYZ> grid;
-      const float leaf = static_cast<float>(c.voxel_leaf);
-      grid.setLeafSize(leaf, leaf, leaf);
-      grid.setInputCloud(copy.makeShared());
-      grid.filter(filtered);
-      copy.swap(filtered);
-    }
-    view = viewOf(copy);
+  if (accumulate) {
+    // The remembered scans, this one included, in this keyframe's sensor frame.
+    const Eigen::Affine3f to_sensor(info.pose->inverse().matrix().cast<float>());
+    for (const auto& scan : recent_) copy += transformedCloud(viewOf(scan->world), to_sensor);
+  } else if (c.cloud_in_world_frame) {
+    copy = transformedCloud(cloud, Eigen::Affine3f(info.pose->inverse().matrix().cast<float>()));
+  } else if (c.voxel_leaf > 0.0) {
+    copy = transformedCloud(cloud, Eigen::Affine3f::Identity());
   }
+  if (c.voxel_leaf > 0.0 && !copy.empty()) {
+    pcl::PointCloud<pcl::PointXYZ> filtered;
+    pcl::VoxelGrid<pcl::PointXYZ> grid;
+    const float leaf = static_cast<float>(c.voxel_leaf);
+    grid.setLeafSize(leaf, leaf, leaf);
+    grid.setInputCloud(copy.makeShared());
+    grid.filter(filtered);
+    copy.swap(filtered);
+  }
+  if (accumulate || c.cloud_in_world_frame || c.voxel_leaf > 0.0) view = viewOf(copy);
   Detection detection = detector_.process(view, info);
   if (detection.accepted && info.pose) {
     has_last_ = true;

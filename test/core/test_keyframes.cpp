@@ -82,6 +82,49 @@ TEST(KeyframePipeline, VoxelFilterThinsTheCloudBeforeDescribing) {
   EXPECT_GT(db.points_used, 0u);
 }
 
+/// The points of `scene` within `half_width_deg` of azimuth `centre_deg` (a narrow field of view).
+pcl::PointCloud<pcl::PointXYZ> wedge(const pcl::PointCloud<pcl::PointXYZ>& scene, double centre_deg,
+                                     double half_width_deg) {
+  pcl::PointCloud<pcl::PointXYZ> out;
+  for (const auto& p : scene) {
+    const double a = std::atan2(p.y, p.x) * 180.0 / M_PI;
+    if (std::fabs(std::remainder(a - centre_deg, 360.0)) <= half_width_deg) out.push_back(p);
+  }
+  return out;
+}
+
+TEST(KeyframePipeline, AccumulatedNarrowScansDescribeLikeTheWholeScene) {
+  // A sensor that sees 80 degrees at a time, turning 90 degrees between scans at one place: four scans
+  // through the odometry cover the scene; one alone is a wedge.
+  const auto scene = test::streetScene(6);
+  Config whole, narrow, accumulated;
+  accumulated.accumulate_seconds = 1.0;
+  KeyframePipeline reference(whole), single(narrow), merged(accumulated);
+  ASSERT_TRUE(reference.process(viewOf(scene), at(0.0, 0.0, 1.0)).accepted);
+  Detection last_single, last_merged;
+  for (int k = 0; k < 4; ++k) {
+    // Scan k looks along 90k degrees of the world; in its own frame (turned by 90k) that is straight ahead.
+    const double heading = 90.0 * k;
+    const KeyframeInfo info = at(0.0, heading, 2.0 + 0.1 * k);
+    const auto seen = test::rotateTranslate(wedge(scene, heading, 40.0), -heading * M_PI / 180.0, 0.0, 0.0);
+    last_single = single.process(viewOf(seen), info);
+    last_merged = merged.process(viewOf(seen), info);
+  }
+  ASSERT_TRUE(last_single.accepted && last_merged.accepted);
+  const Descriptor& full = reference.detector().database().keyframe(0).descriptor;
+  const auto& dm = merged.detector().database();
+  const auto& ds = single.detector().database();
+  const double with = align(full, dm.keyframe(dm.size() - 1).descriptor, whole).distance;
+  const double without = align(full, ds.keyframe(ds.size() - 1).descriptor, whole).distance;
+  EXPECT_LT(with, 0.05) << "merged scans";
+  EXPECT_GT(without, 0.3) << "a single wedge";
+  EXPECT_GT(last_merged.points_used, 3 * last_single.points_used);
+  // Scans older than the window are forgotten: two seconds later only the new scan counts.
+  const auto seen = wedge(scene, 0.0, 40.0);
+  const Detection later = merged.process(viewOf(seen), at(0.0, 0.0, 5.0));
+  EXPECT_EQ(later.points_used, single.process(viewOf(seen), at(0.0, 0.0, 5.0)).points_used);
+}
+
 TEST(LoopCovariance, DescriptorPriorIsDiagonalAndARegisteredLoopKeepsItsOwn) {
   Config c;
   c.covariance_translation = 50.0;

@@ -144,7 +144,14 @@ struct Config {
   /// turned at least this much in yaw [deg] since the last keyframe (both 0: every cloud).
   double keyframe_min_distance = 0.0;
   double keyframe_min_angle = 0.0;
-  /// Voxel filter before describing [m] (0: off).
+  /// Scan accumulation for sensors whose single scan sees too little (Livox Avia, Mid-360: a narrow or
+  /// patchy, non-repetitive field of view): a keyframe is made of every scan of the last
+  /// accumulate_seconds [s] and, when set, of the last accumulate_distance [m] of odometry path, each
+  /// moved into the keyframe's sensor frame through the odometry (needs poses; both 0: off). Every
+  /// scan counts, whether keyframe selection picks it or not.
+  double accumulate_seconds = 0.0;
+  double accumulate_distance = 0.0;
+  /// Voxel filter before describing [m] (0: off), after the accumulation.
   double voxel_leaf = 0.0;
   /// Covariance of a loop with only the descriptor's yaw prior: variance of x, y, z [m^2] and of roll
   /// and pitch [rad^2]; yaw's is (half a sector)^2 (loopCovariance, keyframes.h).

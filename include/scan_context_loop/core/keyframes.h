@@ -4,6 +4,9 @@
 // offline with the same settings file as the node runs.
 #pragma once
 
+#include <deque>
+#include <memory>
+
 #include <Eigen/Geometry>
 
 #include "scan_context_loop/core/config.h"
@@ -18,10 +21,12 @@ namespace scan_context_loop {
 Eigen::Matrix<double, 6, 6> loopCovariance(const Loop& loop, const Config& config);
 
 /// Selects, prepares and processes keyframes (Config::keyframe_min_distance / keyframe_min_angle,
-/// cloud_in_world_frame, voxel_leaf), then runs the LoopDetector. Not thread-safe (one owner).
+/// cloud_in_world_frame, accumulate_seconds / accumulate_distance, voxel_leaf), then runs the
+/// LoopDetector. Not thread-safe (one owner).
 class KeyframePipeline {
  public:
-  explicit KeyframePipeline(const Config& config) : detector_(config) {}
+  explicit KeyframePipeline(const Config& config);
+  ~KeyframePipeline();
 
   /// Processes one keyframe cloud with its info (a registered cloud needs info.pose). A keyframe that
   /// keyframe selection passes over comes back with `selected` false and nothing else changed.
@@ -34,9 +39,18 @@ class KeyframePipeline {
   /// Keyframe selection against the pose of the last keyframe that was processed.
   bool selected(const KeyframeInfo& info) const;
 
+  /// Config::accumulate_*: keeps the scan (in the world frame) and forgets those out of the window.
+  void remember(const PointView& cloud, const KeyframeInfo& info);
+
   LoopDetector detector_;
   bool has_last_ = false;
   Eigen::Isometry3d last_pose_ = Eigen::Isometry3d::Identity();
+  // Scan accumulation: the scans of the window, and the odometry path length so far.
+  struct Scan;  // keyframes.cpp
+  std::deque<std::unique_ptr<Scan>> recent_;
+  double path_ = 0.0;
+  bool has_previous_ = false;
+  Eigen::Isometry3d previous_pose_ = Eigen::Isometry3d::Identity();
 };
 
 }  // namespace scan_context_loop
