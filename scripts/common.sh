@@ -1,6 +1,6 @@
 # Shared by scripts/demo, scripts/test, scripts/bench, scripts/simulate and scripts/evaluate.
 # Installs the Debian packages the project needs (only when something is missing), makes a catkin
-# workspace under build/ that links to this repository, and builds it in Release.
+# workspace under build/ that links to this repository's packages, and builds it in Release.
 set -euo pipefail
 
 SCL_ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -41,31 +41,28 @@ scl_install_deps() {
   DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
 }
 
-# The workspace's package folder holds a link to each top-level entry of the repository except build/
-# (a link to the whole repository would contain the workspace itself, and ROS tools that walk the
-# package with links followed would never finish).
+# The repository's catkin packages, each a folder at its root. The workspace's src/ links to each.
+SCL_PACKAGES_IN_REPO=(scan_context_common scan_context_sim scan_context_loop)
+
 scl_make_workspace() {
-  local pkg="$SCL_WS/src/scan_context_loop"
+  local name link
   mkdir -p "$SCL_WS/src"
-  if [ -L "$pkg" ]; then rm -f "$pkg"; fi
-  mkdir -p "$pkg"
-  local entry name
-  for entry in "$SCL_ROOT"/* "$SCL_ROOT"/.ci; do
-    name="$(basename "$entry")"
-    [ "$name" = "build" ] && continue
-    [ -e "$entry" ] || continue
-    [ -L "$pkg/$name" ] || ln -s "$entry" "$pkg/$name"
-  done
-  # Drop links to entries that no longer exist.
-  for entry in "$pkg"/*; do
-    [ -L "$entry" ] && [ ! -e "$entry" ] && rm -f "$entry"
+  for name in "${SCL_PACKAGES_IN_REPO[@]}"; do
+    link="$SCL_WS/src/$name"
+    # A workspace made before the packages had their own folders holds a folder of links here.
+    if [ -d "$link" ] && [ ! -L "$link" ]; then rm -rf "$link"; fi
+    [ "$(readlink "$link" 2>/dev/null)" = "$SCL_ROOT/$name" ] || ln -sfn "$SCL_ROOT/$name" "$link"
   done
   return 0
 }
 
 # What the build reads from the repository: a change to any of these (a file's or a folder's mtime, so
 # added and removed files count too) makes the next scl_build run catkin_make.
-SCL_BUILD_INPUTS=(CMakeLists.txt cmake package.xml nodelets.xml include src tools test msg launch config)
+SCL_BUILD_INPUTS=(
+  scan_context_common/{CMakeLists.txt,package.xml,include,src}
+  scan_context_sim/{CMakeLists.txt,package.xml,include,src,tools,test}
+  scan_context_loop/{CMakeLists.txt,cmake,package.xml,nodelets.xml,include,src,tools,test,msg,launch,config}
+)
 
 # True when TARGET ("all" for the default target) was built after the last change to the inputs: its
 # stamp (or, for a tool, the "all" stamp) is newer than every input, the workspace is configured, and a
@@ -133,7 +130,13 @@ scl_source_ws() {
   set -u
 }
 
-scl_bin() { echo "$SCL_WS/devel/lib/scan_context_loop/$1"; }
+# The path of a tool's binary (scan_context_simulate is in scan_context_sim, the others in scan_context_loop).
+scl_bin() {
+  case "$1" in
+    scan_context_simulate) echo "$SCL_WS/devel/lib/scan_context_sim/$1" ;;
+    *) echo "$SCL_WS/devel/lib/scan_context_loop/$1" ;;
+  esac
+}
 
 SCL_SHARED_DATA="${SCL_SHARED_DATA:-$SCL_ROOT/../shared/data}"
 export SCL_SHARED_DATA

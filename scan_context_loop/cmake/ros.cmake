@@ -1,0 +1,77 @@
+# ROS adapter, nodelet and standalone node.
+add_library(scan_context_loop_nodelet
+  src/ros/parameters.cpp
+  src/ros/cloud_input.cpp
+  src/ros/markers.cpp
+  src/ros/loop_closure_ros.cpp
+  src/ros/loop_closure_nodelet.cpp
+)
+target_include_directories(scan_context_loop_nodelet PUBLIC include ${catkin_INCLUDE_DIRS})
+target_link_libraries(scan_context_loop_nodelet scan_context_loop_core ${catkin_LIBRARIES}
+  ${PCL_FILTERS_LIBRARIES} ${PCL_COMMON_LIBRARIES})
+add_dependencies(scan_context_loop_nodelet ${PROJECT_NAME}_generate_messages_cpp)
+
+add_executable(loop_closure_node src/ros/loop_closure_node.cpp)
+target_link_libraries(loop_closure_node ${catkin_LIBRARIES})
+
+install(TARGETS scan_context_loop_nodelet loop_closure_node
+  ARCHIVE DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
+  LIBRARY DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
+  RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
+install(FILES nodelets.xml DESTINATION ${CATKIN_PACKAGE_SHARE_DESTINATION})
+install(DIRECTORY launch config DESTINATION ${CATKIN_PACKAGE_SHARE_DESTINATION})
+
+if(CATKIN_ENABLE_TESTING)
+  find_package(rostest REQUIRED)
+  find_package(roslaunch REQUIRED)
+  add_library(scan_context_loop_ros_harness STATIC test/ros/harness.cpp test/common/sim_drive.cpp)
+  target_include_directories(scan_context_loop_ros_harness PUBLIC include ${catkin_INCLUDE_DIRS} ${GTEST_INCLUDE_DIRS})
+  target_link_libraries(scan_context_loop_ros_harness scan_context_loop_core ${scan_context_sim_LIBRARIES} ${catkin_LIBRARIES})
+  add_dependencies(scan_context_loop_ros_harness ${PROJECT_NAME}_generate_messages_cpp)
+
+  add_rostest_gtest(test_ros_loops test/ros/nodelet_loops.test test/ros/test_loops.cpp)
+  target_link_libraries(test_ros_loops scan_context_loop_ros_harness)
+  add_rostest(test/ros/node_lio.test DEPENDENCIES test_ros_loops loop_closure_node scan_context_loop_nodelet)
+  add_rostest(test/ros/verified_loops.test DEPENDENCIES test_ros_loops scan_context_loop_nodelet)
+  add_rostest(test/ros/consistent_loops.test DEPENDENCIES test_ros_loops scan_context_loop_nodelet)
+  add_dependencies(test_ros_loops scan_context_loop_nodelet)
+  add_rostest_gtest(test_ros_bad_input test/ros/bad_input.test test/ros/test_bad_input.cpp)
+  target_link_libraries(test_ros_bad_input scan_context_loop_ros_harness)
+  add_dependencies(test_ros_bad_input scan_context_loop_nodelet)
+
+  roslaunch_add_file_check(launch)
+endif()
+
+if(CATKIN_ENABLE_TESTING)
+  add_rostest_gtest(test_ros_tf_world test/ros/tf_world.test test/ros/test_tf_world.cpp)
+  target_link_libraries(test_ros_tf_world scan_context_loop_ros_harness)
+  add_dependencies(test_ros_tf_world scan_context_loop_nodelet loop_closure_node)
+endif()
+
+if(CATKIN_ENABLE_TESTING)
+  add_rostest_gtest(test_ros_parameters test/ros/parameters.test test/ros/test_parameters.cpp)
+  target_link_libraries(test_ros_parameters scan_context_loop_nodelet ${catkin_LIBRARIES})
+endif()
+
+if(CATKIN_ENABLE_TESTING)
+  add_rostest_gtest(test_ros_same_loops test/ros/same_loops.test test/ros/test_same_loops.cpp)
+  target_link_libraries(test_ros_same_loops scan_context_loop_ros_harness scan_context_loop_nodelet scan_context_loop_eval)
+  add_dependencies(test_ros_same_loops loop_closure_node scan_context_loop_nodelet)
+endif()
+
+if(CATKIN_ENABLE_TESTING)
+  catkin_add_gtest(test_ros_markers test/test_main.cpp test/ros/test_markers.cpp)
+  target_link_libraries(test_ros_markers scan_context_loop_nodelet)
+endif()
+
+if(CATKIN_ENABLE_TESTING)
+  # One rostest per stack's launch file, fed that stack's topics.
+  add_rostest_gtest(test_ros_stacks test/ros/lego_loam.test test/ros/test_stacks.cpp)
+  target_link_libraries(test_ros_stacks scan_context_loop_ros_harness)
+  add_dependencies(test_ros_stacks loop_closure_node scan_context_loop_nodelet)
+endif()
+if(CATKIN_ENABLE_TESTING)
+  foreach(stack lio_sam fast_lio aloam)
+    add_rostest(test/ros/${stack}.test DEPENDENCIES test_ros_stacks loop_closure_node scan_context_loop_nodelet)
+  endforeach()
+endif()

@@ -1,0 +1,283 @@
+#include "scan_context_loop/eval/evaluation.h"
+
+#include <cmath>
+#include <fstream>
+#include <sys/stat.h>
+
+#include "scan_context_loop/core/pcl_adapters.h"
+#include "scan_context_loop/core/alignment.h"
+#include "scan_context_loop/core/keyframes.h"
+#include "scan_context_common/kitti_io.h"
+
+namespace scan_context_loop {
+namespace eval {
+
+namespace {
+
+bool exists(const std::string& path) {
+  struct stat st;
+  return stat(path.c_str(), &st) == 0;
+}
+
+double yawOf(const Eigen::Isometry3d& t) { return std::atan2(t(1, 0), t(0, 0)); }
+
+constexpr double kConstraintMetres = 1.0, kConstraintDegrees = 2.0;
+
+}  // namespace
+
+bool loadSequence(const std::string& dir, const SequenceOptions& options, Sequence* s, std::string* error) {
+  s->dir = dir;
+  std::vector<Eigen::Isometry3d> camera, odom_camera;
+  Eigen::Isometry3d tr;
+  if (!kitti::readPoses(dir + "/poses.txt", &camera, error)) return false;
+  if (!kitti::readCalibTr(dir + "/calib.txt", &tr, error)) return false;
+  std::vector<double> times;
+  if (exists(dir + "/times.txt") && !kitti::readTimes(dir + "/times.txt", &times, error)) return false;
+  const auto truth = kitti::lidarPoses(camera, tr);
+  std::vector<Eigen::Isometry3d> odom = truth;
+  s->odometry_from_file = false;
+  if (options.use_odometry_file && exists(dir + "/odom_poses.txt")) {
+    if (!kitti::readPoses(dir + "/odom_poses.txt", &odom_camera, error)) return false;
+    if (odom_camera.size() != camera.size()) {
+      *error = dir + "/odom_poses.txt has " + std::to_string(odom_camera.size()) + " poses, poses.txt " +
+               std::to_string(camera.size());
+      return false;
+    }
+    odom = kitti::lidarPoses(odom_camera, tr);
+    s->odometry_from_file = true;
+  }
+  const int n = static_cast<int>(truth.size());
+  const int first = std::max(0, options.first);
+  const int last = options.last < 0 ? n - 1 : std::min(options.last, n - 1);
+  double travelled = 0.0;
+  int previous = -1;
+  for (int f = first; f <= last; ++f) {
+    if (f > first) travelled += (truth[f].translation() - truth[f - 1].translation()).norm();
+    if (previous >= 0 && travelled < options.keyframe_spacing) continue;
+    if (!exists(kitti::scanPath(dir, f))) {
+      ++s->missing_scans;
+      continue;
+    }
+    s->frames.push_back(f);
+    s->truth.push_back(truth[f]);
+    s->odometry.push_back(odom[f]);
+    s->stamps.push_back(f < static_cast<int>(times.size()) ? times[f] : 0.1 * f);
+    travelled = 0.0;
+    previous = f;
+  }
+  if (s->frames.empty()) {
+    *error = dir + ": no scan found in velodyne/ for the selected frames";
+    return false;
+  }
+  return true;
+}
+
+Evaluation evaluate(const Sequence& s, const Config& config, double revisit_radius) {
+  Evaluation e;
+  KeyframePipeline pipeline(config);
+  std::vector<Eigen::Vector3d> positions;  // true positions of the accepted keyframes
+  std::vector<std::size_t> keyframe_of;    // detector index -> position in the sequence
+  std::vector<long> outcome_of;            // detector index -> position in e.outcomes, -1 for none
+  for (std::size_t k = 0; k < s.frames.size(); ++k) {
+    pcl::PointCloud<pcl::PointXYZI> cloud;
+    std::string error;
+    if (!kitti::readScan(kitti::scanPath(s.dir, s.frames[k]), &cloud, &error)) {
+      e.errors.push_back(error);
+      ++e.rejected;
+      continue;
+    }
+    KeyframeInfo info;
+    info.stamp = s.stamps[k];
+    info.pose = s.odometry[k];
+    info.tag = s.frames[k];
+    const Detection d = pipeline.process(viewOf(cloud), info);
+    if (!d.selected) continue;  // keyframe selection (keyframe_min_distance / keyframe_min_angle)
+    if (!d.accepted) {
+      e.errors.push_back("frame " + std::to_string(s.frames[k]) + ": " + d.error);
+      ++e.rejected;
+      continue;
+    }
+    e.descriptor_ms.push_back(d.descriptor_seconds * 1e3);
+    e.query_ms.push_back(d.query_seconds * 1e3);
+    positions.push_back(s.truth[k].translation());
+    keyframe_of.push_back(k);
+    if (d.index == 0) continue;  // the first keyframe has nothing to query
+
+    QueryOutcome o;
+    o.query = s.frames[k];
+    o.revisit = isRevisit(positions, d.index, d.query.eligible, revisit_radius);
+    if (const Candidate* best = d.query.best()) {
+      const std::size_t m = keyframe_of[best->index];
+      o.match = s.frames[m];
+      o.distance = best->alignment.distance;
+      o.yaw = best->alignment.yaw;
+      o.match_gap = (s.truth[m].translation() - s.truth[k].translation()).norm();
+      o.correct = o.match_gap < revisit_radius;
+      o.true_yaw = yawOf(s.truth[k].inverse() * s.truth[m]);
+    }
+    if (d.verifications_enabled) {
+      e.verify_ms.push_back(d.verify_seconds * 1e3);
+      o.candidates_verified = static_cast<int>(d.verifications.size());
+      for (const VerifiedCandidate& v : d.verifications) {
+        const std::size_t mk = keyframe_of[v.index];
+        const Eigen::Isometry3d truth = s.truth[k].inverse() * s.truth[mk];
+        VerificationAttempt a;
+        a.query = s.frames[k];
+        a.match = s.frames[mk];
+        a.distance = v.alignment.distance;
+        a.gap = truth.translation().norm();
+        a.result = v.result;
+        a.translation_error = (v.result.relative.translation() - truth.translation()).norm();
+        a.yaw_error = std::fabs(wrapAngle(yawOf(v.result.relative) - yawOf(truth)));
+        e.attempts.push_back(a);
+      }
+    }
+    outcome_of.resize(d.index + 1, -1);
+    outcome_of[d.index] = static_cast<long>(e.outcomes.size());
+    e.outcomes.push_back(o);
+    // Loops may be reported a few keyframes after their query (consistency check): score each one on
+    // its own query's outcome.
+    e.loops_dropped += d.dropped.size();
+    e.loops.insert(e.loops.end(), d.loops.begin(), d.loops.end());
+    for (const Loop& loop : d.verifications_enabled ? d.loops : std::vector<Loop>()) {
+      if (loop.query >= outcome_of.size() || outcome_of[loop.query] < 0) continue;
+      QueryOutcome& q = e.outcomes[outcome_of[loop.query]];
+      const std::size_t qk = keyframe_of[loop.query], mk = keyframe_of[loop.match];
+      const Eigen::Isometry3d truth = s.truth[qk].inverse() * s.truth[mk];
+      q.verified_match = s.frames[mk];
+      // A verified loop is a constraint: it is correct when its pose is (within 1 m and 2 deg of the
+      // truth), however far apart the keyframes are; one between places within the revisit radius with
+      // a wrong pose is a false constraint all the same.
+      const double pose_error = (loop.verification.relative.translation() - truth.translation()).norm();
+      const double rotation_error = Eigen::AngleAxisd(truth.linear().transpose() * loop.verification.relative.linear()).angle();
+      q.verified_correct = pose_error <= kConstraintMetres && rotation_error <= kConstraintDegrees * M_PI / 180.0;
+      q.verified_beyond_radius = truth.translation().norm() >= revisit_radius;
+      q.fitness = loop.verification.fitness;
+      q.inlier_ratio = loop.verification.inlier_ratio;
+      q.translation_error = (loop.verification.relative.translation() - truth.translation()).norm();
+      q.yaw_error = std::fabs(wrapAngle(yawOf(loop.verification.relative) - yawOf(truth)));
+      q.reported_late = loop.query != d.index;
+    }
+  }
+  e.metrics = computeMetrics(e.outcomes, config.distance_threshold);
+  e.verification = config.verification.enabled;
+  if (e.verification) e.verified = computeVerifiedMetrics(e.outcomes);
+  return e;
+}
+
+bool writeResultsCsv(const std::string& path, const Evaluation& e, std::string* error) {
+  std::ofstream out(path);
+  if (!out) {
+    *error = "cannot create " + path;
+    return false;
+  }
+  out << "query,match,distance,yaw_rad,true_revisit,correct,match_gap_m,true_yaw_rad";
+  if (e.verification) {
+    out << ",verified,verified_match,verified_correct,candidates_verified,fitness,inlier_ratio,trans_err_m,"
+           "yaw_err_rad";
+  }
+  out << '\n';
+  out.precision(6);
+  for (const auto& o : e.outcomes) {
+    out << o.query << ',' << o.match << ',' << o.distance << ',' << o.yaw << ',' << int(o.revisit) << ','
+        << int(o.correct) << ',' << o.match_gap << ',' << o.true_yaw;
+    if (e.verification) {
+      out << ',' << int(o.verified_match >= 0) << ',' << o.verified_match << ',' << int(o.verified_correct) << ','
+          << o.candidates_verified << ',' << o.fitness << ',' << o.inlier_ratio << ',' << o.translation_error << ','
+          << o.yaw_error;
+    }
+    out << '\n';
+  }
+  return out.good();
+}
+
+bool writeMetricsJson(const std::string& path, const Evaluation& e, const Sequence& s, const Config& config,
+                      double revisit_radius, std::string* error) {
+  std::ofstream out(path);
+  if (!out) {
+    *error = "cannot create " + path;
+    return false;
+  }
+  const Metrics& m = e.metrics;
+  out.precision(6);
+  out << "{\n"
+      << "  \"sequence\": \"" << s.dir << "\",\n"
+      << "  \"keyframes\": " << s.frames.size() << ",\n"
+      << "  \"missing_scans\": " << s.missing_scans << ",\n"
+      << "  \"rejected_keyframes\": " << e.rejected << ",\n"
+      << "  \"odometry\": \"" << (s.odometry_from_file ? "odom_poses.txt" : "poses.txt (truth)") << "\",\n"
+      << "  \"revisit_radius_m\": " << revisit_radius << ",\n"
+      << "  \"queries\": " << m.queries << ",\n"
+      << "  \"true_revisits\": " << m.revisits << ",\n"
+      << "  \"threshold\": " << m.threshold << ",\n"
+      << "  \"ring_key\": \"" << ringKeyTypeName(config.ring_key) << "\",\n"
+      << "  \"true_positives\": " << m.true_positives << ",\n"
+      << "  \"false_positives\": " << m.false_positives << ",\n"
+      << "  \"precision\": " << m.precision << ",\n"
+      << "  \"recall\": " << m.recall << ",\n"
+      << "  \"f1\": " << m.f1 << ",\n"
+      << "  \"f1_max\": " << m.f1_max << ",\n"
+      << "  \"f1_max_threshold\": " << m.f1_max_threshold << ",\n"
+      << "  \"recall_at_100_precision\": " << m.recall_at_full_precision << ",\n"
+      << "  \"recall_at_100_precision_threshold\": " << m.full_precision_threshold << ",\n"
+      << "  \"average_precision\": " << m.average_precision << ",\n"
+      << "  \"yaw_error_deg\": {\"median\": " << m.yaw_error_median << ", \"p90\": " << m.yaw_error_p90
+      << ", \"max\": " << m.yaw_error_max << "},\n"
+      << "  \"descriptor_ms\": {\"median\": " << percentile(e.descriptor_ms, 0.5)
+      << ", \"p99\": " << percentile(e.descriptor_ms, 0.99) << "},\n"
+      << "  \"query_ms\": {\"median\": " << percentile(e.query_ms, 0.5) << ", \"p99\": " << percentile(e.query_ms, 0.99)
+      << "}";
+  if (e.verification) {
+    const VerifiedMetrics& v = e.verified;
+    out << ",\n  \"verified\": {\"true_positives\": " << v.true_positives << ", \"false_positives\": "
+        << v.false_positives << ", \"precision\": " << v.precision << ", \"recall\": " << v.recall
+        << ", \"f1\": " << v.f1 << ", \"translation_error_m\": {\"median\": " << v.translation_error_median
+        << ", \"p90\": " << v.translation_error_p90 << "}, \"yaw_error_deg\": {\"median\": " << v.yaw_error_median
+        << ", \"p90\": " << v.yaw_error_p90 << "}, \"candidates_mean\": " << v.candidates_mean
+        << ", \"candidates_max\": " << v.candidates_max << ", \"reported_late\": " << v.reported_late
+        << ", \"correct_beyond_radius\": " << v.beyond_radius
+        << ", \"dropped_by_consistency\": " << e.loops_dropped << ", \"verify_ms\": {\"median\": "
+        << percentile(e.verify_ms, 0.5) << ", \"p99\": " << percentile(e.verify_ms, 0.99)
+        << ", \"max\": " << percentile(e.verify_ms, 1.0) << "}}";
+  }
+  out << "\n}\n";
+  return out.good();
+}
+
+bool writeVerificationsCsv(const std::string& path, const Evaluation& e, std::string* error) {
+  std::ofstream out(path);
+  if (!out) {
+    *error = "cannot create " + path;
+    return false;
+  }
+  out << "query,match,distance,gap_m,accepted,overlap_query,overlap_match,violation,fitness,constraint_ratio,coarse_score,"
+         "hypotheses,trans_err_m,yaw_err_deg,ms,reason\n";
+  out.precision(6);
+  for (const auto& a : e.attempts) {
+    const VerificationResult& r = a.result;
+    std::string reason = r.reason;
+    for (char& c : reason) if (c == ',' || c == '"') c = ';';
+    out << a.query << ',' << a.match << ',' << a.distance << ',' << a.gap << ',' << int(r.accepted) << ','
+        << r.overlap_query << ',' << r.overlap_match << ',' << r.violation << ',' << r.fitness << ','
+        << r.constraint_ratio << ',' << r.coarse_score << ',' << r.hypotheses << ',' << a.translation_error << ','
+        << a.yaw_error * 180.0 / M_PI << ',' << r.seconds * 1e3 << ',' << reason << '\n';
+  }
+  return out.good();
+}
+
+bool writeTrajectoryCsv(const std::string& path, const Sequence& s, std::string* error) {
+  std::ofstream out(path);
+  if (!out) {
+    *error = "cannot create " + path;
+    return false;
+  }
+  out << "frame,x,y,z\n";
+  for (std::size_t k = 0; k < s.frames.size(); ++k) {
+    const auto t = s.truth[k].translation();
+    out << s.frames[k] << ',' << t.x() << ',' << t.y() << ',' << t.z() << '\n';
+  }
+  return out.good();
+}
+
+}  // namespace eval
+}  // namespace scan_context_loop

@@ -1,0 +1,179 @@
+#include <algorithm>
+#include <fstream>
+#include <sstream>
+
+#include <gtest/gtest.h>
+#include <yaml-cpp/yaml.h>
+
+#include "scan_context_loop/eval/config_file.h"
+#include "scan_context_loop/eval/evaluation.h"
+#include "scan_context_loop/core/settings.h"
+#include "scan_context_sim/sequence_writer.h"
+#include "scan_context_sim/trajectory.h"
+#include "../common/sim_drive.h"
+
+namespace scan_context_loop {
+namespace eval {
+namespace {
+
+std::string temp(const std::string& name) { return testing::TempDir() + "/scl_eval_" + name; }
+
+TEST(ConfigFile, ReadsNodeKeysIgnoresRosKeysAndRejectsBadValues) {
+  std::ofstream(temp("good.yaml")) << "# comment\nnum_sectors: 90\ndistance_threshold: 0.3\nring_key: mean_height\n"
+                                      "pose_source: odom\nvoxel_leaf: 0.4\nverify_min_inlier_ratio: 0.6\n";
+  Config config;
+  std::string error;
+  ASSERT_TRUE(loadConfigFile(temp("good.yaml"), &config, &error)) << error;
+  EXPECT_EQ(config.num_sectors, 90);
+  EXPECT_DOUBLE_EQ(config.distance_threshold, 0.3);
+  EXPECT_EQ(config.ring_key, RingKeyType::kMeanHeight);
+  EXPECT_DOUBLE_EQ(config.verification.min_inlier_ratio, 0.6);
+  // A key that is neither the core's nor the node's is an error that names it, like the node's.
+  std::ofstream(temp("mystery.yaml")) << "num_sectors: 90\nmystery: 1\n";
+  Config before;
+  EXPECT_FALSE(loadConfigFile(temp("mystery.yaml"), &before, &error));
+  EXPECT_NE(error.find("mystery"), std::string::npos) << error;
+  EXPECT_EQ(before.num_sectors, Config().num_sectors);
+
+  std::ofstream(temp("bad.yaml")) << "num_rings: twenty\n";
+  Config untouched;
+  EXPECT_FALSE(loadConfigFile(temp("bad.yaml"), &untouched, &error));
+  EXPECT_NE(error.find("num_rings"), std::string::npos) << error;
+  EXPECT_EQ(untouched.num_rings, Config().num_rings);
+  EXPECT_FALSE(loadConfigFile(temp("absent.yaml"), &untouched, &error));
+  std::ofstream(temp("list.yaml")) << "- 1\n- 2\n";
+  EXPECT_FALSE(loadConfigFile(temp("list.yaml"), &untouched, &error));
+
+  EXPECT_TRUE(applyOverride("search_ratio=1.0", &config, &error));
+  EXPECT_DOUBLE_EQ(config.search_ratio, 1.0);
+  EXPECT_FALSE(applyOverride("search_ratio", &config, &error));
+}
+
+/// Checks that the file's keys are exactly the table's and that each value is the table's default.
+template <typename T>
+void expectDefaults(const YAML::Node& file, const std::vector<Setting<T>>& table, std::vector<std::string>* seen) {
+  const T defaults;
+  for (const auto& s : table) {
+    seen->push_back(s.key);
+    ASSERT_TRUE(file[s.key]) << s.key << " is missing from config/default.yaml";
+    T parsed;
+    ASSERT_TRUE(s.set(&parsed, file[s.key].template as<std::string>())) << s.key;
+    EXPECT_EQ(s.get(parsed), s.get(defaults)) << s.key << ": config/default.yaml disagrees with the code";
+    EXPECT_EQ(s.check(defaults), "") << s.key << ": the default breaks its own rule";
+  }
+}
+
+TEST(ConfigFile, DefaultsFileListsEveryKeyWithTheCodesDefault) {
+  const YAML::Node file = YAML::LoadFile(std::string(SCL_PACKAGE_DIR) + "/config/default.yaml");
+  std::vector<std::string> keys;
+  expectDefaults(file, configSettings(), &keys);
+  expectDefaults(file, nodeSettings(), &keys);
+  for (const auto& item : file) {
+    const std::string key = item.first.as<std::string>();
+    EXPECT_NE(std::find(keys.begin(), keys.end(), key), keys.end()) << key << " in config/default.yaml is no key";
+  }
+  EXPECT_TRUE(Config().validate().empty());
+}
+
+/// Twice around a block, the second lap in reverse: every keyframe of lap 2 revisits lap 1. Written
+/// once, in the KITTI layout with a drifting odometry.
+const Sequence& simulatedLoop() {
+  static Sequence sequence;
+  if (!sequence.frames.empty()) return sequence;
+  const std::string dir = temp("loop");
+  const test::Drive drive = test::blockDrive(true, 5);
+  sim::SequenceData data;
+  data.truth = drive.truth;
+  data.times = drive.times;
+  data.odometry = sim::driftedOdometry(data.truth, sim::DriftOptions());
+  std::string error;
+  EXPECT_GT(sim::writeSequence(dir, drive.world, drive.sensor, data, 0.0, 1, 2, &error), 1000.0) << error;
+  EXPECT_TRUE(loadSequence(dir, SequenceOptions(), &sequence, &error)) << error;
+  EXPECT_TRUE(sequence.odometry_from_file);
+  EXPECT_EQ(sequence.frames.size(), data.truth.size());
+  return sequence;
+}
+
+TEST(Evaluation, SimulatedLoopEndToEnd) {
+  const Sequence& sequence = simulatedLoop();
+  ASSERT_FALSE(sequence.frames.empty());
+  std::string error;
+  Config config;
+  config.exclude_recent_frames = 30;
+  const Evaluation e = evaluate(sequence, config, 5.0);
+  EXPECT_EQ(e.rejected, 0u);
+  EXPECT_EQ(e.outcomes.size(), sequence.frames.size() - 1);
+  // The whole second lap revisits the first (in reverse).
+  EXPECT_GT(e.metrics.revisits, 80u);
+  EXPECT_GE(e.metrics.f1_max, 0.8);
+  EXPECT_GE(e.metrics.recall_at_full_precision, 0.5);
+  EXPECT_LT(e.metrics.yaw_error_median, 3.0);
+
+  ASSERT_TRUE(writeResultsCsv(temp("results.csv"), e, &error));
+  std::ifstream csv(temp("results.csv"));
+  std::string header;
+  std::getline(csv, header);
+  EXPECT_EQ(header.rfind("query,match,distance,yaw_rad", 0), 0u);
+  ASSERT_TRUE(writeMetricsJson(temp("metrics.json"), e, sequence, config, 5.0, &error));
+  std::stringstream json;
+  json << std::ifstream(temp("metrics.json")).rdbuf();
+  EXPECT_NE(json.str().find("\"recall_at_100_precision\""), std::string::npos);
+}
+
+TEST(Evaluation, VerifiedLoopsAreScoredOnTheirOwnQueriesWhenReportedLate) {
+  const Sequence& sequence = simulatedLoop();
+  ASSERT_FALSE(sequence.frames.empty());
+  Config config;
+  config.exclude_recent_frames = 30;
+  config.verification.enabled = true;  // with the consistency check (on by default)
+  const Evaluation e = evaluate(sequence, config, 5.0);
+  ASSERT_TRUE(e.verification);
+  const VerifiedMetrics& v = e.verified;
+  EXPECT_GE(v.recall, 0.5);
+  EXPECT_EQ(v.false_positives, 0u);
+  EXPECT_LT(v.translation_error_median, 0.3);
+  EXPECT_LT(v.yaw_error_median, 1.0);
+  // The first loop of the revisit waits for the second and is scored on its own query.
+  EXPECT_GE(v.reported_late, 1u);
+  std::size_t late = 0;
+  for (const auto& o : e.outcomes) {
+    if (!o.reported_late) continue;
+    ++late;
+    EXPECT_GE(o.verified_match, 0);
+    EXPECT_TRUE(o.verified_correct) << "query " << o.query;
+  }
+  EXPECT_EQ(late, v.reported_late);
+  std::string error;
+  ASSERT_TRUE(writeMetricsJson(temp("verified.json"), e, sequence, config, 5.0, &error));
+  std::stringstream json;
+  json << std::ifstream(temp("verified.json")).rdbuf();
+  EXPECT_NE(json.str().find("\"reported_late\""), std::string::npos);
+  EXPECT_NE(json.str().find("\"dropped_by_consistency\""), std::string::npos);
+}
+
+TEST(Evaluation, RealKittiFramesThatExist) {
+  const char* env = std::getenv("SCL_SHARED_DATA");
+  const std::string data = env ? env : SCL_SHARED_DATA;
+  Sequence sequence;
+  std::string error;
+  SequenceOptions options;
+  options.first = 700;
+  options.last = 1600;
+  ASSERT_TRUE(loadSequence(data + "/kitti/08", options, &sequence, &error)) << error;
+  ASSERT_EQ(sequence.frames, (std::vector<int>{720, 1500}));
+  EXPECT_EQ(sequence.missing_scans, 901u - 2u);
+  Config config;
+  config.exclude_recent_frames = 0;
+  const Evaluation e = evaluate(sequence, config, 5.0);
+  ASSERT_EQ(e.outcomes.size(), 1u);
+  EXPECT_EQ(e.outcomes[0].query, 1500);
+  EXPECT_EQ(e.outcomes[0].match, 720);
+  EXPECT_TRUE(e.outcomes[0].revisit);
+  EXPECT_TRUE(e.outcomes[0].correct);
+  EXPECT_NEAR(e.outcomes[0].match_gap, 3.09, 0.01);
+  EXPECT_LT(std::fabs(e.outcomes[0].yaw - e.outcomes[0].true_yaw), 6.0 * M_PI / 180.0);
+}
+
+}  // namespace
+}  // namespace eval
+}  // namespace scan_context_loop

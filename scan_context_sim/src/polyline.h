@@ -1,0 +1,24 @@
+// Turning a route drawn as a polyline into a drivable path: evenly spaced points and rounded corners.
+// Shared by the generated drives. Internal to the simulator library.
+#pragma once
+
+#include <cstddef>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "scan_context_sim/world.h"
+
+namespace scan_context_loop {
+namespace sim {
+
+/// Points every `step` metres along the polyline `raw` (linear interpolation). `mark`, an index into
+/// raw, becomes the index of the first sample after raw[mark - 1].
+std::vector<Eigen::Vector2d> resample(const std::vector<Eigen::Vector2d>& raw, double step, std::size_t* mark);
+
+/// The points smoothed by a moving average over +-`window` points (fewer at the ends), which rounds
+/// the corners and leaves straight stretches where they are, with headings along the smoothed path.
+std::vector<PathPoint> smoothPath(const std::vector<Eigen::Vector2d>& points, int window);
+
+}  // namespace sim
+}  // namespace scan_context_loop

@@ -1,0 +1,124 @@
+#include "scan_context_sim/sensor.h"
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+
+namespace scan_context_loop {
+namespace sim {
+
+namespace {
+
+std::vector<float> uniformBeams(int n, float top, float bottom) {
+  std::vector<float> e(n);
+  for (int i = 0; i < n; ++i) e[i] = top + (bottom - top) * i / (n - 1);
+  return e;
+}
+
+float reflectivity(Material m) {
+  switch (m) {
+    case Material::kGround: return 0.2f;
+    case Material::kPavement: return 0.28f;
+    case Material::kBuilding: return 0.32f;
+    case Material::kWall: return 0.3f;
+    case Material::kCar: return 0.45f;
+    case Material::kTrunk: return 0.22f;
+    case Material::kFoliage: return 0.25f;
+    case Material::kPole: return 0.5f;
+    case Material::kSign: return 0.95f;
+    case Material::kPerson: return 0.3f;
+  }
+  return 0.3f;
+}
+
+}  // namespace
+
+bool sensorPreset(const std::string& name, SensorModel* model) {
+  SensorModel m;
+  m.name = name;
+  if (name == "hdl64") {
+    // Upper block: 32 beams from +2 to -8.33 deg (1/3 deg apart); lower block: 32 beams from -8.83 to
+    // -24.9 deg (about 1/2 deg apart), as in the HDL-64E S2 that recorded KITTI.
+    m.elevations_deg = uniformBeams(32, 2.0f, -8.33f);
+    const auto lower = uniformBeams(32, -8.83f, -24.9f);
+    m.elevations_deg.insert(m.elevations_deg.end(), lower.begin(), lower.end());
+    m.columns = 2000;  // 0.18 deg at 10 Hz
+    m.max_range = 100.0f;
+    m.dim_range = 80.0f;
+    m.mount_height = 1.73f;
+  } else if (name == "vlp16") {
+    m.elevations_deg = uniformBeams(16, 15.0f, -15.0f);
+    m.columns = 1800;  // 0.2 deg at 10 Hz
+    m.max_range = 100.0f;
+    m.dim_range = 65.0f;
+    m.range_noise = 0.03f;
+    m.mount_height = 1.73f;
+  } else if (name == "os1-64") {
+    m.elevations_deg = uniformBeams(64, 16.6f, -16.6f);
+    m.columns = 1024;
+    m.max_range = 120.0f;
+    m.dim_range = 55.0f;
+    m.range_noise = 0.03f;
+    m.mount_height = 1.73f;
+  } else {
+    return false;
+  }
+  *model = m;
+  return true;
+}
+
+pcl::PointCloud<pcl::PointXYZI> scan(const World& world, const SensorModel& sensor,
+                                     const Eigen::Isometry3d& world_from_sensor, double time, std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<float> noise(0.0f, sensor.range_noise);
+  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+  const Eigen::Matrix3f rotation = world_from_sensor.linear().cast<float>();
+  const Eigen::Vector3f origin = world_from_sensor.translation().cast<float>();
+  std::vector<std::uint32_t> visit(world.size(), 0);
+  std::vector<float> cos_e, sin_e;
+  for (float e : sensor.elevations_deg) {
+    cos_e.push_back(std::cos(e * static_cast<float>(M_PI) / 180.0f));
+    sin_e.push_back(std::sin(e * static_cast<float>(M_PI) / 180.0f));
+  }
+  pcl::PointCloud<pcl::PointXYZI> cloud;
+  cloud.reserve(sensor.columns * sensor.elevations_deg.size());
+  std::uint32_t ray = 0;
+  Hit hit;
+  for (int c = 0; c < sensor.columns; ++c) {
+    const float azimuth = 2.0f * static_cast<float>(M_PI) * c / sensor.columns;
+    const float ca = std::cos(azimuth), sa = std::sin(azimuth);
+    for (std::size_t b = 0; b < cos_e.size(); ++b) {
+      const Eigen::Vector3f local(cos_e[b] * ca, cos_e[b] * sa, sin_e[b]);
+      const Eigen::Vector3f direction = rotation * local;
+      ++ray;
+      if (!world.cast(origin, direction, sensor.max_range, time, ray, &visit, &hit)) continue;
+      if (unit(rng) < sensor.dropout) continue;
+      const float incidence = std::fabs(hit.normal.dot(direction));
+      const float reflectivity_seen = reflectivity(hit.material) * (0.3f + 0.7f * incidence);
+      if (sensor.dim_range > 0.0f) {
+        // Detected with probability 1 / (1 + (range / reach)^8): near certain well inside the reach,
+        // half at it, rare beyond.
+        const float reach = sensor.dim_range * std::sqrt(reflectivity_seen / 0.1f);
+        const float ratio2 = (hit.range / reach) * (hit.range / reach);
+        const float ratio8 = ratio2 * ratio2 * ratio2 * ratio2;
+        if (unit(rng) * (1.0f + ratio8) > 1.0f) continue;
+      }
+      const float range = hit.range + noise(rng);
+      if (range < sensor.min_range || range > sensor.max_range) continue;
+      pcl::PointXYZI p;
+      p.x = local.x() * range;
+      p.y = local.y() * range;
+      p.z = local.z() * range;
+      // Calibrated intensities depend on the surface more than on the angle.
+      p.intensity = std::min(1.0f, reflectivity(hit.material) * (0.6f + 0.4f * incidence) + 0.04f * unit(rng));
+      cloud.push_back(p);
+    }
+  }
+  cloud.width = static_cast<std::uint32_t>(cloud.size());
+  cloud.height = 1;
+  cloud.is_dense = true;
+  return cloud;
+}
+
+}  // namespace sim
+}  // namespace scan_context_loop

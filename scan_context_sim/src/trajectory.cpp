@@ -1,0 +1,149 @@
+#include "scan_context_sim/trajectory.h"
+
+#include <cmath>
+#include <random>
+
+namespace scan_context_loop {
+namespace sim {
+
+std::vector<PathPoint> pathFromPoses(const std::vector<Eigen::Isometry3d>& lidar_poses, int first, int last) {
+  std::vector<PathPoint> path;
+  const int n = static_cast<int>(lidar_poses.size());
+  first = std::max(0, first);
+  last = last < 0 ? n - 1 : std::min(last, n - 1);
+  for (int k = first; k <= last; ++k) {
+    const Eigen::Matrix3d r = lidar_poses[k].linear();
+    path.push_back({lidar_poses[k].translation().x(), lidar_poses[k].translation().y(), std::atan2(r(1, 0), r(0, 0))});
+  }
+  return path;
+}
+
+namespace {
+
+/// Straight legs through the waypoints, corners rounded with arcs of `radius`, sampled every `step`.
+std::vector<PathPoint> roundedPolyline(const std::vector<Eigen::Vector2d>& w, double radius, double step) {
+  std::vector<PathPoint> out;
+  if (w.size() < 2) return out;
+  Eigen::Vector2d cursor = w[0];
+  for (std::size_t k = 0; k + 1 < w.size(); ++k) {
+    const Eigen::Vector2d dir = (w[k + 1] - w[k]).normalized();
+    const double heading = std::atan2(dir.y(), dir.x());
+    // Stop short of the corner to leave room for the arc (not at the last waypoint).
+    double cut = 0.0;
+    Eigen::Vector2d next_dir = dir;
+    if (k + 2 < w.size()) {
+      next_dir = (w[k + 2] - w[k + 1]).normalized();
+      const double turn = std::atan2(dir.x() * next_dir.y() - dir.y() * next_dir.x(), dir.dot(next_dir));
+      cut = std::fabs(turn) > 1e-6 ? radius * std::tan(std::fabs(turn) / 2) : 0.0;
+    }
+    const Eigen::Vector2d end = w[k + 1] - dir * cut;
+    const double length = (end - cursor).norm();
+    for (double s = 0.0; s < length; s += step) {
+      const Eigen::Vector2d p = cursor + dir * s;
+      out.push_back({p.x(), p.y(), heading});
+    }
+    cursor = end;
+    if (cut > 0.0) {
+      const double turn = std::atan2(dir.x() * next_dir.y() - dir.y() * next_dir.x(), dir.dot(next_dir));
+      const double arc = std::fabs(turn) * radius;
+      const double side = turn > 0 ? 1.0 : -1.0;
+      const Eigen::Vector2d centre = cursor + side * radius * Eigen::Vector2d(-dir.y(), dir.x());
+      for (double s = 0.0; s < arc; s += step) {
+        const double h = heading + side * s / radius;
+        const Eigen::Vector2d p = centre + side * radius * Eigen::Vector2d(std::sin(h), -std::cos(h));
+        out.push_back({p.x(), p.y(), h});
+      }
+      cursor = w[k + 1] + next_dir * cut;
+    }
+  }
+  out.push_back({w.back().x(), w.back().y(), out.empty() ? 0.0 : out.back().heading});
+  return out;
+}
+
+}  // namespace
+
+std::vector<PathPoint> proceduralPath() {
+  using V = Eigen::Vector2d;
+  const double lane = 3.0;
+  const std::vector<V> waypoints = {
+      // Loop 1, counter-clockwise around the block.
+      V(0, 0), V(250, 0), V(250, 150), V(0, 150), V(0, -lane),
+      // Loop 2, one lane further out (on the right of the direction of travel).
+      V(250 + lane, -lane), V(250 + lane, 150 + lane), V(-lane, 150 + lane), V(-lane, 0),
+      // Bottom street again in the first lane, then north through the middle of the block.
+      V(125, 0), V(125, 150 - lane),
+      // East along the top street and south along the east street: against loop 1's direction, in the
+      // opposite lane as traffic drives (3 m to the side of loop 1's track).
+      V(250 - lane, 150 - lane), V(250 - lane, 10)};
+  return roundedPolyline(waypoints, 8.0, 0.5);
+}
+
+std::vector<double> distanceAlong(const std::vector<PathPoint>& path) {
+  std::vector<double> along(path.size(), 0.0);
+  for (std::size_t k = 1; k < path.size(); ++k) {
+    along[k] = along[k - 1] + std::hypot(path[k].x - path[k - 1].x, path[k].y - path[k - 1].y);
+  }
+  return along;
+}
+
+std::vector<std::size_t> keyframesEvery(const std::vector<PathPoint>& path, double spacing) {
+  std::vector<std::size_t> keep;
+  double travelled = 0.0;
+  for (std::size_t k = 0; k < path.size(); ++k) {
+    if (k > 0) travelled += std::hypot(path[k].x - path[k - 1].x, path[k].y - path[k - 1].y);
+    if (keep.empty() || travelled >= spacing) {
+      keep.push_back(k);
+      travelled = 0.0;
+    }
+  }
+  return keep;
+}
+
+Eigen::Isometry3d sensorPose(const World& world, const PathPoint& p, double mount_height) {
+  // The vehicle stands on the sloped ground: its up axis is the ground's normal, so it pitches and
+  // rolls with the slope, and the ground is level in the sensor frame as on a real car.
+  const double gx = (world.groundZ(p.x + 1.0, p.y) - world.groundZ(p.x - 1.0, p.y)) / 2.0;
+  const double gy = (world.groundZ(p.x, p.y + 1.0) - world.groundZ(p.x, p.y - 1.0)) / 2.0;
+  const Eigen::Vector3d up = Eigen::Vector3d(-gx, -gy, 1.0).normalized();
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  pose.linear() = Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitZ(), up).toRotationMatrix() *
+                  Eigen::AngleAxisd(p.heading, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  pose.translation() = Eigen::Vector3d(p.x, p.y, world.groundZ(p.x, p.y)) + mount_height * up;
+  return pose;
+}
+
+std::vector<Eigen::Isometry3d> driftedOdometry(const std::vector<Eigen::Isometry3d>& truth, const DriftOptions& options) {
+  std::vector<Eigen::Isometry3d> odom;
+  if (truth.empty()) return odom;
+  std::mt19937 rng(options.seed);
+  std::normal_distribution<double> gauss(0.0, 1.0);
+  // Biases: forward (scale), sideways and vertical translation error per metre, heading error per metre
+  // and per degree turned. Each is stationary with standard deviation `sigma`.
+  const double t = options.translation_per_metre;
+  const Eigen::Matrix<double, 5, 1> sigma =
+      (Eigen::Matrix<double, 5, 1>() << t / std::sqrt(2.0), t / std::sqrt(2.0), 0.2 * t,
+       options.yaw_per_metre * M_PI / 180.0, options.yaw_per_degree)
+          .finished();
+  Eigen::Matrix<double, 5, 1> bias;
+  for (int i = 0; i < 5; ++i) bias[i] = sigma[i] * gauss(rng);
+  odom.push_back(truth.front());
+  for (std::size_t k = 1; k < truth.size(); ++k) {
+    const Eigen::Isometry3d delta = truth[k - 1].inverse() * truth[k];
+    const double metres = delta.translation().norm();
+    const Eigen::Matrix3d r = delta.linear();
+    const double turned = std::atan2(r(1, 0), r(0, 0));
+    const double keep = options.correlation_length > 0.0 ? std::exp(-metres / options.correlation_length) : 1.0;
+    for (int i = 0; i < 5; ++i) bias[i] = keep * bias[i] + std::sqrt(1.0 - keep * keep) * sigma[i] * gauss(rng);
+    // White noise a tenth of the bias, so the odometry is not perfectly smooth.
+    Eigen::Isometry3d error = Eigen::Isometry3d::Identity();
+    error.translation() = metres * (bias.head<3>() + 0.1 * sigma.head<3>().cwiseProduct(
+                                                              Eigen::Vector3d(gauss(rng), gauss(rng), gauss(rng))));
+    const double yaw_error = bias[3] * metres + bias[4] * turned + 0.1 * sigma[3] * metres * gauss(rng);
+    error.linear() = Eigen::AngleAxisd(yaw_error, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+    odom.push_back(odom.back() * delta * error);
+  }
+  return odom;
+}
+
+}  // namespace sim
+}  // namespace scan_context_loop

@@ -1,0 +1,153 @@
+// Beam patterns and the scan model: rings on flat ground, noise, dropout, fading with range.
+#include <cmath>
+#include <map>
+
+#include <gtest/gtest.h>
+
+#include "scan_context_sim/sensor.h"
+
+namespace scan_context_loop {
+namespace sim {
+namespace {
+
+Eigen::Isometry3d at(double x, double y, double z) {
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  pose.translation() = Eigen::Vector3d(x, y, z);
+  return pose;
+}
+
+SensorModel exact(const std::string& name) {
+  SensorModel m;
+  EXPECT_TRUE(sensorPreset(name, &m));
+  m.range_noise = 0.0f;
+  m.dropout = 0.0f;
+  m.dim_range = 0.0f;
+  return m;
+}
+
+TEST(Sensor, PresetsHaveTheRealBeamPatterns) {
+  SensorModel m;
+  ASSERT_TRUE(sensorPreset("hdl64", &m));
+  ASSERT_EQ(m.elevations_deg.size(), 64u);
+  EXPECT_FLOAT_EQ(m.elevations_deg.front(), 2.0f);
+  EXPECT_FLOAT_EQ(m.elevations_deg.back(), -24.9f);
+  EXPECT_NEAR(360.0 / m.columns, 0.17, 0.02);
+  ASSERT_TRUE(sensorPreset("vlp16", &m));
+  ASSERT_EQ(m.elevations_deg.size(), 16u);
+  EXPECT_FLOAT_EQ(m.elevations_deg.front(), 15.0f);
+  EXPECT_FLOAT_EQ(m.elevations_deg.back(), -15.0f);
+  EXPECT_NEAR(m.elevations_deg[0] - m.elevations_deg[1], 2.0f, 1e-5f);
+  EXPECT_NEAR(360.0 / m.columns, 0.2, 1e-9);
+  ASSERT_TRUE(sensorPreset("os1-64", &m));
+  ASSERT_EQ(m.elevations_deg.size(), 64u);
+  EXPECT_FLOAT_EQ(m.elevations_deg.front(), 16.6f);
+  EXPECT_FLOAT_EQ(m.elevations_deg.back(), -16.6f);
+  EXPECT_EQ(m.columns, 1024);
+  EXPECT_FALSE(sensorPreset("hdl32e", &m));
+}
+
+TEST(Sensor, Hdl64RingsOnFlatGround) {
+  const SensorModel hdl = exact("hdl64");
+  const World flat({}, Eigen::Vector3d::Zero());
+  const auto cloud = scan(flat, hdl, at(0, 0, hdl.mount_height), 0.0, 1);
+  // One ring per beam below the horizon whose ground range is under max_range, each a full circle at
+  // mount_height / tan(-elevation).
+  std::map<int, std::pair<int, double>> rings;  // elevation [centidegrees] -> (points, mean range)
+  for (const auto& p : cloud) {
+    const double r = std::hypot(p.x, p.y);
+    auto& ring = rings[static_cast<int>(std::lround(std::atan2(p.z, r) * 180.0 / M_PI * 100))];
+    ++ring.first;
+    ring.second += r;
+    ASSERT_NEAR(p.z, -hdl.mount_height, 1e-3);
+  }
+  int reaching = 0;
+  for (float e : hdl.elevations_deg) {
+    const double ground_range = hdl.mount_height / std::tan(-e * M_PI / 180.0);
+    if (e >= 0.0f || ground_range >= hdl.max_range) continue;
+    ++reaching;
+    const auto it = rings.find(static_cast<int>(std::lround(e * 100)));
+    ASSERT_NE(it, rings.end()) << "no ring for the " << e << " deg beam";
+    EXPECT_EQ(it->second.first, hdl.columns) << e;
+    EXPECT_NEAR(it->second.second / it->second.first, ground_range, 1e-3 * ground_range) << e;
+  }
+  EXPECT_EQ(static_cast<int>(rings.size()), reaching);
+  // The lowest beam (-24.9 deg) meets the ground 1.73 / tan(24.9 deg) = 3.73 m away.
+  EXPECT_NEAR(rings.begin()->second.second / rings.begin()->second.first, 1.73 / std::tan(24.9 * M_PI / 180.0), 1e-3);
+}
+
+TEST(Sensor, NoiseDropoutAndFading) {
+  // A wall 20 m ahead, 60 m wide and 30 m tall, over flat ground.
+  Primitive wall;
+  wall.kind = Primitive::Kind::kBox;
+  wall.center = Eigen::Vector3f(20.5f, 0, 0);
+  wall.half = Eigen::Vector3f(0.5f, 30, 0);
+  wall.z0 = -1;
+  wall.z1 = 30;
+  const World world({wall}, Eigen::Vector3d::Zero());
+  SensorModel hdl = exact("hdl64");
+  const Eigen::Isometry3d pose = at(0, 0, hdl.mount_height);
+  const auto clean = scan(world, hdl, pose, 0.0, 1);
+
+  hdl.range_noise = 0.05f;
+  const auto noisy = scan(world, hdl, pose, 0.0, 1);
+  ASSERT_EQ(noisy.size(), clean.size());
+  double sum = 0.0, sum2 = 0.0;
+  int n = 0;
+  for (std::size_t i = 0; i < noisy.size(); ++i) {
+    const double d = std::hypot(noisy[i].x, noisy[i].y, noisy[i].z) - std::hypot(clean[i].x, clean[i].y, clean[i].z);
+    sum += d;
+    sum2 += d * d;
+    ++n;
+  }
+  EXPECT_NEAR(sum / n, 0.0, 0.003);
+  EXPECT_NEAR(std::sqrt(sum2 / n), 0.05, 0.005);
+
+  hdl.range_noise = 0.0f;
+  hdl.dropout = 0.1f;
+  EXPECT_NEAR(static_cast<double>(scan(world, hdl, pose, 0.0, 1).size()) / clean.size(), 0.9, 0.01);
+
+  // Fading: the bright wall stays whole; flat ground thins out with range, half gone past ~64 m.
+  hdl.dropout = 0.0f;
+  hdl.dim_range = 80.0f;
+  const auto faded = scan(world, hdl, pose, 0.0, 1);
+  const auto share = [](const pcl::PointCloud<pcl::PointXYZI>& cloud, double r0, double r1, bool on_wall) {
+    int count = 0;
+    for (const auto& p : cloud) {
+      const bool wall_point = p.x > 19.9f && std::fabs(p.y) < 30.0f;
+      const double r = std::hypot(p.x, p.y);
+      count += wall_point == on_wall && r >= r0 && r < r1 && (on_wall || p.x < 0.0f);
+    }
+    return count;
+  };
+  EXPECT_GT(share(faded, 0, 100, true), 0.98 * share(clean, 0, 100, true));
+  EXPECT_GT(share(faded, 10, 30, false), 0.97 * share(clean, 10, 30, false));
+  EXPECT_LT(share(faded, 70, 100, false), 0.5 * share(clean, 70, 100, false));
+  EXPECT_GT(share(clean, 70, 100, false), 1000);
+}
+
+TEST(Sensor, ScansAreRepeatableForASeed) {
+  Primitive box;
+  box.kind = Primitive::Kind::kBox;
+  box.center = Eigen::Vector3f(8, 3, 0);
+  box.half = Eigen::Vector3f(2, 1, 0);
+  box.z0 = 0;
+  box.z1 = 2;
+  const World world({box}, Eigen::Vector3d::Zero());
+  SensorModel vlp;
+  ASSERT_TRUE(sensorPreset("vlp16", &vlp));
+  const auto a = scan(world, vlp, at(0, 0, 1.73), 0.0, 7);
+  const auto b = scan(world, vlp, at(0, 0, 1.73), 0.0, 7);
+  const auto c = scan(world, vlp, at(0, 0, 1.73), 0.0, 8);
+  ASSERT_EQ(a.size(), b.size());
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    ASSERT_EQ(a[i].x, b[i].x);
+    ASSERT_EQ(a[i].intensity, b[i].intensity);
+  }
+  bool differs = a.size() != c.size();
+  for (std::size_t i = 0; !differs && i < a.size(); ++i) differs = a[i].x != c[i].x;
+  EXPECT_TRUE(differs);
+}
+
+}  // namespace
+}  // namespace sim
+}  // namespace scan_context_loop
