@@ -213,5 +213,17 @@ void expectTrueLoop(const Drive& drive, int q, int m, const scan_context_loop::L
   }
 }
 
+void expectTrueLoops(const Drive& drive, const ros::Time& base, const std::vector<scan_context_loop::LoopClosure>& loops,
+                     bool verified) {
+  for (const auto& loop : loops) {
+    const int q = keyframeAt(drive, base, loop.query_stamp);
+    const int m = keyframeAt(drive, base, loop.match_stamp);
+    ASSERT_GE(q, 0) << "a loop from an unknown keyframe";
+    ASSERT_GE(m, 0) << "a loop to an unknown keyframe";
+    if (verified) EXPECT_TRUE(loop.verified) << "loop " << q << " -> " << m;
+    expectTrueLoop(drive, q, m, loop);
+  }
+}
+
 }  // namespace test
 }  // namespace scan_context_loop

@@ -82,6 +82,10 @@ int keyframeAt(const Drive& drive, const ros::Time& base, const ros::Time& stamp
 /// true one within 0.3 m (however far apart the keyframes are); a descriptor loop must join keyframes
 /// under 5 m apart.
 void expectTrueLoop(const Drive& drive, int q, int m, const scan_context_loop::LoopClosure& loop);
+/// expectTrueLoop for every loop (each must join two published keyframes), and each verified when
+/// `verified` is set.
+void expectTrueLoops(const Drive& drive, const ros::Time& base, const std::vector<scan_context_loop::LoopClosure>& loops,
+                     bool verified);
 
 }  // namespace test
 }  // namespace scan_context_loop

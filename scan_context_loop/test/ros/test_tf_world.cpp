@@ -21,12 +21,11 @@ TEST(LoopClosureNode, PosesFromTfAndRegisteredClouds) {
   harness.settle(3.0, 30.0);
   const auto loops = harness.loops();
   ASSERT_GE(loops.size(), 10u);
+  expectTrueLoops(drive, harness.base, loops, false);
   for (const auto& loop : loops) {
     const int q = keyframeAt(drive, harness.base, loop.query_stamp);
     const int m = keyframeAt(drive, harness.base, loop.match_stamp);
-    ASSERT_GE(q, 0);
-    ASSERT_GE(m, 0);
-    expectTrueLoop(drive, q, m, loop);
+    if (q < 0 || m < 0) continue;  // reported above
     const Eigen::Isometry3d truth = drive.truth[q].inverse() * drive.truth[m];
     // Back in the sensor frame, the yaw prior is the sensor's again.
     EXPECT_LT(std::fabs(wrapAngle(loop.yaw - std::atan2(truth(1, 0), truth(0, 0)))), 6.0 * M_PI / 180.0);
