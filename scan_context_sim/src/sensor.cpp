@@ -60,12 +60,40 @@ bool sensorPreset(const std::string& name, SensorModel* model) {
     m.dim_range = 55.0f;
     m.range_noise = 0.03f;
     m.mount_height = 1.73f;
+    m.zeros_for_no_return = true;
   } else {
     return false;
   }
   *model = m;
   return true;
 }
+
+namespace {
+
+/// The measured range of one ray, or 0 when it brings no return: nothing hit, lost (dropout), too dim
+/// for its range, or out of the sensor's range.
+float returnRange(const World& world, const SensorModel& sensor, const Eigen::Vector3f& origin,
+                  const Eigen::Vector3f& direction, double time, std::uint32_t ray, std::vector<std::uint32_t>* visit,
+                  Hit* hit, std::mt19937_64& rng, std::normal_distribution<float>& noise,
+                  std::uniform_real_distribution<float>& unit) {
+  if (!world.cast(origin, direction, sensor.max_range, time, ray, visit, hit)) return 0.0f;
+  if (unit(rng) < sensor.dropout) return 0.0f;
+  const float incidence = std::fabs(hit->normal.dot(direction));
+  const float reflectivity_seen = reflectivity(hit->material) * (0.3f + 0.7f * incidence);
+  if (sensor.dim_range > 0.0f) {
+    // Detected with probability 1 / (1 + (range / reach)^8): near certain well inside the reach,
+    // half at it, rare beyond.
+    const float reach = sensor.dim_range * std::sqrt(reflectivity_seen / 0.1f);
+    const float ratio2 = (hit->range / reach) * (hit->range / reach);
+    const float ratio8 = ratio2 * ratio2 * ratio2 * ratio2;
+    if (unit(rng) * (1.0f + ratio8) > 1.0f) return 0.0f;
+  }
+  const float range = hit->range + noise(rng);
+  if (range < sensor.min_range || range > sensor.max_range) return 0.0f;
+  return range;
+}
+
+}  // namespace
 
 pcl::PointCloud<pcl::PointXYZI> scan(const World& world, const SensorModel& sensor,
                                      const Eigen::Isometry3d& world_from_sensor, double time, std::uint64_t seed) {
@@ -91,20 +119,12 @@ pcl::PointCloud<pcl::PointXYZI> scan(const World& world, const SensorModel& sens
       const Eigen::Vector3f local(cos_e[b] * ca, cos_e[b] * sa, sin_e[b]);
       const Eigen::Vector3f direction = rotation * local;
       ++ray;
-      if (!world.cast(origin, direction, sensor.max_range, time, ray, &visit, &hit)) continue;
-      if (unit(rng) < sensor.dropout) continue;
-      const float incidence = std::fabs(hit.normal.dot(direction));
-      const float reflectivity_seen = reflectivity(hit.material) * (0.3f + 0.7f * incidence);
-      if (sensor.dim_range > 0.0f) {
-        // Detected with probability 1 / (1 + (range / reach)^8): near certain well inside the reach,
-        // half at it, rare beyond.
-        const float reach = sensor.dim_range * std::sqrt(reflectivity_seen / 0.1f);
-        const float ratio2 = (hit.range / reach) * (hit.range / reach);
-        const float ratio8 = ratio2 * ratio2 * ratio2 * ratio2;
-        if (unit(rng) * (1.0f + ratio8) > 1.0f) continue;
+      const float range = returnRange(world, sensor, origin, direction, time, ray, &visit, &hit, rng, noise, unit);
+      if (!(range > 0.0f)) {
+        if (sensor.zeros_for_no_return) cloud.push_back(pcl::PointXYZI(0.0f));
+        continue;
       }
-      const float range = hit.range + noise(rng);
-      if (range < sensor.min_range || range > sensor.max_range) continue;
+      const float incidence = std::fabs(hit.normal.dot(direction));
       pcl::PointXYZI p;
       p.x = local.x() * range;
       p.y = local.y() * range;

@@ -75,6 +75,26 @@ TEST(Sensor, Hdl64RingsOnFlatGround) {
   EXPECT_NEAR(rings.begin()->second.second / rings.begin()->second.first, 1.73 / std::tan(24.9 * M_PI / 180.0), 1e-3);
 }
 
+TEST(Sensor, Os1ReportsRaysWithoutAReturnAsZeros) {
+  // Over flat ground, the beams above the horizon hit nothing: an OS1-64 reports each such ray as
+  // (0, 0, 0), one point per ray in all; the HDL-64E leaves them out.
+  const SensorModel os1 = exact("os1-64");
+  ASSERT_TRUE(os1.zeros_for_no_return);
+  const World flat({}, Eigen::Vector3d::Zero());
+  const auto cloud = scan(flat, os1, at(0, 0, os1.mount_height), 0.0, 1);
+  EXPECT_EQ(cloud.size(), static_cast<std::size_t>(os1.columns) * os1.elevations_deg.size());
+  std::size_t zeros = 0, beams_up = 0;
+  for (const auto& p : cloud) zeros += (p.x == 0.0f && p.y == 0.0f && p.z == 0.0f);
+  for (float e : os1.elevations_deg) {
+    const double ground_range = os1.mount_height / std::tan(-e * M_PI / 180.0);
+    beams_up += e >= 0.0f || ground_range >= os1.max_range;
+  }
+  EXPECT_EQ(zeros, beams_up * os1.columns);
+  SensorModel dropped = os1;
+  dropped.zeros_for_no_return = false;
+  EXPECT_EQ(scan(flat, dropped, at(0, 0, os1.mount_height), 0.0, 1).size(), cloud.size() - zeros);
+}
+
 TEST(Sensor, NoiseDropoutAndFading) {
   // A wall 20 m ahead, 60 m wide and 30 m tall, over flat ground.
   Primitive wall;

@@ -27,10 +27,14 @@ struct SensorModel {
   /// distant ground -- fade sooner, as the rings of real scans do. 0: every return within max_range.
   float dim_range = 100.0f;
   float mount_height = 1.73f;         ///< sensor above the ground [m]
+  /// A ray without a return (nothing hit, lost, too dim, out of range) is still reported, as (0, 0, 0):
+  /// Ouster's drivers publish their organised clouds this way.
+  bool zeros_for_no_return = false;
 };
 
 /// "hdl64" (Velodyne HDL-64E: 64 beams, +2 to -24.9 deg), "vlp16" (Velodyne VLP-16: 16 beams, +-15 deg),
-/// "os1-64" (Ouster OS1-64: 64 beams, +-16.6 deg). Returns false for an unknown name.
+/// "os1-64" (Ouster OS1-64: 64 beams, +-16.6 deg, (0, 0, 0) for rays without a return). Returns false
+/// for an unknown name.
 bool sensorPreset(const std::string& name, SensorModel* model);
 
 /// Ray-casts one revolution from the sensor pose `world_from_sensor` at `time`; points in the sensor
