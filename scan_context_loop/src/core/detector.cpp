@@ -36,6 +36,13 @@ std::vector<Eigen::Vector2f> lateralViewpoints(const Config& config) {
   return views;
 }
 
+void LoopDetector::reconfigure(const Config& config) {
+  database_.reconfigure(config);
+  verification_ = config.verification;
+  verifier_.setConfig(verification_);
+  consistency_.reconfigure(config);
+}
+
 Detection LoopDetector::process(const PointView& raw, const KeyframeInfo& info) {
   Detection detection;
   const Config& config = database_.config();

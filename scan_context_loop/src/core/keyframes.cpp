@@ -6,6 +6,7 @@
 #include <pcl/filters/voxel_grid.h>
 
 #include "scan_context_loop/core/levelling.h"
+#include "scan_context_loop/core/settings.h"
 
 namespace scan_context_loop {
 
@@ -24,6 +25,23 @@ struct KeyframePipeline::Scan {
 };
 
 KeyframePipeline::KeyframePipeline(const Config& config) : detector_(config) {}
+
+std::string KeyframePipeline::reconfigure(const Config& config) {
+  const auto fixed = fixedSettingsChanged(configSettings(), this->config(), config);
+  if (!fixed.empty()) {
+    std::string keys;
+    for (const auto& k : fixed) keys += (keys.empty() ? "" : ", ") + k;
+    return "cannot change while running: " + keys;
+  }
+  const auto problems = config.validate();
+  if (!problems.empty()) {
+    std::string text;
+    for (const auto& p : problems) text += (text.empty() ? "" : "; ") + p;
+    return text;
+  }
+  detector_.reconfigure(config);
+  return "";
+}
 KeyframePipeline::~KeyframePipeline() = default;
 
 bool KeyframePipeline::selected(const KeyframeInfo& info) const {

@@ -155,6 +155,13 @@ Setting<T> enumSetting(const char* key, Ref<T, E> ref, bool (*parse)(const std::
   return s;
 }
 
+/// Marks a row Setting::live.
+template <typename T>
+Setting<T> live(Setting<T> s) {
+  s.live = true;
+  return s;
+}
+
 #define SCL_MEMBER(T, expr) +[](T& c) -> decltype((c.expr)) { return c.expr; }
 #define C(expr) SCL_MEMBER(Config, expr)
 #define N(expr) SCL_MEMBER(NodeOptions, expr)
@@ -164,19 +171,19 @@ std::vector<Setting<Config>> makeConfigSettings() {
   return {
       // keyframe input
       boolSetting<Cfg>("cloud_in_world_frame", C(cloud_in_world_frame), "clouds arrive registered in the pose frame"),
-      doubleSetting<Cfg>("keyframe_min_distance", C(keyframe_min_distance), atLeast(0, " (0 disables)"),
-                         "keyframe selection: metres since the last keyframe"),
-      doubleSetting<Cfg>("keyframe_min_angle", C(keyframe_min_angle), atLeast(0, " (0 disables)"),
-                         "keyframe selection: degrees of yaw since the last keyframe"),
+      live(doubleSetting<Cfg>("keyframe_min_distance", C(keyframe_min_distance), atLeast(0, " (0 disables)"),
+                         "keyframe selection: metres since the last keyframe")),
+      live(doubleSetting<Cfg>("keyframe_min_angle", C(keyframe_min_angle), atLeast(0, " (0 disables)"),
+                         "keyframe selection: degrees of yaw since the last keyframe")),
       doubleSetting<Cfg>("accumulate_seconds", C(accumulate_seconds), atLeast(0, " (0 disables)"),
                          "a keyframe merges the scans of this many seconds"),
       doubleSetting<Cfg>("accumulate_distance", C(accumulate_distance), atLeast(0, " (0 disables)"),
                          "and of this many metres of path"),
       doubleSetting<Cfg>("voxel_leaf", C(voxel_leaf), atLeast(0, " (0 disables)"), "voxel filter before describing [m]"),
-      doubleSetting<Cfg>("covariance_translation", C(covariance_translation), positive(),
-                         "x, y, z variance of a yaw-prior-only loop [m^2]"),
-      doubleSetting<Cfg>("covariance_rotation", C(covariance_rotation), positive(),
-                         "roll, pitch variance of a yaw-prior-only loop [rad^2]"),
+      live(doubleSetting<Cfg>("covariance_translation", C(covariance_translation), positive(),
+                         "x, y, z variance of a yaw-prior-only loop [m^2]")),
+      live(doubleSetting<Cfg>("covariance_rotation", C(covariance_rotation), positive(),
+                         "roll, pitch variance of a yaw-prior-only loop [rad^2]")),
       // descriptor
       intSetting<Cfg>("num_rings", C(num_rings), closed(1, 1000), "radial bins of the polar grid"),
       intSetting<Cfg>("num_sectors", C(num_sectors), closed(3, 3600), "azimuthal bins of the polar grid"),
@@ -192,10 +199,10 @@ std::vector<Setting<Config>> makeConfigSettings() {
       doubleSetting<Cfg>("levelling_max_tilt", C(levelling_max_tilt), closed(0, 90),
                          "auto levelling: a pose tilted more than this is not trusted [deg]"),
       // search
-      intSetting<Cfg>("num_candidates", C(num_candidates), closed(1, 10000), "ring-key neighbours scored in full"),
-      doubleSetting<Cfg>("search_ratio", C(search_ratio), closed(0, 1), "column search width around the coarse shift"),
-      doubleSetting<Cfg>("distance_threshold", C(distance_threshold), {0, 2, true, false},
-                         "a descriptor match is below this distance"),
+      live(intSetting<Cfg>("num_candidates", C(num_candidates), closed(1, 10000), "ring-key neighbours scored in full")),
+      live(doubleSetting<Cfg>("search_ratio", C(search_ratio), closed(0, 1), "column search width around the coarse shift")),
+      live(doubleSetting<Cfg>("distance_threshold", C(distance_threshold), {0, 2, true, false},
+                         "a descriptor match is below this distance")),
       doubleSetting<Cfg>("lateral_offset_step", C(lateral_offset_step), atLeast(0, " (0 disables)"),
                          "spacing of the virtual lateral viewpoints [m]"),
       intSetting<Cfg>("lateral_offset_count", C(lateral_offset_count), closed(1, 10), "virtual viewpoints per side"),
@@ -206,38 +213,38 @@ std::vector<Setting<Config>> makeConfigSettings() {
                          "keyframes younger than this are never candidates [s]"),
       doubleSetting<Cfg>("exclude_recent_distance", C(exclude_recent_distance), atLeast(0, " (0 disables)"),
                          "keyframes less than this path behind are never candidates [m]"),
-      doubleSetting<Cfg>("gate_odometry_distance", C(gate_odometry_distance), atLeast(0, " (0 disables)"),
-                         "odometry gate: fixed allowance [m]"),
-      doubleSetting<Cfg>("gate_odometry_drift", C(gate_odometry_drift), atLeast(0, " (0 disables)"),
-                         "odometry gate: allowance per metre of path"),
+      live(doubleSetting<Cfg>("gate_odometry_distance", C(gate_odometry_distance), atLeast(0, " (0 disables)"),
+                         "odometry gate: fixed allowance [m]")),
+      live(doubleSetting<Cfg>("gate_odometry_drift", C(gate_odometry_drift), atLeast(0, " (0 disables)"),
+                         "odometry gate: allowance per metre of path")),
       // verification
       boolSetting<Cfg>("verify", C(verification.enabled), "verify candidates by registration"),
-      doubleSetting<Cfg>("verify_threshold", C(verification.threshold), {0, 2, true, false},
-                         "candidates below this distance are verified"),
-      intSetting<Cfg>("verify_max_candidates", C(verification.max_candidates), closed(1, 100),
-                      "candidates verified per keyframe at most"),
+      live(doubleSetting<Cfg>("verify_threshold", C(verification.threshold), {0, 2, true, false},
+                         "candidates below this distance are verified")),
+      live(intSetting<Cfg>("verify_max_candidates", C(verification.max_candidates), closed(1, 100),
+                      "candidates verified per keyframe at most")),
       doubleSetting<Cfg>("verify_max_bytes", C(verification.max_bytes), atLeast(1e6),
                          "memory for the registration data [bytes]"),
       doubleSetting<Cfg>("verify_voxel_leaf", C(verification.voxel_leaf), positive(), "registration voxel edge [m]"),
       doubleSetting<Cfg>("verify_max_range", C(verification.max_range), positive(), "registration crop range [m]"),
-      doubleSetting<Cfg>("verify_min_inlier_ratio", C(verification.min_inlier_ratio), closed(0, 1),
-                         "symmetric structure overlap a loop needs on its own"),
-      doubleSetting<Cfg>("verify_supported_inlier_ratio", C(verification.supported_inlier_ratio), closed(0, 1),
-                         "overlap a loop that needs support must reach"),
-      doubleSetting<Cfg>("verify_max_fitness", C(verification.max_fitness), positive(),
-                         "largest mean squared point-to-plane distance [m^2]"),
-      doubleSetting<Cfg>("verify_max_violation", C(verification.max_violation), closed(0, 1),
-                         "largest free-space violation of a loop on its own"),
-      doubleSetting<Cfg>("verify_supported_max_violation", C(verification.supported_max_violation), closed(0, 1),
-                         "largest free-space violation of a loop that needs support"),
+      live(doubleSetting<Cfg>("verify_min_inlier_ratio", C(verification.min_inlier_ratio), closed(0, 1),
+                         "symmetric structure overlap a loop needs on its own")),
+      live(doubleSetting<Cfg>("verify_supported_inlier_ratio", C(verification.supported_inlier_ratio), closed(0, 1),
+                         "overlap a loop that needs support must reach")),
+      live(doubleSetting<Cfg>("verify_max_fitness", C(verification.max_fitness), positive(),
+                         "largest mean squared point-to-plane distance [m^2]")),
+      live(doubleSetting<Cfg>("verify_max_violation", C(verification.max_violation), closed(0, 1),
+                         "largest free-space violation of a loop on its own")),
+      live(doubleSetting<Cfg>("verify_supported_max_violation", C(verification.supported_max_violation), closed(0, 1),
+                         "largest free-space violation of a loop that needs support")),
       enumSetting<Cfg, RegistrationMethod>(
           "verify_method", C(verification.method), parseRegistrationMethod, registrationMethodName,
           {RegistrationMethod::kVgicp, RegistrationMethod::kGicp, RegistrationMethod::kIcp, RegistrationMethod::kNdt},
           "the fine registration"),
-      doubleSetting<Cfg>("verify_odometry_rotation", C(verification.odometry_rotation), atLeast(0, " (0 disables)"),
-                         "largest disagreement with the odometry's rotation [deg]"),
-      doubleSetting<Cfg>("verify_odometry_rotation_drift", C(verification.odometry_rotation_drift), atLeast(0),
-                         "and per metre of odometry path [deg/m]"),
+      live(doubleSetting<Cfg>("verify_odometry_rotation", C(verification.odometry_rotation), atLeast(0, " (0 disables)"),
+                         "largest disagreement with the odometry's rotation [deg]")),
+      live(doubleSetting<Cfg>("verify_odometry_rotation_drift", C(verification.odometry_rotation_drift), atLeast(0),
+                         "and per metre of odometry path [deg/m]")),
       intSetting<Cfg>("verify_submap", C(verification.submap), closed(0, 20), "candidate neighbours registered too"),
       boolSetting<Cfg>("verify_allow_degenerate", C(verification.allow_degenerate),
                        "accept loops the scene does not fix along one direction"),
@@ -246,10 +253,10 @@ std::vector<Setting<Config>> makeConfigSettings() {
                       "agreeing loops a verified loop needs"),
       intSetting<Cfg>("consistency_window", C(consistency_window), closed(1, 100000),
                       "keyframes a loop waits for support"),
-      doubleSetting<Cfg>("consistency_translation", C(consistency_translation), positive(),
-                         "cycle translation tolerance [m]"),
-      doubleSetting<Cfg>("consistency_rotation", C(consistency_rotation), positive(), "cycle rotation tolerance [deg]"),
-      doubleSetting<Cfg>("consistency_drift", C(consistency_drift), atLeast(0), "tolerance per metre of path"),
+      live(doubleSetting<Cfg>("consistency_translation", C(consistency_translation), positive(),
+                         "cycle translation tolerance [m]")),
+      live(doubleSetting<Cfg>("consistency_rotation", C(consistency_rotation), positive(), "cycle rotation tolerance [deg]")),
+      live(doubleSetting<Cfg>("consistency_drift", C(consistency_drift), atLeast(0), "tolerance per metre of path")),
   };
 }
 
@@ -266,8 +273,8 @@ std::vector<Setting<NodeOptions>> makeNodeSettings() {
       intSetting<O>("sync_queue_size", N(sync_queue_size), closed(1, 10000), "message_filters queue per input"),
       intSetting<O>("queue_size", N(queue_size), closed(1, 100000), "keyframes waiting for the worker"),
       boolSetting<O>("lio_sam_output", N(lio_sam_output), "also publish LIO-SAM's loop message"),
-      doubleSetting<O>("lio_sam_min_interval", N(lio_sam_min_interval), atLeast(0),
-                       "lio_loop: at most one message per this many seconds"),
+      live(doubleSetting<O>("lio_sam_min_interval", N(lio_sam_min_interval), atLeast(0),
+                       "lio_loop: at most one message per this many seconds")),
       doubleSetting<O>("unsynchronised_warning", N(unsynchronised_warning), positive(),
                        "warn when clouds come without poses this long [s]"),
   };

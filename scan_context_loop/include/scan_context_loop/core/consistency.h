@@ -67,6 +67,9 @@ class ConsistencyFilter {
   /// Loops still waiting for support.
   std::size_t waiting() const;
 
+  /// Takes new values of the live settings (Setting::live): the tolerances apply from the next offer.
+  void reconfigure(const Config& config) { config_ = config; }
+
  private:
   struct Entry {
     Loop loop;

@@ -79,6 +79,9 @@ class Database {
   std::size_t size() const { return keyframes_.size(); }
   const Keyframe& keyframe(std::size_t index) const { return keyframes_.at(index); }
   const Config& config() const { return config_; }
+  /// Takes new values of the live settings (Setting::live; KeyframePipeline::reconfigure checks that
+  /// nothing else changed).
+  void reconfigure(const Config& config) { config_ = config; }
   /// Keyframes currently in the kd-tree.
   std::size_t indexedCount() const { return indexed_; }
   /// Approximate memory per keyframe: descriptor, keys, bookkeeping and kd-tree share.

@@ -65,6 +65,10 @@ class LoopDetector {
 
   Detection process(const PointView& points, const KeyframeInfo& info);
 
+  /// Takes new values of the live settings for the next keyframe; the caller checks that only live
+  /// ones changed (KeyframePipeline::reconfigure).
+  void reconfigure(const Config& config);
+
   const Database& database() const { return database_; }
   const Config& config() const { return database_.config(); }
   const CloudStore& cloudStore() const { return store_; }

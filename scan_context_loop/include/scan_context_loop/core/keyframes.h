@@ -32,6 +32,12 @@ class KeyframePipeline {
   /// keyframe selection passes over comes back with `selected` false and nothing else changed.
   Detection process(const PointView& cloud, const KeyframeInfo& info);
 
+  /// Applies `config` from the next keyframe on when it differs from the current one in live settings
+  /// only (Setting::live: thresholds, gates, keyframe selection, tolerances) and is valid; the database
+  /// is kept. Otherwise nothing changes and the result names the problem (the keys that cannot change
+  /// while running, or the rules broken).
+  std::string reconfigure(const Config& config);
+
   const LoopDetector& detector() const { return detector_; }
   const Config& config() const { return detector_.config(); }
 

@@ -27,6 +27,9 @@ struct Setting {
   std::function<bool(T* target, const std::string& text)> set;
   /// "" when the value in `target` is allowed, else the rule it breaks ("must be in [1, 1000]").
   std::function<std::string(const T& target)> check;
+  /// Safe to change while running: read afresh for every keyframe and never baked into stored data
+  /// (KeyframePipeline::reconfigure, the node's dynamic_reconfigure server).
+  bool live = false;
 };
 
 /// The core's keys (config/*.yaml, the node's private parameters, `scripts/evaluate --set`).
@@ -53,6 +56,16 @@ std::vector<std::string> checkSettings(const std::vector<Setting<T>>& table, con
     if (!rule.empty()) problems.push_back(s.key + " = " + s.get(target) + ": " + rule);
   }
   return problems;
+}
+
+/// The keys that may not change while running (not Setting::live) whose values differ between `a` and `b`.
+template <typename T>
+std::vector<std::string> fixedSettingsChanged(const std::vector<Setting<T>>& table, const T& a, const T& b) {
+  std::vector<std::string> changed;
+  for (const auto& s : table) {
+    if (!s.live && s.get(a) != s.get(b)) changed.push_back(s.key);
+  }
+  return changed;
 }
 
 /// A name for the type, for messages ("an integer", "a number", "true or false", ...).

@@ -95,6 +95,8 @@ class Verifier {
   /// descriptor's yaw candidates with their viewpoints) and judges the result.
   VerificationResult verify(const VoxelCloud& match, const std::vector<Eigen::Isometry3d>& hypotheses);
   const VerificationConfig& config() const { return config_; }
+  /// Takes new acceptance thresholds (the live settings); the query set by setQuery() stays.
+  void setConfig(const VerificationConfig& config) { config_ = config; }
 
  private:
   /// GICP from one coarse pose, then the acceptance test; returns the rejection reason or "".
