@@ -3,13 +3,15 @@ add_library(scan_context_loop_nodelet
   src/ros/parameters.cpp
   src/ros/cloud_input.cpp
   src/ros/markers.cpp
+  src/ros/live_settings.cpp
+  src/ros/loop_pair.cpp
   src/ros/loop_closure_ros.cpp
   src/ros/loop_closure_nodelet.cpp
 )
 target_include_directories(scan_context_loop_nodelet PUBLIC include ${catkin_INCLUDE_DIRS})
 target_link_libraries(scan_context_loop_nodelet scan_context_loop_core ${catkin_LIBRARIES}
   ${PCL_FILTERS_LIBRARIES} ${PCL_COMMON_LIBRARIES})
-add_dependencies(scan_context_loop_nodelet ${PROJECT_NAME}_generate_messages_cpp)
+add_dependencies(scan_context_loop_nodelet ${PROJECT_NAME}_generate_messages_cpp ${PROJECT_NAME}_gencfg)
 
 add_executable(loop_closure_node src/ros/loop_closure_node.cpp)
 target_link_libraries(loop_closure_node ${catkin_LIBRARIES})
@@ -74,4 +76,16 @@ if(CATKIN_ENABLE_TESTING)
   foreach(stack lio_sam fast_lio aloam)
     add_rostest(test/ros/${stack}.test DEPENDENCIES test_ros_stacks loop_closure_node scan_context_loop_nodelet)
   endforeach()
+endif()
+
+if(CATKIN_ENABLE_TESTING)
+  # The dynamic_reconfigure description and the standard-type loops: no ROS master needed.
+  catkin_add_gtest(test_ros_units test/ros/test_live_settings.cpp)
+  target_link_libraries(test_ros_units scan_context_loop_nodelet ${catkin_LIBRARIES})
+endif()
+
+if(CATKIN_ENABLE_TESTING)
+  add_rostest_gtest(test_ros_reconfigure test/ros/reconfigure.test test/ros/test_reconfigure.cpp)
+  target_link_libraries(test_ros_reconfigure scan_context_loop_ros_harness)
+  add_dependencies(test_ros_reconfigure scan_context_loop_nodelet)
 endif()

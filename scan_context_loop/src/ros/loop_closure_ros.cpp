@@ -7,7 +7,10 @@
 #include <tf2_eigen/tf2_eigen.h>
 
 #include "scan_context_loop/LoopClosure.h"
+#include "scan_context_loop/core/settings.h"
 #include "scan_context_loop/ros/cloud_input.h"
+#include "scan_context_loop/ros/live_settings.h"
+#include "scan_context_loop/ros/loop_pair.h"
 #include "scan_context_loop/ros/markers.h"
 
 namespace scan_context_loop {
@@ -59,6 +62,16 @@ bool LoopClosureRos::start() {
       },
       ros::SubscriberStatusCallback(), ros::VoidConstPtr(), true);
   if (options_.lio_sam_output) lio_pub_ = nh_.advertise<std_msgs::Float64MultiArray>("lio_loop", 100);
+  pair_pub_ = nh_.advertise<geometry_msgs::PoseWithCovarianceStamped>("loop_closure_pairs", 200);
+
+  // The live settings: dynamic_reconfigure starts from the parameters just read (its first call
+  // changes nothing) and calls back from the spinner thread.
+  live_config_ = config_;
+  live_options_ = options_;
+  reconfigure_server_.reset(
+      new dynamic_reconfigure::Server<scan_context_loop::LoopClosureConfig>(reconfigure_mutex_, pnh_));
+  reconfigure_server_->setCallback(
+      [this](scan_context_loop::LoopClosureConfig& values, std::uint32_t level) { onReconfigure(values, level); });
 
   if (options_.pose_source == "tf" || options_.sensor_extrinsic_from_tf) {
     tf_buffer_.reset(new tf2_ros::Buffer(ros::Duration(30.0)));
@@ -151,6 +164,50 @@ void LoopClosureRos::checkSynchronisation(const ros::WallTimerEvent&) {
   }
 }
 
+void LoopClosureRos::onReconfigure(scan_context_loop::LoopClosureConfig& values, std::uint32_t) {
+  dynamic_reconfigure::Config message;
+  values.__toMessage__(message);
+  std::lock_guard<std::mutex> lock(queue_mutex_);
+  Config next = live_config_;
+  RosOptions next_options = live_options_;
+  std::string error;
+  if (!applyLiveSettings(message, &next, &next_options, &error)) {
+    ROS_ERROR_NAMED(name_, "dynamic_reconfigure: refused (%s); the settings in force stay", error.c_str());
+    dynamic_reconfigure::Config in_force = liveSettingsMessage(live_config_, live_options_);
+    values.__fromMessage__(in_force);
+    return;
+  }
+  if (liveSettingsChanged(live_config_, live_options_, next, next_options).empty()) return;
+  live_config_ = next;
+  live_options_ = next_options;
+  reconfigured_ = true;
+  queue_cv_.notify_one();
+}
+
+void LoopClosureRos::takeReconfigured() {
+  Config next;
+  RosOptions next_options;
+  {
+    std::lock_guard<std::mutex> lock(queue_mutex_);
+    if (!reconfigured_) return;
+    reconfigured_ = false;
+    next = live_config_;
+    next_options = live_options_;
+  }
+  const std::string error = pipeline_->reconfigure(next);
+  if (!error.empty()) {
+    ROS_ERROR_NAMED(name_, "dynamic_reconfigure: not applied: %s", error.c_str());
+    return;
+  }
+  std::string changes;
+  for (const auto& c : liveSettingsChanged(config_, options_, next, next_options)) changes += (changes.empty() ? "" : ", ") + c;
+  ROS_INFO_NAMED(name_, "settings changed from the next keyframe on: %s", changes.c_str());
+  config_ = next;
+  for (const auto& s : nodeSettings()) {
+    if (s.live) s.set(&options_, s.get(next_options));
+  }
+}
+
 // ---- worker ------------------------------------------------------------------------------------
 
 void LoopClosureRos::work() {
@@ -159,7 +216,7 @@ void LoopClosureRos::work() {
     bool have_item = false, redraw = false;
     {
       std::unique_lock<std::mutex> lock(queue_mutex_);
-      queue_cv_.wait(lock, [this] { return stop_ || !queue_.empty() || redraw_markers_; });
+      queue_cv_.wait(lock, [this] { return stop_ || !queue_.empty() || redraw_markers_ || reconfigured_; });
       if (stop_) return;
       std::swap(redraw, redraw_markers_);
       if (!queue_.empty()) {
@@ -169,6 +226,7 @@ void LoopClosureRos::work() {
         have_item = true;
       }
     }
+    takeReconfigured();
     if (redraw && !positions_.empty()) {
       markers_shown_ = MarkerState();
       publishMarkers(marker_frame_);
@@ -255,6 +313,7 @@ void LoopClosureRos::process(Item item) {
                             detection.index, info.stamp, detection.points_skipped);
   }
   positions_.push_back(item.pose.translation());
+  poses_.push_back(item.pose);
   stamps_.push_back(msg.header.stamp);
   database_size_ = pipeline_->detector().database().size();
   last_query_ms_ = (detection.descriptor_seconds + detection.query_seconds) * 1e3;
@@ -320,6 +379,9 @@ void LoopClosureRos::publishLoops(const Detection& detection, const std::string&
     ++loops_found_;
     edges_.push_back({loop.query_id, loop.match_id, loop.distance});
     loop_pub_.publish(loop);
+    if (pair_pub_.getNumSubscribers() > 0) {
+      for (const auto& pose : loopPair(loop, poses_[found.match])) pair_pub_.publish(pose);
+    }
     const double apart = (positions_[found.query] - positions_[found.match]).norm();
     if (loop.verified) {
       ROS_INFO_THROTTLE_NAMED(1.0, name_,

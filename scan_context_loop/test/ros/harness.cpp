@@ -40,6 +40,11 @@ Harness::Harness(ros::NodeHandle nh) : nh_(nh) {
                                                           lio_.push_back(*m);
                                                           lio_arrivals_.push_back(ros::WallTime::now().toSec());
                                                         });
+  pair_sub_ = nh_.subscribe<geometry_msgs::PoseWithCovarianceStamped>(
+      "loop_closure_pairs", 2000, [this](const geometry_msgs::PoseWithCovarianceStamped::ConstPtr& m) {
+        std::lock_guard<std::mutex> lock(mutex_);
+        pairs_.push_back(*m);
+      });
 }
 
 bool Harness::waitForNode(double seconds, bool poses) {
@@ -158,6 +163,11 @@ void Harness::settle(double quiet, double limit) {
 std::vector<scan_context_loop::LoopClosure> Harness::loops() const {
   std::lock_guard<std::mutex> lock(mutex_);
   return loops_;
+}
+
+std::vector<geometry_msgs::PoseWithCovarianceStamped> Harness::loopPairs() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return pairs_;
 }
 
 std::vector<std_msgs::Float64MultiArray> Harness::lioLoops() const {

@@ -7,6 +7,7 @@
 #include <utility>
 #include <vector>
 
+#include <geometry_msgs/PoseWithCovarianceStamped.h>
 #include <nav_msgs/Odometry.h>
 #include <ros/ros.h>
 #include <sensor_msgs/PointCloud2.h>
@@ -49,6 +50,8 @@ class Harness {
 
   std::vector<scan_context_loop::LoopClosure> loops() const;
   std::vector<std_msgs::Float64MultiArray> lioLoops() const;
+  /// The standard-type copies of the loops (loop_closure_pairs), in arrival order.
+  std::vector<geometry_msgs::PoseWithCovarianceStamped> loopPairs() const;
   /// Every marker as RViz would show it now: the latest of each (namespace, id).
   visualization_msgs::MarkerArray shownMarkers() const;
   std::size_t markerMessages() const;
@@ -62,10 +65,11 @@ class Harness {
 
  private:
   ros::NodeHandle nh_;
-  ros::Subscriber loop_sub_, marker_sub_, lio_sub_;
+  ros::Subscriber loop_sub_, marker_sub_, lio_sub_, pair_sub_;
   mutable std::mutex mutex_;  // guards everything below (callbacks vs. test thread)
   std::vector<scan_context_loop::LoopClosure> loops_;
   std::vector<std_msgs::Float64MultiArray> lio_;
+  std::vector<geometry_msgs::PoseWithCovarianceStamped> pairs_;
   std::map<std::pair<std::string, int>, visualization_msgs::Marker> markers_;
   std::size_t marker_messages_ = 0, largest_marker_message_ = 0;
   std::vector<double> lio_arrivals_;

@@ -62,6 +62,21 @@ TEST(LoopClosureNode, PublishesTrueRevisitsWithTheirYawAndMarkers) {
     }
   }
 
+  // The standard-type copy: for every loop, the match's pose then the query's, whose difference is the
+  // loop's relative pose.
+  const auto pairs = harness.loopPairs();
+  ASSERT_EQ(pairs.size(), 2 * loops.size());
+  for (std::size_t i = 0; i < loops.size(); ++i) {
+    EXPECT_EQ(pairs[2 * i].header.stamp, loops[i].match_stamp);
+    EXPECT_EQ(pairs[2 * i + 1].header.stamp, loops[i].query_stamp);
+    Eigen::Isometry3d match, query, relative;
+    tf2::fromMsg(pairs[2 * i].pose.pose, match);
+    tf2::fromMsg(pairs[2 * i + 1].pose.pose, query);
+    tf2::fromMsg(loops[i].relative_pose, relative);
+    EXPECT_TRUE((query.inverse() * match).isApprox(relative, 1e-6)) << "loop " << loops[i].query_id;
+    EXPECT_GT(pairs[2 * i + 1].pose.covariance[35], 0.0);
+  }
+
   ASSERT_GT(harness.markerMessages(), 0u);
   // The markers RViz would show: every keyframe and every loop, although each message carried only what
   // changed (a few chunks, never the whole map).

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <atomic>
+#include <cstdint>
 #include <condition_variable>
 #include <deque>
 #include <memory>
@@ -11,7 +12,9 @@
 #include <thread>
 #include <vector>
 
+#include <boost/thread/recursive_mutex.hpp>
 #include <diagnostic_updater/diagnostic_updater.h>
+#include <dynamic_reconfigure/server.h>
 #include <message_filters/subscriber.h>
 #include <message_filters/sync_policies/approximate_time.h>
 #include <message_filters/sync_policies/exact_time.h>
@@ -24,6 +27,7 @@
 
 #include "scan_context_loop/core/keyframes.h"
 #include "scan_context_loop/LoopClosure.h"
+#include "scan_context_loop/LoopClosureConfig.h"
 #include "scan_context_loop/ros/markers.h"
 #include "scan_context_loop/ros/parameters.h"
 
@@ -69,10 +73,17 @@ class LoopClosureRos {
   /// lio_sam_output: the loop on lio_loop if it is verified, new and due (lio_sam_min_interval).
   void sendToLioSam(const scan_context_loop::LoopClosure& loop);
   void checkSynchronisation(const ros::WallTimerEvent&);
+  /// dynamic_reconfigure: checks the live settings and hands them to the worker (applied before its
+  /// next keyframe); a refused change is logged and the values in force are reported back.
+  void onReconfigure(scan_context_loop::LoopClosureConfig& values, std::uint32_t level);
+  /// Worker: takes the settings onReconfigure accepted, if any.
+  void takeReconfigured();
   void diagnose(diagnostic_updater::DiagnosticStatusWrapper& status);
 
   ros::NodeHandle nh_, pnh_;
   std::string name_;
+  // Read in start(); then config_ is the worker's, and options_ is read by callbacks too, so the worker
+  // changes only its live members, which callbacks never read (takeReconfigured).
   Config config_;
   RosOptions options_;
 
@@ -82,19 +93,27 @@ class LoopClosureRos {
   std::unique_ptr<message_filters::Synchronizer<ApproxPolicy>> approx_sync_;
   std::unique_ptr<message_filters::Synchronizer<ExactPolicy>> exact_sync_;
   ros::Subscriber cloud_only_sub_;
-  ros::Publisher loop_pub_, rejected_pub_, marker_pub_, lio_pub_;
+  ros::Publisher loop_pub_, rejected_pub_, marker_pub_, lio_pub_, pair_pub_;
   std::unique_ptr<tf2_ros::Buffer> tf_buffer_;
   std::unique_ptr<tf2_ros::TransformListener> tf_listener_;
   ros::WallTimer sync_timer_;
   ros::Timer diagnostics_timer_;
   std::unique_ptr<diagnostic_updater::Updater> diagnostics_;
+  boost::recursive_mutex reconfigure_mutex_;  // dynamic_reconfigure's own (guards its Server's state)
+  std::unique_ptr<dynamic_reconfigure::Server<scan_context_loop::LoopClosureConfig>> reconfigure_server_;
 
-  // queue_mutex_ guards queue_, stop_ and redraw_markers_; queue_cv_ wakes the worker.
+  // queue_mutex_ guards queue_, stop_, redraw_markers_ and the live settings below; queue_cv_ wakes the
+  // worker.
   std::mutex queue_mutex_;
   std::condition_variable queue_cv_;
   std::deque<Item> queue_;
   bool stop_ = false;
   bool redraw_markers_ = false;  // a marker subscriber connected: publish every marker once
+  // dynamic_reconfigure's accepted settings (all keys; only live ones ever differ from config_), and
+  // whether the worker has yet to take them.
+  Config live_config_;
+  RosOptions live_options_;
+  bool reconfigured_ = false;
   std::thread worker_;
 
   // Counters read by diagnostics and the synchronisation check; written by callbacks and the worker.
@@ -106,6 +125,7 @@ class LoopClosureRos {
   // Worker-only state: touched by the worker thread alone, no lock.
   std::unique_ptr<KeyframePipeline> pipeline_;
   std::vector<Eigen::Vector3d> positions_;  // keyframe positions in the pose frame, by keyframe number
+  std::vector<Eigen::Isometry3d> poses_;    // keyframe sensor poses in the pose frame, by keyframe number
   std::vector<ros::Time> stamps_;           // keyframe stamps, by keyframe number
   std::vector<LoopEdge> edges_, rejected_edges_;
   MarkerState markers_shown_;   // what the published markers already show

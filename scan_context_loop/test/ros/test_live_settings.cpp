@@ -1,0 +1,122 @@
+// The dynamic_reconfigure description (cfg/LoopClosure.cfg) against the settings tables, and the
+// conversion of its messages; the standard-type copy of a loop. No ROS master needed.
+#include <algorithm>
+#include <map>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <tf2_eigen/tf2_eigen.h>
+
+#include "scan_context_loop/LoopClosureConfig.h"
+#include "scan_context_loop/core/settings.h"
+#include "scan_context_loop/ros/live_settings.h"
+#include "scan_context_loop/ros/loop_pair.h"
+
+namespace scan_context_loop {
+namespace {
+
+std::map<std::string, double> valuesOf(const dynamic_reconfigure::Config& message) {
+  std::map<std::string, double> values;
+  for (const auto& p : message.ints) values[p.name] = p.value;
+  for (const auto& p : message.doubles) values[p.name] = p.value;
+  for (const auto& p : message.bools) values[p.name] = p.value;
+  return values;
+}
+
+TEST(LiveSettings, TheReconfigureDescriptionHasEveryLiveKeyWithItsDefault) {
+  dynamic_reconfigure::Config generated;
+  LoopClosureConfig::__getDefault__().__toMessage__(generated);
+  const auto described = valuesOf(generated);
+  const auto defaults = valuesOf(liveSettingsMessage(Config(), NodeOptions()));
+  EXPECT_EQ(described.size(), defaults.size());
+  for (const auto& d : defaults) {
+    const auto it = described.find(d.first);
+    ASSERT_NE(it, described.end()) << d.first << " is live but not in cfg/LoopClosure.cfg";
+    EXPECT_DOUBLE_EQ(it->second, d.second) << d.first;
+  }
+  for (const auto& d : described) EXPECT_TRUE(defaults.count(d.first)) << d.first << " is not a live key";
+  // Every default lies within the slider's range.
+  dynamic_reconfigure::Config low, high;
+  LoopClosureConfig::__getMin__().__toMessage__(low);
+  LoopClosureConfig::__getMax__().__toMessage__(high);
+  const auto lows = valuesOf(low), highs = valuesOf(high);
+  for (const auto& d : defaults) {
+    EXPECT_LE(lows.at(d.first), d.second) << d.first;
+    EXPECT_GE(highs.at(d.first), d.second) << d.first;
+  }
+}
+
+dynamic_reconfigure::Config withDouble(const std::string& key, double value) {
+  dynamic_reconfigure::Config message = liveSettingsMessage(Config(), NodeOptions());
+  for (auto& p : message.doubles) {
+    if (p.name == key) p.value = value;
+  }
+  return message;
+}
+
+TEST(LiveSettings, AppliesLiveValuesAndRefusesBadOnesWhole) {
+  Config config;
+  NodeOptions options;
+  std::string error;
+  ASSERT_TRUE(applyLiveSettings(withDouble("distance_threshold", 0.15), &config, &options, &error)) << error;
+  EXPECT_DOUBLE_EQ(config.distance_threshold, 0.15);
+  ASSERT_TRUE(applyLiveSettings(withDouble("lio_sam_min_interval", 2.5), &config, &options, &error)) << error;
+  EXPECT_DOUBLE_EQ(options.lio_sam_min_interval, 2.5);
+  const auto changed = liveSettingsChanged(Config(), NodeOptions(), config, options);
+  ASSERT_EQ(changed.size(), 1u);  // the second message carried the defaults again for distance_threshold
+  EXPECT_NE(changed.front().find("lio_sam_min_interval"), std::string::npos);
+
+  // Out of range: nothing changes, and the error names the key.
+  const Config before = config;
+  EXPECT_FALSE(applyLiveSettings(withDouble("distance_threshold", 0.0), &config, &options, &error));
+  EXPECT_NE(error.find("distance_threshold"), std::string::npos) << error;
+  EXPECT_DOUBLE_EQ(config.distance_threshold, before.distance_threshold);
+
+  // A key that shapes stored data is refused by name, even with a valid value.
+  dynamic_reconfigure::Config fixed;
+  dynamic_reconfigure::IntParameter rings;
+  rings.name = "num_rings";
+  rings.value = 30;
+  fixed.ints.push_back(rings);
+  EXPECT_FALSE(applyLiveSettings(fixed, &config, &options, &error));
+  EXPECT_NE(error.find("num_rings cannot change while running"), std::string::npos) << error;
+  EXPECT_EQ(config.num_rings, Config().num_rings);
+}
+
+TEST(LoopPair, MatchAndQueryPosesGiveBackTheLoopsRelativePose) {
+  scan_context_loop::LoopClosure loop;
+  loop.header.frame_id = "odom";
+  loop.query_stamp = ros::Time(120.5);
+  loop.match_stamp = ros::Time(20.25);
+  Eigen::Isometry3d query_from_match = Eigen::Isometry3d::Identity();
+  query_from_match.linear() = Eigen::AngleAxisd(0.4, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  query_from_match.translation() = Eigen::Vector3d(1.5, -0.5, 0.1);
+  loop.relative_pose = tf2::toMsg(query_from_match);
+  // Variances 1..6 on the diagonal: x 1, y 2 in the query's axes.
+  for (int i = 0; i < 6; ++i) loop.covariance[i * 7] = i + 1.0;
+  Eigen::Isometry3d world_from_match = Eigen::Isometry3d::Identity();
+  world_from_match.linear() = Eigen::AngleAxisd(M_PI / 2 + 0.4, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  world_from_match.translation() = Eigen::Vector3d(10.0, 20.0, 1.0);
+
+  const auto pair = loopPair(loop, world_from_match);
+  EXPECT_EQ(pair[0].header.stamp, loop.match_stamp);
+  EXPECT_EQ(pair[1].header.stamp, loop.query_stamp);
+  EXPECT_EQ(pair[1].header.frame_id, "odom");
+  Eigen::Isometry3d match, query;
+  tf2::fromMsg(pair[0].pose.pose, match);
+  tf2::fromMsg(pair[1].pose.pose, query);
+  EXPECT_TRUE((match.inverse() * query).isApprox(query_from_match.inverse(), 1e-9));
+  // The query keyframe faces +90 deg in the world: its x variance becomes the world's y and vice versa.
+  EXPECT_NEAR(pair[1].pose.covariance[0], 2.0, 1e-9);
+  EXPECT_NEAR(pair[1].pose.covariance[7], 1.0, 1e-9);
+  EXPECT_NEAR(pair[1].pose.covariance[35], 6.0, 1e-9);
+  for (double v : pair[0].pose.covariance) EXPECT_EQ(v, 0.0);
+}
+
+}  // namespace
+}  // namespace scan_context_loop
+
+int main(int argc, char** argv) {
+  testing::InitGoogleTest(&argc, argv);
+  return RUN_ALL_TESTS();
+}
