@@ -17,6 +17,8 @@ bool loopsAgree(const Loop& a, const Loop& b, const Database& database, double* 
   const Keyframe& k = database.keyframe(b.query);
   const Keyframe& l = database.keyframe(b.match);
   if (!i.info.pose || !j.info.pose || !k.info.pose || !l.info.pose) return false;
+  // The odometry relates the two queries, and the two matches, only within a session.
+  if (i.session != k.session || j.session != l.session) return false;
   // Loop b carried to a's keyframes through the odometry, against loop a itself.
   const Eigen::Isometry3d predicted = i.info.pose->inverse() * *k.info.pose * b.relative() *
                                       l.info.pose->inverse() * *j.info.pose;

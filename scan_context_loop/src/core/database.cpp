@@ -73,7 +73,7 @@ bool Database::acceptable(const KeyframeInfo& info, std::string* error) const {
   std::ostringstream why;
   if (!std::isfinite(info.stamp)) {
     why << "keyframe stamp is not finite";
-  } else if (!keyframes_.empty() && info.stamp < keyframes_.back().info.stamp) {
+  } else if (keyframes_.size() > session_start_ && info.stamp < keyframes_.back().info.stamp) {
     why.precision(17);
     why << "keyframe stamp " << info.stamp << " is earlier than the previous keyframe's "
         << keyframes_.back().info.stamp;
@@ -95,17 +95,26 @@ bool Database::add(const KeyframeInfo& info, Descriptor descriptor, std::string*
   Keyframe keyframe;
   keyframe.info = info;
   keyframe.path_length = pathLengthAt(info);
+  keyframe.session = session_;
   keyframe.descriptor = std::move(descriptor);
   keyframes_.push_back(std::move(keyframe));
   return true;
 }
 
+void Database::startSession() {
+  if (keyframes_.size() == session_start_) return;
+  ++session_;
+  session_start_ = keyframes_.size();
+}
+
 double Database::pathLengthAt(const KeyframeInfo& info) const {
-  if (keyframes_.empty()) return 0.0;
+  if (keyframes_.size() == session_start_) return 0.0;
   double length = keyframes_.back().path_length;
-  // Walk back to the latest keyframe with a pose, so keyframes without one do not break the chain.
+  // Walk back to the session's latest keyframe with a pose, so keyframes without one do not break the
+  // chain.
   if (info.pose) {
-    for (auto it = keyframes_.rbegin(); it != keyframes_.rend(); ++it) {
+    const auto session_begin = keyframes_.rbegin() + static_cast<long>(keyframes_.size() - session_start_);
+    for (auto it = keyframes_.rbegin(); it != session_begin; ++it) {
       if (it->info.pose) {
         length += (info.pose->translation() - it->info.pose->translation()).norm();
         break;
@@ -116,19 +125,21 @@ double Database::pathLengthAt(const KeyframeInfo& info) const {
 }
 
 std::size_t Database::eligibleCount(const KeyframeInfo& info) const {
-  const std::size_t n = keyframes_.size();
-  std::size_t eligible =
-      n > static_cast<std::size_t>(config_.exclude_recent_frames) ? n - config_.exclude_recent_frames : 0;
-  // Stamps and path lengths never decrease along the database, so each window cuts a suffix.
+  // Earlier sessions are always eligible; the windows cut a suffix of the current one, along which stamps
+  // and path lengths never decrease.
+  const std::size_t in_session = keyframes_.size() - session_start_;
+  const std::size_t frames = static_cast<std::size_t>(config_.exclude_recent_frames);
+  std::size_t eligible = session_start_ + (in_session > frames ? in_session - frames : 0);
+  const auto session_begin = keyframes_.begin() + static_cast<long>(session_start_);
   if (config_.exclude_recent_seconds > 0.0) {
     const double latest = info.stamp - config_.exclude_recent_seconds;
-    auto end = std::upper_bound(keyframes_.begin(), keyframes_.begin() + eligible, latest,
+    auto end = std::upper_bound(session_begin, keyframes_.begin() + eligible, latest,
                                 [](double t, const Keyframe& k) { return t < k.info.stamp; });
     eligible = static_cast<std::size_t>(end - keyframes_.begin());
   }
   if (config_.exclude_recent_distance > 0.0) {
     const double latest = pathLengthAt(info) - config_.exclude_recent_distance;
-    auto end = std::upper_bound(keyframes_.begin(), keyframes_.begin() + eligible, latest,
+    auto end = std::upper_bound(session_begin, keyframes_.begin() + eligible, latest,
                                 [](double s, const Keyframe& k) { return s < k.path_length; });
     eligible = static_cast<std::size_t>(end - keyframes_.begin());
   }
@@ -178,7 +189,8 @@ QueryResult Database::query(const Descriptor& descriptor, const KeyframeInfo& in
 bool Database::withinOdometryGate(const KeyframeInfo& info, std::size_t index) const {
   if (!(config_.gate_odometry_distance > 0.0 || config_.gate_odometry_drift > 0.0)) return true;
   const Keyframe& candidate = keyframes_[index];
-  if (!info.pose || !candidate.info.pose) return true;  // nothing to gate on
+  // Nothing to gate on: no pose, or another session's odometry frame.
+  if (!info.pose || !candidate.info.pose || candidate.session != session_) return true;
   const double travelled = std::max(0.0, pathLengthAt(info) - candidate.path_length);
   const double radius = config_.gate_odometry_distance + config_.gate_odometry_drift * travelled;
   return (info.pose->translation() - candidate.info.pose->translation()).norm() <= radius;

@@ -190,7 +190,7 @@ VoxelCloud LoopDetector::submapOf(std::size_t index, std::size_t query) const {
     if (k < 0 || static_cast<std::size_t>(k) == index || static_cast<std::size_t>(k) >= query) continue;
     const VoxelCloud* other = store_.get(static_cast<std::size_t>(k));
     const auto& pose = database_.keyframe(static_cast<std::size_t>(k)).info.pose;
-    if (other == nullptr || !pose) continue;
+    if (other == nullptr || !pose || !database_.sameSession(index, static_cast<std::size_t>(k))) continue;
     // Levelled candidate frame <- levelled neighbour frame, through the odometry.
     Eigen::Isometry3d moved = centre->inverse() * *pose;
     moved.linear() = levelling_[index].cast<double>() * moved.linear() * levelling_[k].transpose().cast<double>();
@@ -212,7 +212,7 @@ void LoopDetector::checkOdometryRotation(std::size_t query, std::size_t match, V
   const Config& config = database_.config();
   const Keyframe& q = database_.keyframe(query);
   const Keyframe& m = database_.keyframe(match);
-  if (!(config.verification.odometry_rotation > 0.0) || !q.info.pose || !m.info.pose) return;
+  if (!(config.verification.odometry_rotation > 0.0) || !q.info.pose || !m.info.pose || q.session != m.session) return;
   const Eigen::Matrix3d odometry = (q.info.pose->linear().transpose() * m.info.pose->linear());
   const double disagreement =
       Eigen::AngleAxisd(odometry.transpose() * result->relative.linear()).angle() * 180.0 / M_PI;

@@ -55,6 +55,13 @@ bool KeyframePipeline::selected(const KeyframeInfo& info) const {
   return moved || turned;
 }
 
+bool KeyframePipeline::jumpedBack(const KeyframeInfo& info) const {
+  const Database& database = detector_.database();
+  const double jump = config().new_session_jump;
+  if (!(jump > 0.0) || database.size() == database.sessionStart() || !std::isfinite(info.stamp)) return false;
+  return info.stamp <= database.keyframe(database.size() - 1).info.stamp - jump;
+}
+
 void KeyframePipeline::remember(const PointView& cloud, const KeyframeInfo& info) {
   const Config& c = config();
   if (has_previous_) path_ += (info.pose->translation() - previous_pose_.translation()).norm();
@@ -84,8 +91,16 @@ Detection KeyframePipeline::process(const PointView& cloud, const KeyframeInfo& 
                         : "accumulating scans into keyframes (accumulate_seconds / accumulate_distance) needs poses";
     return refused;
   }
+  const bool new_session = jumpedBack(info);
+  if (new_session) {
+    // Another run of odometry: nothing of the last one carries over to keyframe selection or scans.
+    detector_.startSession();
+    has_last_ = has_previous_ = false;
+    recent_.clear();
+    path_ = 0.0;
+  }
   if (accumulate) remember(cloud, info);
-  if (!selected(info)) {
+  if (!new_session && !selected(info)) {
     Detection skipped;
     skipped.selected = false;
     return skipped;
@@ -112,6 +127,7 @@ Detection KeyframePipeline::process(const PointView& cloud, const KeyframeInfo& 
   }
   if (accumulate || c.cloud_in_world_frame || c.voxel_leaf > 0.0) view = viewOf(copy);
   Detection detection = detector_.process(view, info);
+  detection.new_session = new_session;
   if (detection.accepted && info.pose) {
     has_last_ = true;
     last_pose_ = *info.pose;

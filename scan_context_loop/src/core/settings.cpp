@@ -179,6 +179,8 @@ std::vector<Setting<Config>> makeConfigSettings() {
                          "a keyframe merges the scans of this many seconds"),
       doubleSetting<Cfg>("accumulate_distance", C(accumulate_distance), atLeast(0, " (0 disables)"),
                          "and of this many metres of path"),
+      doubleSetting<Cfg>("new_session_jump", C(new_session_jump), atLeast(0, " (0: never)"),
+                         "a stamp this far back [s] starts a new session"),
       doubleSetting<Cfg>("voxel_leaf", C(voxel_leaf), atLeast(0, " (0 disables)"), "voxel filter before describing [m]"),
       live(doubleSetting<Cfg>("covariance_translation", C(covariance_translation), positive(),
                          "x, y, z variance of a yaw-prior-only loop [m^2]")),

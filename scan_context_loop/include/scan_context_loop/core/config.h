@@ -151,6 +151,10 @@ struct Config {
   /// scan counts, whether keyframe selection picks it or not.
   double accumulate_seconds = 0.0;
   double accumulate_distance = 0.0;
+  /// Time going backwards: a keyframe stamped at least this long [s] before the previous keyframe (a bag
+  /// played again, a restarted odometry) starts a new session (Database::startSession) instead of being
+  /// refused; a smaller step back is refused as out of order. 0: every step back is refused.
+  double new_session_jump = 1.0;
   /// Voxel filter before describing [m] (0: off), after the accumulation.
   double voxel_leaf = 0.0;
   /// Covariance of a loop with only the descriptor's yaw prior: variance of x, y, z [m^2] and of roll

@@ -48,7 +48,10 @@ struct QueryResult {
 struct Keyframe {
   KeyframeInfo info;
   Descriptor descriptor;
-  double path_length = 0.0;  ///< odometry distance travelled up to this keyframe [m]
+  double path_length = 0.0;  ///< odometry distance travelled up to this keyframe in its session [m]
+  /// The session it was recorded in (0, 1, ...): a run of keyframes with one odometry frame and
+  /// non-decreasing stamps. Poses, stamps and path lengths compare only within a session.
+  std::uint32_t session = 0;
 };
 
 /// Not thread-safe: one owner thread (the ROS adapter's worker) calls every member.
@@ -64,9 +67,9 @@ class Database {
   Database(const Database&) = delete;
   Database& operator=(const Database&) = delete;
 
-  /// Appends a keyframe. Returns false and leaves the database unchanged when the stamp is earlier than
-  /// the last keyframe's, the stamp or pose is not finite, or the descriptor's grid size differs from
-  /// the configuration; `error` then says why.
+  /// Appends a keyframe to the current session. Returns false and leaves the database unchanged when the
+  /// stamp is earlier than the session's last keyframe's, the stamp or pose is not finite, or the
+  /// descriptor's grid size differs from the configuration; `error` then says why.
   bool add(const KeyframeInfo& info, Descriptor descriptor, std::string* error = nullptr);
 
   /// Scores the nearest ring keys among the eligible keyframes for a query that has not been added yet
@@ -75,6 +78,19 @@ class Database {
 
   /// Checks a new keyframe's info against the last one without changing anything.
   bool acceptable(const KeyframeInfo& info, std::string* error) const;
+
+  /// Keyframes added from now on form a new session (a bag played again, a restarted odometry, another
+  /// day): their stamps, poses and path lengths start afresh, the exclusion windows apply within the
+  /// session only, and every keyframe of the earlier sessions is a candidate, never gated by odometry.
+  /// Does nothing while the current session is empty.
+  void startSession();
+  /// The current session's number, and its first keyframe.
+  std::uint32_t session() const { return session_; }
+  std::size_t sessionStart() const { return session_start_; }
+  /// Whether keyframes a and b were recorded in one session (their odometry relates them).
+  bool sameSession(std::size_t a, std::size_t b) const {
+    return keyframes_.at(a).session == keyframes_.at(b).session;
+  }
 
   std::size_t size() const { return keyframes_.size(); }
   const Keyframe& keyframe(std::size_t index) const { return keyframes_.at(index); }
@@ -98,6 +114,8 @@ class Database {
   Config config_;
   std::deque<Keyframe> keyframes_;  // deque: ring-key storage never moves, FLANN keeps raw pointers
   std::size_t indexed_ = 0;
+  std::uint32_t session_ = 0;
+  std::size_t session_start_ = 0;  // index of the current session's first keyframe
   struct Tree;
   std::unique_ptr<Tree> tree_;
 };

@@ -30,6 +30,8 @@ struct Detection {
   bool accepted = false;     ///< false: the keyframe was rejected (see error) and nothing changed
   std::string error;
   std::size_t index = 0;     ///< keyframe number given to the new keyframe
+  /// The keyframe began a new session (its stamp jumped back, Config::new_session_jump).
+  bool new_session = false;
   /// Candidates among the earlier keyframes, from every viewpoint (Config::lateral_offset_step), best
   /// first, at most Config::num_candidates.
   QueryResult query;
@@ -64,6 +66,9 @@ class LoopDetector {
         verification_(config.verification), verifier_(verification_), consistency_(config) {}
 
   Detection process(const PointView& points, const KeyframeInfo& info);
+
+  /// Keyframes from now on form a new session (Database::startSession).
+  void startSession() { database_.startSession(); }
 
   /// Takes new values of the live settings for the next keyframe; the caller checks that only live
   /// ones changed (KeyframePipeline::reconfigure).

@@ -42,6 +42,8 @@ class KeyframePipeline {
   const Config& config() const { return detector_.config(); }
 
  private:
+  /// The stamp lies Config::new_session_jump or more before the session's last keyframe.
+  bool jumpedBack(const KeyframeInfo& info) const;
   /// Keyframe selection against the pose of the last keyframe that was processed.
   bool selected(const KeyframeInfo& info) const;
 

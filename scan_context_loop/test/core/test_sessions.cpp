@@ -1,0 +1,104 @@
+// Sessions: time going backwards starts a new session; earlier sessions stay and are always candidates.
+#include <gtest/gtest.h>
+
+#include "scan_context_loop/core/keyframes.h"
+#include "scan_context_loop/core/pcl_adapters.h"
+#include "test_scenes.h"
+
+namespace scan_context_loop {
+namespace {
+
+KeyframeInfo at(double stamp, double x, double y = 0.0) {
+  KeyframeInfo info;
+  info.stamp = stamp;
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  pose.translation() = Eigen::Vector3d(x, y, 0.0);
+  info.pose = pose;
+  return info;
+}
+
+Config descriptorOnly() {
+  Config c;
+  c.verification.enabled = false;
+  c.exclude_recent_frames = 50;
+  return c;
+}
+
+/// Session 1: `places` streets, 10 m apart, at stamps 100, 101, ...
+void firstSession(KeyframePipeline* pipeline, int places) {
+  for (int i = 0; i < places; ++i) {
+    const Detection d = pipeline->process(viewOf(test::streetScene(100 + i)), at(100.0 + i, 10.0 * i));
+    ASSERT_TRUE(d.accepted) << d.error;
+  }
+}
+
+TEST(Sessions, AJumpBackInTimeStartsASessionWhoseKeyframesFindTheEarlierOnes) {
+  KeyframePipeline pipeline(descriptorOnly());
+  firstSession(&pipeline, 5);
+  // The same streets again: stamps from 0 (a bag played again), another odometry frame far away. The
+  // recent-keyframe window (50) would hide all five, and the odometry gate (20 m) would too, within one
+  // session.
+  const auto again = test::rotateTranslate(test::streetScene(102), 3.0 * M_PI / 180.0);
+  const Detection d = pipeline.process(viewOf(again), at(0.5, 5000.0, -300.0));
+  ASSERT_TRUE(d.accepted) << d.error;
+  EXPECT_TRUE(d.new_session);
+  EXPECT_EQ(pipeline.detector().database().session(), 1u);
+  EXPECT_EQ(pipeline.detector().database().sessionStart(), 5u);
+  EXPECT_EQ(pipeline.detector().database().keyframe(5).session, 1u);
+  EXPECT_EQ(pipeline.detector().database().keyframe(4).session, 0u);
+  EXPECT_DOUBLE_EQ(pipeline.detector().database().keyframe(5).path_length, 0.0);
+  ASSERT_EQ(d.loops.size(), 1u);
+  EXPECT_EQ(d.loops.front().match, 2u);
+  EXPECT_EQ(d.query.eligible, 5u);
+
+  // Within the new session, stamps go on from the new start and the window applies again.
+  const Detection next = pipeline.process(viewOf(test::streetScene(7)), at(1.5, 5010.0, -300.0));
+  EXPECT_TRUE(next.accepted) << next.error;
+  EXPECT_FALSE(next.new_session);
+  EXPECT_EQ(next.query.eligible, 5u) << "the new session's own keyframe is still recent";
+}
+
+TEST(Sessions, ASmallStepBackIsRefusedAsOutOfOrder) {
+  KeyframePipeline pipeline(descriptorOnly());
+  firstSession(&pipeline, 3);
+  const Detection d = pipeline.process(viewOf(test::streetScene(9)), at(101.5, 50.0));
+  EXPECT_FALSE(d.accepted);
+  EXPECT_FALSE(d.new_session);
+  EXPECT_NE(d.error.find("earlier"), std::string::npos) << d.error;
+  EXPECT_EQ(pipeline.detector().database().size(), 3u);
+  EXPECT_EQ(pipeline.detector().database().session(), 0u);
+}
+
+TEST(Sessions, WithoutNewSessionsEveryStepBackIsRefused) {
+  Config c = descriptorOnly();
+  c.new_session_jump = 0.0;
+  KeyframePipeline pipeline(c);
+  firstSession(&pipeline, 3);
+  const Detection d = pipeline.process(viewOf(test::streetScene(9)), at(1.0, 50.0));
+  EXPECT_FALSE(d.accepted);
+  EXPECT_EQ(pipeline.detector().database().size(), 3u);
+}
+
+TEST(Sessions, TheOdometryGateAndPathLengthStayWithinASession) {
+  Config c = descriptorOnly();
+  c.exclude_recent_frames = 0;
+  Database db(c);
+  Descriptor d = makeDescriptor(viewOf(test::streetScene(1)), c);
+  ASSERT_TRUE(db.add(at(10.0, 0.0), d));
+  ASSERT_TRUE(db.add(at(11.0, 30.0), d));
+  EXPECT_DOUBLE_EQ(db.keyframe(1).path_length, 30.0);
+  // Same session, 1000 m from both by odometry: the gate (20 m + 10 % of the path) excludes them.
+  EXPECT_TRUE(db.query(d, at(12.0, 1000.0)).candidates.empty());
+  db.startSession();
+  db.startSession();  // no keyframe yet: still session 1
+  EXPECT_EQ(db.session(), 1u);
+  // Another session: its odometry frame is unrelated, so nothing is gated.
+  EXPECT_EQ(db.query(d, at(1.0, 1000.0)).candidates.size(), 2u);
+  ASSERT_TRUE(db.add(at(1.0, 1000.0), d));
+  EXPECT_DOUBLE_EQ(db.keyframe(2).path_length, 0.0);
+  EXPECT_FALSE(db.sameSession(1, 2));
+  EXPECT_TRUE(db.sameSession(0, 1));
+}
+
+}  // namespace
+}  // namespace scan_context_loop
