@@ -67,14 +67,43 @@ if(CATKIN_ENABLE_TESTING)
 endif()
 
 if(CATKIN_ENABLE_TESTING)
-  # One rostest per stack's launch file, fed that stack's topics.
-  add_rostest_gtest(test_ros_stacks test/ros/lego_loam.test test/ros/test_stacks.cpp)
-  target_link_libraries(test_ros_stacks scan_context_loop_ros_harness)
-  add_dependencies(test_ros_stacks loop_closure_node scan_context_loop_nodelet)
-endif()
-if(CATKIN_ENABLE_TESTING)
-  foreach(stack lio_sam fast_lio aloam)
-    add_rostest(test/ros/${stack}.test DEPENDENCIES test_ros_stacks loop_closure_node scan_context_loop_nodelet)
+  # One rostest per stack's launch file: test/ros/stack_bag.test plays a short bag shaped like that
+  # stack's output, which the simulator writes here when the tests are built (the KITTI folder it reads
+  # the scans back from is removed once the bag is written).
+  if(TARGET scan_context_simulate)  # one workspace (catkin_make): rebuilt first, bags redone when it changes
+    set(scl_simulate $<TARGET_FILE:scan_context_simulate>)
+    set(scl_simulate_depends scan_context_simulate)
+  else()
+    foreach(prefix ${CMAKE_PREFIX_PATH})
+      list(APPEND scl_simulate_hints ${prefix}/lib/scan_context_sim)
+    endforeach()
+    find_program(scl_simulate scan_context_simulate HINTS ${scl_simulate_hints} REQUIRED)
+    set(scl_simulate_depends ${scl_simulate})
+  endif()
+  set(bags ${PROJECT_BINARY_DIR}/stack_bags)
+  add_executable(test_ros_stacks EXCLUDE_FROM_ALL test/ros/test_stacks.cpp)
+  target_link_libraries(test_ros_stacks scan_context_loop_ros_harness ${GTEST_LIBRARIES})
+  add_dependencies(tests test_ros_stacks)
+  foreach(stack aloam lego_loam lio_sam fast_lio)
+    add_custom_command(OUTPUT ${bags}/${stack}.bag
+      COMMAND ${scl_simulate} ${bags}/${stack} --block --stack ${stack} --sensor vlp16 --voxel 0.2 --threads 2
+        --bag ${bags}/${stack}.bag
+      COMMAND ${CMAKE_COMMAND} -E remove_directory ${bags}/${stack}/velodyne
+      DEPENDS ${scl_simulate_depends}
+      COMMENT "Simulating a bag shaped like ${stack}'s output"
+      VERBATIM)
+    add_custom_target(scan_context_loop_${stack}_bag DEPENDS ${bags}/${stack}.bag)
+    add_dependencies(tests scan_context_loop_${stack}_bag)
+    file(GENERATE OUTPUT ${PROJECT_BINARY_DIR}/test/ros/${stack}.test CONTENT
+"<launch>
+  <include file=\"$(find scan_context_loop)/test/ros/stack_bag.test\">
+    <arg name=\"stack\" value=\"${stack}\"/>
+    <arg name=\"bag\" value=\"${bags}/${stack}.bag\"/>
+  </include>
+</launch>
+")
+    add_rostest(${PROJECT_BINARY_DIR}/test/ros/${stack}.test
+      DEPENDENCIES test_ros_stacks scan_context_loop_${stack}_bag loop_closure_node scan_context_loop_nodelet)
   endforeach()
 endif()
 

@@ -78,6 +78,29 @@ std::vector<PathPoint> proceduralPath() {
   return roundedPolyline(waypoints, 8.0, 0.5);
 }
 
+std::vector<PathPoint> blockPath(bool reverse_second_lap) {
+  using V = Eigen::Vector2d;
+  const std::vector<V> ccw = {V(0, 0), V(60, 0), V(60, 40), V(0, 40)};
+  std::vector<PathPoint> path;
+  const auto leg = [&](const V& a, const V& b) {
+    const double heading = std::atan2(b.y() - a.y(), b.x() - a.x());
+    for (double s = 0; s < (b - a).norm(); s += 0.5) {
+      const V p = a + (b - a).normalized() * s;
+      path.push_back({p.x(), p.y(), heading});
+    }
+  };
+  for (int c = 0; c < 4; ++c) leg(ccw[c], ccw[(c + 1) % 4]);
+  if (reverse_second_lap) {
+    for (int c = 4; c > 0; --c) leg(ccw[c % 4], ccw[c - 1]);
+  } else {
+    // Lap 1 again, 3 m further out: ignoring the corners, it runs parallel to lap 1.
+    const double o = 3.0;
+    const std::vector<V> out = {V(0, -o), V(60 + o, -o), V(60 + o, 40 + o), V(-o, 40 + o)};
+    for (int c = 0; c < 4; ++c) leg(out[c], out[(c + 1) % 4]);
+  }
+  return path;
+}
+
 std::vector<double> distanceAlong(const std::vector<PathPoint>& path) {
   std::vector<double> along(path.size(), 0.0);
   for (std::size_t k = 1; k < path.size(); ++k) {
@@ -95,6 +118,15 @@ std::vector<std::size_t> keyframesEvery(const std::vector<PathPoint>& path, doub
       keep.push_back(k);
       travelled = 0.0;
     }
+  }
+  return keep;
+}
+
+std::vector<std::size_t> framesEvery(const std::vector<double>& times, double period) {
+  std::vector<std::size_t> keep;
+  for (std::size_t k = 0; k < times.size(); ++k) {
+    // A little slack, so frames sampled exactly `period` apart are all kept despite rounding.
+    if (keep.empty() || times[k] - times[keep.back()] >= period - 1e-6) keep.push_back(k);
   }
   return keep;
 }

@@ -1,4 +1,5 @@
-// Writes a simulated sequence as a rosbag: keyframe clouds, drifted odometry and ground truth.
+// Writes a simulated sequence as a rosbag: keyframe clouds, drifted odometry and ground truth, in the
+// default shape or shaped like an odometry stack (scan_context_sim/stack_shape.h).
 #pragma once
 
 #include <string>
@@ -6,21 +7,22 @@
 
 #include <Eigen/Geometry>
 
+#include "scan_context_sim/stack_shape.h"
+
 namespace scan_context_loop {
 namespace sim {
 
 struct BagOptions {
   std::string path;  ///< empty: no bag
-  std::string cloud_topic = "keyframe_cloud";
-  std::string odom_topic = "keyframe_odom";
+  StackShape shape;  ///< topics, frames, registered clouds, camera axes
   std::string truth_topic = "ground_truth";
-  std::string sensor_frame = "velodyne";
-  std::string odom_frame = "odom";
   double start_stamp = 1.6e9;  ///< bag time of the first keyframe [s]
 };
 
 /// Reads the scans back from sequence_dir/velodyne and writes one cloud, one odometry and one ground-truth
-/// message per keyframe, all stamped start_stamp + times[k].
+/// message per keyframe, all stamped start_stamp + times[k]. The ground truth is shaped like the odometry
+/// (same frames and axes). Registered clouds are moved into the odometry frame with the drifted pose, as
+/// the stack registers them; camera-axes odometry comes with its static tf on /tf_static (latched).
 bool writeBag(const std::string& sequence_dir, const std::vector<Eigen::Isometry3d>& truth,
               const std::vector<Eigen::Isometry3d>& odom, const std::vector<double>& times, const BagOptions& options,
               std::string* error);

@@ -1,6 +1,7 @@
 // scan_context_simulate: ray-cast LiDAR keyframes through a procedural street world along a real KITTI
 // trajectory or a procedural drive; writes the KITTI odometry layout and, optionally, a rosbag.
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -15,6 +16,7 @@
 #include "scan_context_sim/narrow_drive.h"
 #include "scan_context_sim/platform_tilt.h"
 #include "scan_context_sim/sequence_writer.h"
+#include "scan_context_sim/stack_shape.h"
 #include "scan_context_sim/trajectory.h"
 #include "scan_context_common/cli.h"
 #include "sim_bag.h"
@@ -28,10 +30,10 @@ struct Options {
   std::string out;
   std::string kitti;
   int first = 0, last = -1;
-  double spacing = 2.0;
+  double spacing = std::nan("");  ///< unset: 2 m, or one frame per scan with --stack
   std::string sensor = "hdl64";
   double noise = -1, dropout = -1, max_range = -1, mount = -1, dim_range = -1, voxel = 0;
-  bool city = false, narrow = false;
+  bool city = false, narrow = false, block = false;
   double tilt = 0;
   std::uint32_t seed = 1;
   double dynamic_cars = 0.3;
@@ -39,6 +41,7 @@ struct Options {
   bool repeat_templates = false;
   sim::DriftOptions drift;
   sim::BagOptions bag;
+  bool bag_frames = false;  ///< --sensor-frame or --odom-frame given
   int threads = 0;
 };
 
@@ -50,7 +53,7 @@ void addOptions(scl::cli::Parser* cli, Options* o) {
             "a 2.1 km city drive with same-direction, reverse and one-lane-offset revisits (default)",
             [o] {
               o->kitti.clear();
-              o->city = o->narrow = false;
+              o->city = o->narrow = o->block = false;
             })
       .flag("--city",
             "a 2.2-3 km drive through oblique, partly curved streets: a loop, then after an hour's stop the same "
@@ -60,11 +63,17 @@ void addOptions(scl::cli::Parser* cli, Options* o) {
             "a 1.0-1.4 km walk (1.5 m/s) through a campus or old town: lanes 5.5 m wide between buildings, a loop, "
             "then the same lanes the same way, the other way and back to the start; no vehicles",
             &o->narrow)
+      .flag("--block",
+            "a 400 m drive twice around a 60 x 40 m block, the second lap the other way: a short bag to try a "
+            "launch file with",
+            &o->block)
       .option("--kitti-poses", "DIR", "a real KITTI trajectory: DIR/poses.txt, DIR/calib.txt, DIR/times.txt",
               &o->kitti)
       .option("--first", "N", "first frame of the KITTI trajectory's window (default: all)", &o->first)
       .option("--last", "N", "last frame of the KITTI trajectory's window (default: all)", &o->last)
-      .option("--keyframe-spacing", "M", "one keyframe every M metres of travel (default 2)", &o->spacing)
+      .option("--keyframe-spacing", "M",
+              "one keyframe every M metres of travel (default 2; with --stack: one per scan at the stack's rate)",
+              &o->spacing)
       .section("sensor")
       .option("--sensor", "NAME", "hdl64 | vlp16 | os1-64 (default hdl64)", &o->sensor)
       .option("--noise", "M", "Gaussian range noise sigma [m] (default: the sensor's, 0.02-0.03)", &o->noise)
@@ -106,11 +115,31 @@ void addOptions(scl::cli::Parser* cli, Options* o) {
               "also write a bag (its folder is created when missing): keyframe clouds (PointCloud2, x y z "
               "intensity, sensor frame), drifted odometry and ground truth (nav_msgs/Odometry)",
               &o->bag.path)
-      .option("--cloud-topic", "T", "the clouds' topic (default keyframe_cloud)", &o->bag.cloud_topic)
-      .option("--odom-topic", "T", "the drifted odometry's topic (default keyframe_odom)", &o->bag.odom_topic)
+      .option("--stack", "NAME",
+              sim::stackNames() +
+                  ": shape the bag like that odometry stack's output: its topics, frames, registered or "
+                  "sensor-frame clouds, camera-axes odometry with its /tf_static (lego_loam), and one cloud per "
+                  "scan at its rate (10 Hz) unless --keyframe-spacing is given; the ground truth is shaped like "
+                  "the odometry",
+              [o](const std::string& name, std::string* error) {
+                const sim::StackShape* shape = sim::findStackShape(name);
+                if (shape == nullptr) *error = "must be one of " + sim::stackNames() + ", got '" + name + "'";
+                else o->bag.shape = *shape;
+                return shape != nullptr;
+              })
+      .option("--cloud-topic", "T", "the clouds' topic (default keyframe_cloud)", &o->bag.shape.cloud_topic)
+      .option("--odom-topic", "T", "the drifted odometry's topic (default keyframe_odom)", &o->bag.shape.odom_topic)
       .option("--truth-topic", "T", "the ground truth's topic (default ground_truth)", &o->bag.truth_topic)
-      .option("--sensor-frame", "F", "the clouds' frame (default velodyne)", &o->bag.sensor_frame)
-      .option("--odom-frame", "F", "the odometry's frame (default odom)", &o->bag.odom_frame)
+      .option("--sensor-frame", "F", "the clouds' frame and the odometry's child frame (default velodyne)",
+              [o](const std::string& frame, std::string*) {
+                o->bag.shape.cloud_frame = o->bag.shape.child_frame = frame;
+                return o->bag_frames = true;
+              })
+      .option("--odom-frame", "F", "the odometry's frame (default odom)",
+              [o](const std::string& frame, std::string*) {
+                o->bag.shape.odom_frame = frame;
+                return o->bag_frames = true;
+              })
       .section("other")
       .option("--threads", "N", "ray-casting threads (default: all cores)", &o->threads)
       .epilogue(
@@ -122,12 +151,15 @@ void addOptions(scl::cli::Parser* cli, Options* o) {
 
 /// Checks the values together; empty when they are fine.
 std::string check(const Options& o) {
-  if (!(o.spacing > 0.0)) return "--keyframe-spacing must be positive";
+  if (!std::isnan(o.spacing) && !(o.spacing > 0.0)) return "--keyframe-spacing must be positive";
   if (o.dropout >= 1.0) return "--dropout must be below 1";
   if (o.drift.translation_per_metre < 0 || o.drift.yaw_per_metre < 0 || o.drift.yaw_per_degree < 0)
     return "drift rates must be >= 0";
   if (o.voxel < 0.0) return "--voxel must be >= 0";
-  if (o.city + o.narrow + !o.kitti.empty() > 1) return "--city, --narrow and --kitti-poses exclude each other";
+  if (o.city + o.narrow + o.block + !o.kitti.empty() > 1)
+    return "--city, --narrow, --block and --kitti-poses exclude each other";
+  if (!o.bag.shape.name.empty() && o.bag.path.empty()) return "--stack shapes the bag: it needs --bag FILE";
+  if (o.bag_frames && !o.bag.shape.name.empty()) return "--stack sets the frames: no --sensor-frame or --odom-frame";
   if (o.tilt < 0.0) return "--tilt must be >= 0";
   if (o.changed_world < 0.0) return "--changed-world must be >= 0";
   return "";
@@ -191,6 +223,8 @@ int main(int argc, char** argv) {
     path = drive.path;
     source_times = drive.times;
     sim::narrowWorld(narrow, &world_options);
+  } else if (o.block) {
+    path = sim::blockPath(true);
   } else {
     path = sim::proceduralPath();
   }
@@ -205,7 +239,11 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "scan_context_simulate: the trajectory has fewer than two frames\n");
     return 1;
   }
-  const std::vector<std::size_t> keyframes = sim::keyframesEvery(path, o.spacing);
+  // A stack's bag has every scan; otherwise a keyframe every --keyframe-spacing metres.
+  const bool per_scan = std::isnan(o.spacing) && o.bag.shape.rate_hz > 0.0;
+  const double spacing = std::isnan(o.spacing) ? 2.0 : o.spacing;
+  const std::vector<std::size_t> keyframes = per_scan ? sim::framesEvery(source_times, 1.0 / o.bag.shape.rate_hz)
+                                                      : sim::keyframesEvery(path, spacing);
 
   const auto t0 = std::chrono::steady_clock::now();
   world_options.seed = o.seed;
@@ -245,9 +283,13 @@ int main(int argc, char** argv) {
   for (std::size_t k = 1; k < truth.size(); ++k) length += (truth[k].translation() - truth[k - 1].translation()).norm();
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   std::ofstream info(o.out + "/sequence.txt");
-  info << "trajectory: " << (!o.kitti.empty() ? o.kitti : o.city ? "city" : o.narrow ? "narrow" : "procedural") << "\n"
+  info << "trajectory: "
+       << (!o.kitti.empty() ? o.kitti : o.city ? "city" : o.narrow ? "narrow" : o.block ? "block" : "procedural") << "\n"
        << "frames: " << o.first << " .. " << (o.last < 0 ? std::string("end") : std::to_string(o.last)) << "\n"
-       << "keyframes: " << keyframes.size() << "\nkeyframe_spacing_m: " << o.spacing << "\nlength_m: " << length
+       << "keyframes: " << keyframes.size() << "\n";
+  if (per_scan) info << "scan_rate_hz: " << o.bag.shape.rate_hz;
+  else info << "keyframe_spacing_m: " << spacing;
+  info << "\nlength_m: " << length
        << "\nsensor: " << sensor.name << "\nbeams: " << sensor.elevations_deg.size() << "\ncolumns: " << sensor.columns
        << "\nelevation_top_deg: " << sensor.elevations_deg.front()
        << "\nelevation_bottom_deg: " << sensor.elevations_deg.back() << "\nrange_noise_m: " << sensor.range_noise
@@ -260,6 +302,7 @@ int main(int argc, char** argv) {
        << "\ndrift_correlation_m: " << o.drift.correlation_length << "\nseconds: " << seconds << "\n";
   if (o.tilt > 0) info << "tilt_deg: " << o.tilt << "\n";
   info << "changed_world: " << o.changed_world << "\nrepeat_templates: " << o.repeat_templates << "\n";
+  if (!o.bag.shape.name.empty()) info << "stack: " << o.bag.shape.name << "\n";
 
   if (!o.bag.path.empty()) {
     if (!sim::writeBag(o.out, truth, data.odometry, data.times, o.bag, &error)) {

@@ -1,7 +1,5 @@
 #include "sim_drive.h"
 
-#include <cmath>
-
 #include "scan_context_sim/trajectory.h"
 
 namespace scan_context_loop {
@@ -12,25 +10,7 @@ pcl::PointCloud<pcl::PointXYZI> Drive::scan(std::size_t k) const {
 }
 
 Drive blockDrive(bool reverse_second_lap, std::uint32_t seed) {
-  using V = Eigen::Vector2d;
-  const std::vector<V> ccw = {V(0, 0), V(60, 0), V(60, 40), V(0, 40)};
-  std::vector<sim::PathPoint> path;
-  const auto leg = [&](const V& a, const V& b) {
-    const double heading = std::atan2(b.y() - a.y(), b.x() - a.x());
-    for (double s = 0; s < (b - a).norm(); s += 0.5) {
-      const V p = a + (b - a).normalized() * s;
-      path.push_back({p.x(), p.y(), heading});
-    }
-  };
-  for (int c = 0; c < 4; ++c) leg(ccw[c], ccw[(c + 1) % 4]);
-  if (reverse_second_lap) {
-    for (int c = 4; c > 0; --c) leg(ccw[c % 4], ccw[c - 1]);
-  } else {
-    // Lap 1 again, 3 m further out: ignoring the corners, it runs parallel to lap 1.
-    const double o = 3.0;
-    const std::vector<V> out = {V(0, -o), V(60 + o, -o), V(60 + o, 40 + o), V(-o, 40 + o)};
-    for (int c = 0; c < 4; ++c) leg(out[c], out[(c + 1) % 4]);
-  }
+  const std::vector<sim::PathPoint> path = sim::blockPath(reverse_second_lap);
   Drive d;
   sim::WorldOptions options;
   options.seed = seed;

@@ -21,8 +21,9 @@ struct Drive {
   pcl::PointCloud<pcl::PointXYZI> scan(std::size_t k) const;
 };
 
-/// Around a 60 x 40 m block: lap 1 counter-clockwise, then lap 2 either the same way one lane further out
-/// (reverse_second_lap false) or clockwise in the same lane (true). HDL-64E beams, 900 columns.
+/// sim::blockPath: around a 60 x 40 m block, lap 1 counter-clockwise, then lap 2 either the same way one
+/// lane further out (reverse_second_lap false) or clockwise in the same lane (true). HDL-64E beams, 900
+/// columns.
 Drive blockDrive(bool reverse_second_lap, std::uint32_t seed);
 
 }  // namespace test

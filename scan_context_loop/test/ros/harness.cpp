@@ -7,7 +7,6 @@
 
 #include <pcl/common/transforms.h>
 #include <pcl_conversions/pcl_conversions.h>
-#include <tf2_ros/static_transform_broadcaster.h>
 #include <tf2_ros/transform_broadcaster.h>
 #include <tf2_eigen/tf2_eigen.h>
 
@@ -108,47 +107,6 @@ void Harness::publishTfAndWorldClouds(const Drive& drive, double rate) {
   }
 }
 
-bool Harness::stackShape(const std::string& name, StackShape* shape) {
-  if (name == "lego_loam") *shape = {"base_link", "camera_init", "camera", false, true};
-  else if (name == "lio_sam") *shape = {"odom", "odom", "odom_mapping", true, false};
-  else if (name == "fast_lio") *shape = {"body", "camera_init", "body", false, false};
-  else if (name == "aloam") *shape = {"camera_init", "camera_init", "aft_mapped", true, false};
-  else return false;
-  return true;
-}
-
-void Harness::publishShaped(const Drive& drive, const StackShape& shape, double rate) {
-  Eigen::Isometry3d to_camera = Eigen::Isometry3d::Identity();  // T_camera<-lidar
-  if (shape.camera_axes) to_camera.linear() << 0, 1, 0, 0, 0, 1, 1, 0, 0;
-  tf2_ros::StaticTransformBroadcaster static_broadcaster;
-  if (shape.camera_axes) {
-    geometry_msgs::TransformStamped extrinsic = tf2::eigenToTransform(to_camera);
-    extrinsic.header.stamp = base;
-    extrinsic.header.frame_id = shape.child_frame;
-    extrinsic.child_frame_id = shape.cloud_frame;
-    static_broadcaster.sendTransform(extrinsic);
-    ros::WallDuration(0.5).sleep();
-  }
-  ros::WallRate r(rate);
-  for (std::size_t k = 0; k < drive.truth.size() && ros::ok(); ++k) {
-    sensor_msgs::PointCloud2 msg = cloud(drive, k);
-    if (shape.registered) {
-      pcl::PointCloud<pcl::PointXYZI> world;
-      pcl::transformPointCloud(drive.scan(k), world, drive.truth[k].matrix().cast<float>());
-      pcl::toROSMsg(world, msg);
-      msg.header.stamp = base + ros::Duration(drive.times[k]);
-    }
-    msg.header.frame_id = shape.cloud_frame;
-    nav_msgs::Odometry o = odom(drive, k);
-    o.header.frame_id = shape.odom_frame;
-    o.child_frame_id = shape.child_frame;
-    o.pose.pose = tf2::toMsg(to_camera * drive.truth[k] * to_camera.inverse());
-    cloud_pub.publish(msg);
-    odom_pub.publish(o);
-    r.sleep();
-  }
-}
-
 void Harness::settle(double quiet, double limit) {
   const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(limit);
   while (ros::ok() && ros::WallTime::now() < end) {
@@ -212,15 +170,21 @@ int keyframeAt(const Drive& drive, const ros::Time& base, const ros::Time& stamp
   return -1;
 }
 
-void expectTrueLoop(const Drive& drive, int q, int m, const scan_context_loop::LoopClosure& loop) {
-  const Eigen::Isometry3d truth = drive.truth[q].inverse() * drive.truth[m];
+void expectTrueLoop(const Eigen::Isometry3d& query_pose, const Eigen::Isometry3d& match_pose,
+                    const scan_context_loop::LoopClosure& loop) {
+  const Eigen::Isometry3d truth = query_pose.inverse() * match_pose;
   if (loop.verified) {
     Eigen::Isometry3d relative;
     tf2::fromMsg(loop.relative_pose, relative);
-    EXPECT_LT((relative.translation() - truth.translation()).norm(), 0.3) << "loop " << q << " -> " << m;
+    EXPECT_LT((relative.translation() - truth.translation()).norm(), 0.3);
   } else {
-    EXPECT_LT(truth.translation().norm(), 5.0) << "loop " << q << " -> " << m;
+    EXPECT_LT(truth.translation().norm(), 5.0);
   }
+}
+
+void expectTrueLoop(const Drive& drive, int q, int m, const scan_context_loop::LoopClosure& loop) {
+  SCOPED_TRACE("loop " + std::to_string(q) + " -> " + std::to_string(m));
+  expectTrueLoop(drive.truth[q], drive.truth[m], loop);
 }
 
 void expectTrueLoops(const Drive& drive, const ros::Time& base, const std::vector<scan_context_loop::LoopClosure>& loops,

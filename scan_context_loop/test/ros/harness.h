@@ -34,17 +34,6 @@ class Harness {
   void publish(const Drive& drive, std::size_t first, std::size_t last, double rate);
   /// The same with poses as tf (odom -> velodyne) and clouds registered in odom.
   void publishTfAndWorldClouds(const Drive& drive, double rate);
-  /// How an odometry stack publishes: the clouds' frame, registered in the odometry frame or not, the
-  /// odometry's frame and child frame, and camera axes (LeGO-LOAM: y up; x_camera = y_lidar, y_camera =
-  /// z_lidar, z_camera = x_lidar, with the static tf child -> cloud frame between them).
-  struct StackShape {
-    std::string cloud_frame, odom_frame, child_frame;
-    bool registered = false, camera_axes = false;
-  };
-  /// The shapes of LeGO-LOAM, LIO-SAM, FAST-LIO and A-LOAM by name ("lego_loam", ...); false if unknown.
-  static bool stackShape(const std::string& name, StackShape* shape);
-  /// Publishes every keyframe shaped like that stack's clouds and odometry, with equal stamps.
-  void publishShaped(const Drive& drive, const StackShape& shape, double rate);
   /// Spins until no loop arrived for `quiet` seconds (at most `limit`).
   void settle(double quiet, double limit);
 
@@ -82,9 +71,12 @@ int runRosTests(int argc, char** argv, const char* node_name);
 /// Index of the keyframe published with this stamp, or -1.
 int keyframeAt(const Drive& drive, const ros::Time& base, const ros::Time& stamp);
 
-/// Expects loop q -> m to be true: a verified loop is a constraint, so its registered pose must be the
-/// true one within 0.3 m (however far apart the keyframes are); a descriptor loop must join keyframes
-/// under 5 m apart.
+/// Expects a loop between keyframes at these true LiDAR poses to be true: a verified loop is a constraint,
+/// so its registered pose must be the true one within 0.3 m (however far apart the keyframes are); a
+/// descriptor loop must join keyframes under 5 m apart.
+void expectTrueLoop(const Eigen::Isometry3d& query_pose, const Eigen::Isometry3d& match_pose,
+                    const scan_context_loop::LoopClosure& loop);
+/// The same for loop q -> m of the drive.
 void expectTrueLoop(const Drive& drive, int q, int m, const scan_context_loop::LoopClosure& loop);
 /// expectTrueLoop for every loop (each must join two published keyframes), and each verified when
 /// `verified` is set.

@@ -23,12 +23,21 @@ std::vector<PathPoint> pathFromPoses(const std::vector<Eigen::Isometry3d>& lidar
 /// revisits, as real traffic makes them).
 std::vector<PathPoint> proceduralPath();
 
+/// A short drive around a 60 x 40 m block sampled every 0.5 m (sharp corners): lap 1 counter-clockwise,
+/// then lap 2 either clockwise in the same lane (reverse_second_lap) or the same way 3 m further out.
+/// About 400 m.
+std::vector<PathPoint> blockPath(bool reverse_second_lap);
+
 /// Distance travelled from the first path point to each one [m].
 std::vector<double> distanceAlong(const std::vector<PathPoint>& path);
 
 /// Indices of the path points that become keyframes: the first, then each one at least `spacing`
 /// metres of travel after the previous keyframe.
 std::vector<std::size_t> keyframesEvery(const std::vector<PathPoint>& path, double spacing);
+
+/// Indices of the frames a sensor scanning every `period` seconds keeps: the first, then each one at
+/// least `period` after the previous one kept (times in seconds, ascending).
+std::vector<std::size_t> framesEvery(const std::vector<double>& times, double period);
 
 /// Sensor pose over the world's ground: above (x, y), mount_height along the ground's normal, yawed by
 /// heading and tilted with the slope.
