@@ -25,7 +25,10 @@ int main(int argc, char** argv) {
                        "against the truth. Prints a summary, and last the line `output: OUT_DIR`.");
   cli.positional("SEQUENCE_DIR", "the KITTI-format sequence", &sequence_dir)
       .positional("OUT_DIR", "where the results go (created with its parents when missing)", &out_dir)
-      .option("--config", "FILE", "YAML with the node's configuration keys (config/default.yaml)", &config_file)
+      .option("--config", "FILE",
+              "YAML with some of the node's configuration keys (config/default.yaml lists them); keys it leaves out "
+              "keep their defaults, so a sensor preset (config/sensors/*.yaml) works as it is",
+              &config_file)
       .option("--set", "KEY=VALUE", "override one configuration key", &overrides)
       .option("--keyframe-spacing", "M", "one keyframe every M metres along the truth (default 0: every frame)",
               &options.keyframe_spacing)

@@ -1,6 +1,8 @@
 // Beam patterns and the scan model: rings on flat ground, noise, dropout, fading with range.
 #include <cmath>
 #include <map>
+#include <set>
+#include <sstream>
 
 #include <gtest/gtest.h>
 
@@ -44,6 +46,16 @@ TEST(Sensor, PresetsHaveTheRealBeamPatterns) {
   EXPECT_FLOAT_EQ(m.elevations_deg.back(), -16.6f);
   EXPECT_EQ(m.columns, 1024);
   EXPECT_FALSE(sensorPreset("hdl32e", &m));
+  // Every name the usage text lists is a preset.
+  std::istringstream names(sensorPresetNames());
+  int listed = 0;
+  for (std::string name; names >> name;) {
+    if (name == "|") continue;
+    EXPECT_TRUE(sensorPreset(name, &m)) << name;
+    EXPECT_EQ(m.name, name);
+    ++listed;
+  }
+  EXPECT_EQ(listed, 5);
 }
 
 TEST(Sensor, Hdl64RingsOnFlatGround) {
@@ -166,6 +178,108 @@ TEST(Sensor, ScansAreRepeatableForASeed) {
   bool differs = a.size() != c.size();
   for (std::size_t i = 0; !differs && i < a.size(); ++i) differs = a[i].x != c[i].x;
   EXPECT_TRUE(differs);
+}
+
+const std::vector<std::string> kLivox = {"livox-avia", "livox-mid360"};
+
+/// Azimuth (x = 0, to the left positive) and elevation of a direction or point [deg].
+Eigen::Vector2d anglesDeg(const Eigen::Vector3f& v) {
+  return Eigen::Vector2d(std::atan2(v.y(), v.x()), std::atan2(v.z(), std::hypot(v.x(), v.y()))) * (180.0 / M_PI);
+}
+
+/// The 1 x 1 deg cells the rays of `scans` consecutive scans (0.1 s apart, from `time`) fall in.
+std::set<std::pair<int, int>> cellsHit(const SensorModel& m, double time, int scans) {
+  std::set<std::pair<int, int>> cells;
+  for (int k = 0; k < scans; ++k) {
+    for (const auto& ray : rayDirections(m, time + 0.1 * k)) {
+      const Eigen::Vector2d a = anglesDeg(ray);
+      cells.emplace(static_cast<int>(std::floor(a.x())), static_cast<int>(std::floor(a.y())));
+    }
+  }
+  return cells;
+}
+
+/// The field of view's solid angle in square degrees: an ellipse for the rosette, a band for the sweep.
+double fovArea(const SensorModel& m) {
+  const double height = m.fov_top_deg - m.fov_bottom_deg;
+  return m.pattern == ScanPattern::kRosette ? M_PI / 4.0 * m.fov_horizontal_deg * height : 360.0 * height;
+}
+
+TEST(Sensor, LivoxScansStayInTheirFieldOfViewAndReachItsEdges) {
+  // Four walls 20 m away, 50 m tall, around the sensor: every ray returns.
+  std::vector<Primitive> walls;
+  for (int side = 0; side < 4; ++side) {
+    Primitive w;
+    w.kind = Primitive::Kind::kBox;
+    const float offset = side % 2 ? -20.5f : 20.5f;
+    w.center = side < 2 ? Eigen::Vector3f(offset, 0, 0) : Eigen::Vector3f(0, offset, 0);
+    w.half = side < 2 ? Eigen::Vector3f(0.5f, 21, 0) : Eigen::Vector3f(21, 0.5f, 0);
+    w.z0 = -1;
+    w.z1 = 50;
+    walls.push_back(w);
+  }
+  const World world(walls, Eigen::Vector3d::Zero());
+  for (const auto& name : kLivox) {
+    const SensorModel m = exact(name);
+    ASSERT_NE(m.pattern, ScanPattern::kSpinning) << name;
+    EXPECT_EQ(m.rays_per_scan, static_cast<int>(std::lround(0.1 * m.ray_rate))) << name;
+    Eigen::Vector2d low(1e9, 1e9), high(-1e9, -1e9);
+    for (int k = 0; k < 10; ++k) {
+      const auto cloud = scan(world, m, at(0, 0, m.mount_height), 100.0 + 0.1 * k, 1);
+      ASSERT_EQ(cloud.size(), static_cast<std::size_t>(m.rays_per_scan)) << name;
+      for (const auto& p : cloud) {
+        const Eigen::Vector2d a = anglesDeg(p.getVector3fMap());
+        low = low.cwiseMin(a);
+        high = high.cwiseMax(a);
+      }
+    }
+    const double half_width = 0.5 * m.fov_horizontal_deg;
+    EXPECT_GE(low.x(), -half_width - 0.01) << name;
+    EXPECT_LE(high.x(), half_width + 0.01) << name;
+    EXPECT_GE(low.y(), m.fov_bottom_deg - 0.01) << name;
+    EXPECT_LE(high.y(), m.fov_top_deg + 0.01) << name;
+    // A second of scans reaches the edges.
+    EXPECT_LT(low.x(), -0.97 * half_width) << name;
+    EXPECT_GT(high.x(), 0.97 * half_width) << name;
+    EXPECT_LT(low.y(), m.fov_bottom_deg + 0.03 * (m.fov_top_deg - m.fov_bottom_deg)) << name;
+    EXPECT_GT(high.y(), m.fov_top_deg - 0.03 * (m.fov_top_deg - m.fov_bottom_deg)) << name;
+  }
+}
+
+TEST(Sensor, LivoxScanCoversPatchesThatFillInWhenMerged) {
+  for (const auto& name : kLivox) {
+    const SensorModel m = exact(name);
+    const double area = fovArea(m);
+    const double one = cellsHit(m, 42.0, 1).size() / area;
+    const double half_second = cellsHit(m, 42.0, 5).size() / area;
+    const double second = cellsHit(m, 42.0, 10).size() / area;
+    // One 0.1 s scan leaves most of the field of view's square degrees empty, and covers less than
+    // half of what as many rays scattered at random would; merged scans fill them in.
+    EXPECT_LT(one, 0.5) << name;
+    EXPECT_LT(one, 0.5 * (1.0 - std::exp(-m.rays_per_scan / area))) << name;
+    EXPECT_GT(half_second, 1.5 * one) << name;
+    EXPECT_GT(second, half_second) << name;
+    EXPECT_GT(second, 0.85) << name;
+    EXPECT_LT(second, 1.05) << name;
+  }
+}
+
+TEST(Sensor, LivoxPatternChangesFromScanToScan) {
+  for (const auto& name : kLivox) {
+    const SensorModel m = exact(name);
+    const auto first = cellsHit(m, 42.0, 1);
+    // The same time gives the same rays; each of the next scans finds most of its cells new.
+    EXPECT_EQ(cellsHit(m, 42.0, 1), first) << name;
+    for (double later : {42.1, 42.2, 137.3}) {
+      const auto next = cellsHit(m, later, 1);
+      std::size_t fresh = 0;
+      for (const auto& c : next) fresh += first.count(c) == 0;
+      EXPECT_GT(fresh, next.size() / 2) << name << " at " << later;
+    }
+  }
+  // A spinning sensor fires the same rays every revolution.
+  const SensorModel hdl = exact("hdl64");
+  EXPECT_EQ(rayDirections(hdl, 0.0), rayDirections(hdl, 0.1));
 }
 
 }  // namespace

@@ -15,6 +15,7 @@
 #include "scan_context_sim/city_drive.h"
 #include "scan_context_sim/narrow_drive.h"
 #include "scan_context_sim/platform_tilt.h"
+#include "scan_context_sim/sensor.h"
 #include "scan_context_sim/sequence_writer.h"
 #include "scan_context_sim/stack_shape.h"
 #include "scan_context_sim/trajectory.h"
@@ -75,10 +76,15 @@ void addOptions(scl::cli::Parser* cli, Options* o) {
               "one keyframe every M metres of travel (default 2; with --stack: one per scan at the stack's rate)",
               &o->spacing)
       .section("sensor")
-      .option("--sensor", "NAME", "hdl64 | vlp16 | os1-64 (default hdl64)", &o->sensor)
+      .option("--sensor", "NAME",
+              sim::sensorPresetNames() +
+                  " (default hdl64); the Livox ones scan non-repetitive patterns (0.1 s each): give them a "
+                  "keyframe spacing below a scan's travel (0.1 m keeps every KITTI frame the car moves in) and "
+                  "merge the scans (accumulate_seconds)",
+              &o->sensor)
       .option("--noise", "M", "Gaussian range noise sigma [m] (default: the sensor's, 0.02-0.03)", &o->noise)
       .option("--dropout", "P", "probability a return is lost (default 0.02)", &o->dropout)
-      .option("--max-range", "M", "maximum range [m] (default: the sensor's, 100-120)", &o->max_range)
+      .option("--max-range", "M", "maximum range [m] (default: the sensor's, 70-200)", &o->max_range)
       .option("--mount-height", "M", "sensor height above the ground [m] (default 1.73)", &o->mount)
       .option("--tilt", "DEG",
               "hand-held or legged platform: the sensor rolls and pitches (a slow sway and a gait), |tilt| median "
@@ -86,7 +92,7 @@ void addOptions(scl::cli::Parser* cli, Options* o) {
               &o->tilt)
       .option("--dim-range", "M",
               "range at which a dim return (10 % reflectivity, head-on) is detected half the time; brighter "
-              "surfaces reach further, grazing ground fades sooner (default: the sensor's, 55-80; 0: no fading)",
+              "surfaces reach further, grazing ground fades sooner (default: the sensor's, 40-120; 0: no fading)",
               &o->dim_range)
       .option("--voxel", "M", "write clouds downsampled to M-metre voxels (default 0: raw scans)", &o->voxel)
       .section("world and odometry")
@@ -181,7 +187,8 @@ int main(int argc, char** argv) {
   if (!error.empty()) return cli.fail(error);
   sim::SensorModel sensor;
   if (!sim::sensorPreset(o.sensor, &sensor)) {
-    std::fprintf(stderr, "scan_context_simulate: unknown sensor '%s' (hdl64, vlp16, os1-64)\n", o.sensor.c_str());
+    std::fprintf(stderr, "scan_context_simulate: unknown sensor '%s' (%s)\n", o.sensor.c_str(),
+                 sim::sensorPresetNames().c_str());
     return 2;
   }
   if (o.noise >= 0) sensor.range_noise = static_cast<float>(o.noise);
@@ -289,10 +296,14 @@ int main(int argc, char** argv) {
        << "keyframes: " << keyframes.size() << "\n";
   if (per_scan) info << "scan_rate_hz: " << o.bag.shape.rate_hz;
   else info << "keyframe_spacing_m: " << spacing;
-  info << "\nlength_m: " << length
-       << "\nsensor: " << sensor.name << "\nbeams: " << sensor.elevations_deg.size() << "\ncolumns: " << sensor.columns
-       << "\nelevation_top_deg: " << sensor.elevations_deg.front()
-       << "\nelevation_bottom_deg: " << sensor.elevations_deg.back() << "\nrange_noise_m: " << sensor.range_noise
+  info << "\nlength_m: " << length << "\nsensor: " << sensor.name << "\n";
+  if (sensor.pattern == sim::ScanPattern::kSpinning) {
+    info << "beams: " << sensor.elevations_deg.size() << "\ncolumns: " << sensor.columns;
+  } else {
+    info << "rays_per_scan: " << sensor.rays_per_scan << "\nfov_horizontal_deg: " << sensor.fov_horizontal_deg;
+  }
+  info << "\nelevation_top_deg: " << sim::fovTopDeg(sensor)
+       << "\nelevation_bottom_deg: " << sim::fovBottomDeg(sensor) << "\nrange_noise_m: " << sensor.range_noise
        << "\ndropout: " << sensor.dropout << "\nmax_range_m: " << sensor.max_range
        << "\ndim_range_m: " << sensor.dim_range << "\nmount_height_m: " << sensor.mount_height
        << "\nvoxel_m: " << o.voxel << "\nseed: " << o.seed << "\nworld_primitives: " << world.size()

@@ -75,6 +75,39 @@ TEST(ConfigFile, DefaultsFileListsEveryKeyWithTheCodesDefault) {
   EXPECT_TRUE(Config().validate().empty());
 }
 
+/// True when the key is in the table and `text` parses to a value other than the table's default.
+template <typename T>
+bool differsFromDefault(const std::vector<Setting<T>>& table, const std::string& key, const std::string& text) {
+  const Setting<T>* s = findSetting(table, key);
+  T parsed;
+  return s != nullptr && s->set(&parsed, text) && s->get(parsed) != s->get(T());
+}
+
+TEST(ConfigFile, SensorPresetsHoldOnlyKeysThatDifferFromTheDefaultsEachWithAComment) {
+  const std::string dir = std::string(SCL_PACKAGE_DIR) + "/config/sensors/";
+  for (const std::string name : {"velodyne_hdl64", "velodyne_vlp16", "ouster_os1_64", "livox_avia", "livox_mid360"}) {
+    const std::string path = dir + name + ".yaml";
+    // Loaded on top of the defaults, as the evaluator's --config and the launch files do.
+    Config config;
+    std::string error;
+    ASSERT_TRUE(loadConfigFile(path, &config, &error)) << error;
+    EXPECT_TRUE(config.validate().empty()) << name;
+    const YAML::Node file = YAML::LoadFile(path);
+    ASSERT_TRUE(file.IsNull() || file.IsMap()) << name;
+    std::ifstream text(path);
+    std::string line, previous;
+    for (; std::getline(text, line); previous = line) {
+      if (line.empty() || line[0] == '#') continue;
+      const std::string key = line.substr(0, line.find(':'));
+      ASSERT_TRUE(file[key]) << name << ": '" << line << "' is not a key: value line";
+      const std::string value = file[key].as<std::string>();
+      EXPECT_TRUE(differsFromDefault(configSettings(), key, value) || differsFromDefault(nodeSettings(), key, value))
+          << name << ": " << key << " is no key or repeats config/default.yaml";
+      EXPECT_EQ(previous.rfind("#", 0), 0u) << name << ": " << key << " has no comment saying why";
+    }
+  }
+}
+
 /// Twice around a block, the second lap in reverse: every keyframe of lap 2 revisits lap 1. Written
 /// once, in the KITTI layout with a drifting odometry.
 const Sequence& simulatedLoop() {
