@@ -312,7 +312,16 @@ void LoopClosureRos::process(Item item) {
                             "keyframe that never matches",
                             detection.index, info.stamp, detection.points_skipped);
   }
+  if (detection.new_session) {
+    const Database& database = pipeline_->detector().database();
+    ROS_WARN_NAMED(name_,
+                   "keyframe stamp %.3f is %.1f s before the previous keyframe's (a bag played again, a restarted "
+                   "odometry?): session %u starts; the %zu keyframes before it stay candidates",
+                   info.stamp, stamps_.back().toSec() - info.stamp, database.session(), database.sessionStart());
+    sessions_count_ = database.session() + 1;
+  }
   positions_.push_back(item.pose.translation());
+  sessions_.push_back(pipeline_->detector().database().session());
   poses_.push_back(item.pose);
   stamps_.push_back(msg.header.stamp);
   database_size_ = pipeline_->detector().database().size();
@@ -331,6 +340,8 @@ scan_context_loop::LoopClosure LoopClosureRos::makeLoop(const Loop& found, const
   loop.match_id = static_cast<std::uint32_t>(found.match);
   loop.query_stamp = stamps_[found.query];
   loop.match_stamp = stamps_[found.match];
+  loop.query_session = sessions_[found.query];
+  loop.match_session = sessions_[found.match];
   loop.distance = found.alignment.distance;
   loop.yaw = found.alignment.yaw;
   loop.shift = found.alignment.shift;
@@ -415,7 +426,7 @@ void LoopClosureRos::sendToLioSam(const scan_context_loop::LoopClosure& loop) {
 }
 
 void LoopClosureRos::publishMarkers(const std::string& frame) {
-  const auto update = makeLoopMarkers(positions_, edges_, rejected_edges_, frame, stamps_.back(),
+  const auto update = makeLoopMarkers(positions_, sessions_, edges_, rejected_edges_, frame, stamps_.back(),
                                       config_.distance_threshold, &markers_shown_);
   if (!update.markers.empty()) marker_pub_.publish(update);
 }
@@ -428,6 +439,7 @@ void LoopClosureRos::diagnose(diagnostic_updater::DiagnosticStatusWrapper& statu
     status.summary(diagnostic_msgs::DiagnosticStatus::OK, "running");
   }
   status.add("database size", database_size_.load());
+  status.add("sessions", sessions_count_.load());
   status.add("queue length", queue_length_.load());
   status.add("last query time [ms]", last_query_ms_.load());
   status.add("loops found", loops_found_.load());

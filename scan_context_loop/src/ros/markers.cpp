@@ -37,24 +37,40 @@ visualization_msgs::Marker base(const std::string& frame, const ros::Time& stamp
   return m;
 }
 
+/// Keyframes of session s: blue for the first, then orange, green, purple, ... (repeating).
+std_msgs::ColorRGBA sessionColour(std::uint32_t s) {
+  static const float palette[][3] = {{0.2f, 0.5f, 1.0f}, {1.0f, 0.6f, 0.1f}, {0.3f, 0.8f, 0.3f},
+                                     {0.7f, 0.4f, 0.9f}, {0.1f, 0.8f, 0.8f}, {0.9f, 0.9f, 0.2f}};
+  const auto& p = palette[s % (sizeof(palette) / sizeof(palette[0]))];
+  return colour(p[0], p[1], p[2]);
+}
+
 /// The first chunk that changed when `published` items of a list were already out: the chunk of the
 /// last published item (it may have grown, and a strip's chunk ends on the next chunk's first point).
 std::size_t firstChangedChunk(std::size_t published) {
   return published == 0 ? 0 : (published - 1) / kMarkerChunk;
 }
 
-void addKeyframeChunk(const std::vector<Eigen::Vector3d>& positions, std::size_t chunk, const std::string& frame,
-                      const ros::Time& stamp, visualization_msgs::MarkerArray* array) {
+void addKeyframeChunk(const std::vector<Eigen::Vector3d>& positions, const std::vector<std::uint32_t>& sessions,
+                      std::size_t chunk, const std::string& frame, const ros::Time& stamp,
+                      visualization_msgs::MarkerArray* array) {
+  auto session = [&sessions](std::size_t k) { return k < sessions.size() ? sessions[k] : 0u; };
   const std::size_t begin = chunk * kMarkerChunk, end = std::min(positions.size(), begin + kMarkerChunk);
   auto keyframes = base(frame, stamp, "keyframes", static_cast<int>(chunk), visualization_msgs::Marker::SPHERE_LIST);
   keyframes.scale.x = keyframes.scale.y = keyframes.scale.z = 0.6;
-  keyframes.color = colour(0.2f, 0.5f, 1.0f);
-  auto trajectory = base(frame, stamp, "trajectory", static_cast<int>(chunk), visualization_msgs::Marker::LINE_STRIP);
+  keyframes.color = sessionColour(0);
+  auto trajectory = base(frame, stamp, "trajectory", static_cast<int>(chunk), visualization_msgs::Marker::LINE_LIST);
   trajectory.scale.x = 0.25;
   trajectory.color = colour(0.8f, 0.8f, 0.8f);
-  for (std::size_t k = begin; k < end; ++k) keyframes.points.push_back(point(positions[k]));
-  // The strip runs on to the next chunk's first keyframe, so the chunks join.
-  for (std::size_t k = begin; k < std::min(positions.size(), end + 1); ++k) trajectory.points.push_back(point(positions[k]));
+  for (std::size_t k = begin; k < end; ++k) {
+    keyframes.points.push_back(point(positions[k]));
+    keyframes.colors.push_back(sessionColour(session(k)));
+    // Each keyframe joins the next one of its session, the next chunk's first one too, so chunks join.
+    if (k + 1 < positions.size() && session(k + 1) == session(k)) {
+      trajectory.points.push_back(point(positions[k]));
+      trajectory.points.push_back(point(positions[k + 1]));
+    }
+  }
   array->markers.push_back(keyframes);
   if (trajectory.points.size() >= 2) array->markers.push_back(trajectory);
 }
@@ -106,6 +122,7 @@ void addRejectedChunk(const std::vector<Eigen::Vector3d>& positions, const std::
 }  // namespace
 
 visualization_msgs::MarkerArray makeLoopMarkers(const std::vector<Eigen::Vector3d>& positions,
+                                                const std::vector<std::uint32_t>& sessions,
                                                 const std::vector<LoopEdge>& loops,
                                                 const std::vector<LoopEdge>& rejected, const std::string& frame,
                                                 const ros::Time& stamp, double threshold, MarkerState* published) {
@@ -115,7 +132,7 @@ visualization_msgs::MarkerArray makeLoopMarkers(const std::vector<Eigen::Vector3
   if (positions.size() > since.keyframes) {
     const std::size_t last = (positions.size() - 1) / kMarkerChunk;
     for (std::size_t c = firstChangedChunk(since.keyframes); c <= last; ++c) {
-      addKeyframeChunk(positions, c, frame, stamp, &array);
+      addKeyframeChunk(positions, sessions, c, frame, stamp, &array);
     }
   }
   for (std::size_t i = since.loops; i < loops.size(); ++i) {

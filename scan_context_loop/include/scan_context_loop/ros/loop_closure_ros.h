@@ -118,7 +118,7 @@ class LoopClosureRos {
 
   // Counters read by diagnostics and the synchronisation check; written by callbacks and the worker.
   std::atomic<std::size_t> dropped_{0}, rejected_{0}, loops_found_{0}, database_size_{0}, queue_length_{0},
-      loops_waiting_{0}, lio_skipped_{0};
+      loops_waiting_{0}, lio_skipped_{0}, sessions_count_{1};
   std::atomic<double> last_query_ms_{0.0};
   std::atomic<double> last_cloud_wall_{0.0}, last_pair_wall_{0.0}, first_unpaired_wall_{0.0};
 
@@ -127,6 +127,7 @@ class LoopClosureRos {
   std::vector<Eigen::Vector3d> positions_;  // keyframe positions in the pose frame, by keyframe number
   std::vector<Eigen::Isometry3d> poses_;    // keyframe sensor poses in the pose frame, by keyframe number
   std::vector<ros::Time> stamps_;           // keyframe stamps, by keyframe number
+  std::vector<std::uint32_t> sessions_;     // keyframe sessions, by keyframe number
   std::vector<LoopEdge> edges_, rejected_edges_;
   MarkerState markers_shown_;   // what the published markers already show
   std::string marker_frame_;    // the pose frame of the newest keyframe

@@ -1,6 +1,7 @@
 // RViz markers for the keyframes and the loops found.
 #pragma once
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -24,13 +25,15 @@ struct MarkerState {
   std::size_t keyframes = 0, loops = 0, rejected = 0;
 };
 
-/// Keyframe positions (spheres), the trajectory (line strips), loop edges (lines from green at
+/// Keyframe positions (spheres, coloured by `sessions`: the session of each keyframe, or empty for one
+/// session), the trajectory (line segments between consecutive keyframes of one session), loop edges (lines from green at
 /// distance 0 to red at the threshold) with both ends marked, a label per loop ("query -> match,
 /// distance"), and candidates that verification rejected as thin grey lines. With `published`, only
 /// what changed since it (the last keyframe and rejected chunks, the new loops) is made, and
 /// `published` is advanced; without it (or from a zero state) everything. Markers keep their ids
 /// (namespace, id) across updates, so RViz replaces a chunk and keeps the rest.
 visualization_msgs::MarkerArray makeLoopMarkers(const std::vector<Eigen::Vector3d>& positions,
+                                                const std::vector<std::uint32_t>& sessions,
                                                 const std::vector<LoopEdge>& loops,
                                                 const std::vector<LoopEdge>& rejected, const std::string& frame,
                                                 const ros::Time& stamp, double threshold,
