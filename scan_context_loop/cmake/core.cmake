@@ -47,6 +47,7 @@ if(CATKIN_ENABLE_TESTING)
     test/core/test_keyframes.cpp
     test/core/test_reconfigure.cpp
     test/core/test_sessions.cpp
+    test/core/test_relocalization.cpp
     test/core/test_kitti_io.cpp
     test/core/test_simulated_places.cpp
     test/core/test_hard_revisits.cpp

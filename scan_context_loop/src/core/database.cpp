@@ -127,6 +127,7 @@ double Database::pathLengthAt(const KeyframeInfo& info) const {
 std::size_t Database::eligibleCount(const KeyframeInfo& info) const {
   // Earlier sessions are always eligible; the windows cut a suffix of the current one, along which stamps
   // and path lengths never decrease.
+  if (config_.prior_sessions_only) return session_start_;
   const std::size_t in_session = keyframes_.size() - session_start_;
   const std::size_t frames = static_cast<std::size_t>(config_.exclude_recent_frames);
   std::size_t eligible = session_start_ + (in_session > frames ? in_session - frames : 0);

@@ -72,8 +72,43 @@ Detection LoopDetector::process(const PointView& raw, const KeyframeInfo& info) 
   detection.query_seconds += secondsSince(t2);
   if (!detection.accepted) return detection;
   levelling_.push_back(level);
-  if (config.verification.enabled) verifyCandidates(points, &detection);
+  if (config.verification.enabled) {
+    const auto start = Clock::now();
+    VoxelCloud cloud = prepareCloud(points, verification_);
+    verifyCandidates(cloud, database_.keyframe(detection.index).descriptor, level, true, &detection);
+    store_.add(detection.index, std::move(cloud));
+    detection.verify_seconds = secondsSince(start);
+  }
   decide(&detection);
+  return detection;
+}
+
+Detection LoopDetector::locate(const PointView& raw) {
+  Detection detection;
+  const Config& config = database_.config();
+  detection.index = database_.size();
+  const KeyframeInfo info;  // no stamp or pose: only the windows of the earlier sessions apply
+  const auto t0 = Clock::now();
+  const Eigen::Matrix3f level = levellingOf(raw, info, &detection);
+  pcl::PointCloud<pcl::PointXYZ> levelled;
+  PointView points = raw;
+  if (!level.isIdentity()) {
+    levelled = rotatedCloud(raw, level);
+    points = viewOf(levelled);
+  }
+  const HeightGrid grid = makeHeightGrid(points, config);
+  detection.points_used = grid.points_used;
+  detection.points_skipped = grid.points_skipped;
+  const Descriptor descriptor = makeDescriptor(grid, config);
+  detection.descriptor_seconds = secondsSince(t0);
+  const auto t1 = Clock::now();
+  detection.query = database_.query(descriptor, info);
+  detection.query_seconds = secondsSince(t1);
+  if (descriptor.empty() || !config.verification.enabled) return detection;
+  queryViewpoints(points, info, &detection);
+  const auto t2 = Clock::now();
+  verifyCandidates(prepareCloud(points, verification_), descriptor, level, false, &detection);
+  detection.verify_seconds = secondsSince(t2);
   return detection;
 }
 
@@ -146,13 +181,11 @@ std::vector<Eigen::Isometry3d> LoopDetector::hypotheses(const Candidate& c, cons
   return poses;
 }
 
-void LoopDetector::verifyCandidates(const PointView& points, Detection* detection) {
-  const auto start = Clock::now();
+void LoopDetector::verifyCandidates(const VoxelCloud& cloud, const Descriptor& query, const Eigen::Matrix3f& level,
+                                    bool query_stored, Detection* detection) {
   const Config& config = database_.config();
   detection->verifications_enabled = true;
-  VoxelCloud cloud = prepareCloud(points, verification_);
   verifier_.setQuery(cloud);
-  const Descriptor& query = database_.keyframe(detection->index).descriptor;
   int tried = 0;
   for (const Candidate& c : detection->query.candidates) {
     if (tried >= config.verification.max_candidates || !(c.alignment.distance < config.verification.threshold)) break;
@@ -169,16 +202,16 @@ void LoopDetector::verifyCandidates(const PointView& points, Detection* detectio
     } else {
       v.result = verifier_.verify(*stored, hypotheses(c, query));
     }
-    toSensorFrames(detection->index, c.index, &v.result);
-    if (v.result.accepted || v.result.needs_support) checkOdometryRotation(detection->index, c.index, &v.result);
+    toSensorFrames(level, c.index, &v.result);
+    if (query_stored && (v.result.accepted || v.result.needs_support)) {
+      checkOdometryRotation(detection->index, c.index, &v.result);
+    }
     detection->verifications.push_back(v);
     if (v.result.accepted) {
       detection->verified = true;
       break;
     }
   }
-  store_.add(detection->index, std::move(cloud));
-  detection->verify_seconds = secondsSince(start);
 }
 
 VoxelCloud LoopDetector::submapOf(std::size_t index, std::size_t query) const {
@@ -225,8 +258,9 @@ void LoopDetector::checkOdometryRotation(std::size_t query, std::size_t match, V
                    std::to_string(allowed) + ")";
 }
 
-void LoopDetector::toSensorFrames(std::size_t query, std::size_t match, VerificationResult* result) const {
-  const Eigen::Matrix3d lq = levelling_[query].cast<double>(), lm = levelling_[match].cast<double>();
+void LoopDetector::toSensorFrames(const Eigen::Matrix3f& query_levelling, std::size_t match,
+                                  VerificationResult* result) const {
+  const Eigen::Matrix3d lq = query_levelling.cast<double>(), lm = levelling_[match].cast<double>();
   if (lq.isIdentity() && lm.isIdentity()) return;
   // T_query<-match = Lq^T * T_Lq<-Lm * Lm, and the covariance turned with Lq^T.
   Eigen::Isometry3d& t = result->relative;

@@ -181,6 +181,8 @@ std::vector<Setting<Config>> makeConfigSettings() {
                          "and of this many metres of path"),
       doubleSetting<Cfg>("new_session_jump", C(new_session_jump), atLeast(0, " (0: never)"),
                          "a stamp this far back [s] starts a new session"),
+      boolSetting<Cfg>("prior_sessions_only", C(prior_sessions_only),
+                       "only earlier sessions' keyframes are candidates (relocalization)"),
       doubleSetting<Cfg>("voxel_leaf", C(voxel_leaf), atLeast(0, " (0 disables)"), "voxel filter before describing [m]"),
       live(doubleSetting<Cfg>("covariance_translation", C(covariance_translation), positive(),
                          "x, y, z variance of a yaw-prior-only loop [m^2]")),

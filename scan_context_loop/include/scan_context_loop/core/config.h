@@ -155,6 +155,9 @@ struct Config {
   /// played again, a restarted odometry) starts a new session (Database::startSession) instead of being
   /// refused; a smaller step back is refused as out of order. 0: every step back is refused.
   double new_session_jump = 1.0;
+  /// Only keyframes of the earlier sessions are candidates, never the current session's own: relocalization
+  /// in a prior map (the node's mode: relocalize sets it).
+  bool prior_sessions_only = false;
   /// Voxel filter before describing [m] (0: off), after the accumulation.
   double voxel_leaf = 0.0;
   /// Covariance of a loop with only the descriptor's yaw prior: variance of x, y, z [m^2] and of roll

@@ -67,6 +67,13 @@ class LoopDetector {
 
   Detection process(const PointView& points, const KeyframeInfo& info);
 
+  /// Where a cloud is among the stored keyframes, without storing it (relocalization on request):
+  /// levelled by its ground, described from every viewpoint, queried (the candidates the windows allow:
+  /// with Config::prior_sessions_only, every keyframe of the earlier sessions) and verified. The result
+  /// has `accepted` false (nothing was added) and `index` the database size; `verified` and the last of
+  /// `verifications` say where it is. Needs verification on (else nothing is verified).
+  Detection locate(const PointView& points);
+
   /// Keyframes from now on form a new session (Database::startSession).
   void startSession() { database_.startSession(); }
 
@@ -82,7 +89,11 @@ class LoopDetector {
  private:
   /// Searches from the virtual viewpoints too and merges their candidates into detection->query.
   void queryViewpoints(const PointView& points, const KeyframeInfo& info, Detection* detection);
-  void verifyCandidates(const PointView& points, Detection* detection);
+  /// Registers detection->query's candidates onto `cloud` (levelled by `level`; `query` its descriptor)
+  /// until one is accepted. detection->index is the query's keyframe number; `query_stored` says whether
+  /// the query is in the database (then the odometry rotation check runs).
+  void verifyCandidates(const VoxelCloud& cloud, const Descriptor& query, const Eigen::Matrix3f& level,
+                        bool query_stored, Detection* detection);
   /// Registration guesses for a candidate (T_query<-match): its alignment, then other yaw hypotheses.
   std::vector<Eigen::Isometry3d> hypotheses(const Candidate& candidate, const Descriptor& query) const;
   static constexpr int kYawHypotheses = 3;
@@ -91,7 +102,7 @@ class LoopDetector {
   /// The candidate's data with its Config::verify_submap neighbours on each side (older than `query`).
   VoxelCloud submapOf(std::size_t index, std::size_t query) const;
   /// Registration results are in the levelled frames; loops are reported in the sensor frames.
-  void toSensorFrames(std::size_t query, std::size_t match, VerificationResult* result) const;
+  void toSensorFrames(const Eigen::Matrix3f& query_levelling, std::size_t match, VerificationResult* result) const;
   /// Config::verify_odometry_rotation: rejects an accepted result whose rotation the odometry contradicts.
   void checkOdometryRotation(std::size_t query, std::size_t match, VerificationResult* result) const;
   void decide(Detection* detection);
