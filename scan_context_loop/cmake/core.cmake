@@ -54,6 +54,7 @@ if(CATKIN_ENABLE_TESTING)
     test/core/test_simulated_places.cpp
     test/core/test_hard_revisits.cpp
     test/core/test_database_file.cpp
+    test/core/test_file_io.cpp
   )
   # The real-data tests read KITTI scans (scan_context_common/kitti_io.h); the simulated-data tests cast
   # scans with the simulator.

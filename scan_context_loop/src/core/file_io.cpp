@@ -49,7 +49,7 @@ const std::uint8_t* FileReader::take(std::size_t n) {
   constexpr std::size_t kChunk = std::size_t(1) << 20;
   if (end_ - begin_ < n) {
     // Keep what is left at the front, then read until n bytes are there or the file ends.
-    std::copy(buffer_.begin() + static_cast<long>(begin_), buffer_.begin() + static_cast<long>(end_), buffer_.begin());
+    if (begin_ > 0) std::memmove(buffer_.data(), buffer_.data() + begin_, end_ - begin_);
     end_ -= begin_;
     begin_ = 0;
     if (buffer_.size() < std::max(n, kChunk)) buffer_.resize(std::max(n, kChunk));
