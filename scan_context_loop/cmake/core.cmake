@@ -14,6 +14,9 @@ add_library(scan_context_loop_core
   src/core/verification.cpp
   src/core/consistency.cpp
   src/core/levelling.cpp
+  src/core/crc32.cpp
+  src/core/file_io.cpp
+  src/core/database_file.cpp
 )
 target_include_directories(scan_context_loop_core PUBLIC
   include ${EIGEN3_INCLUDE_DIRS} ${PCL_INCLUDE_DIRS} ${FLANN_INCLUDE_DIRS})
@@ -51,6 +54,8 @@ if(CATKIN_ENABLE_TESTING)
     test/core/test_kitti_io.cpp
     test/core/test_simulated_places.cpp
     test/core/test_hard_revisits.cpp
+    test/core/test_database_file.cpp
+    test/core/test_file_io.cpp
   )
   # The real-data tests read KITTI scans (scan_context_common/kitti_io.h); the simulated-data tests cast
   # scans with the simulator.

@@ -6,7 +6,6 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
-#include <random>
 #include <string>
 #include <vector>
 
@@ -17,10 +16,10 @@
 #include "scan_context_loop/core/pcl_adapters.h"
 #include "scan_context_loop/core/alignment.h"
 #include "scan_context_loop/core/database.h"
-#include "scan_context_common/kitti_io.h"
 #include "scan_context_loop/core/levelling.h"
 #include "scan_context_loop/core/verification.h"
 #include "scan_context_common/cli.h"
+#include "bench_data.h"
 
 namespace scl = scan_context_loop;
 using Clock = std::chrono::steady_clock;
@@ -60,34 +59,6 @@ std::size_t residentBytes() {
   return resident * static_cast<std::size_t>(sysconf(_SC_PAGESIZE));
 }
 
-/// A stream of plausible keyframe grids: real scans' grids, rotated, with height noise and bins that
-/// come and go, drifting from one real place to the next every few hundred keyframes.
-class GridStream {
- public:
-  GridStream(std::vector<scl::HeightGrid> bases, std::uint32_t seed) : bases_(std::move(bases)), rng_(seed) {}
-  scl::HeightGrid next() {
-    const scl::HeightGrid& base = bases_[(count_++ / 300) % bases_.size()];
-    scl::HeightGrid g = base;
-    std::normal_distribution<float> noise(0.0f, 0.3f);
-    std::uniform_real_distribution<float> unit(0.0f, 1.0f);
-    const int roll = static_cast<int>(unit(rng_) * g.heights.cols());
-    for (int s = 0; s < g.heights.cols(); ++s) {
-      const int from = (s + roll) % g.heights.cols();
-      for (int r = 0; r < g.heights.rows(); ++r) {
-        const bool occupied = base.occupied(r, from) && unit(rng_) > 0.1f;
-        g.occupied(r, s) = occupied;
-        g.heights(r, s) = occupied ? base.heights(r, from) + noise(rng_) : 0.0f;
-      }
-    }
-    return g;
-  }
-
- private:
-  std::vector<scl::HeightGrid> bases_;
-  std::mt19937 rng_;
-  std::size_t count_ = 0;
-};
-
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -112,25 +83,14 @@ int main(int argc, char** argv) {
   if (const int status = cli.parse(argc, argv); status >= 0) return status;
   scl::Config config;
 
-  struct Scan {
-    std::string sequence;
-    int frame;
-  };
-  const std::vector<Scan> scans = {{"00", 94}, {"00", 95}, {"00", 198}, {"00", 199}, {"08", 720}, {"08", 1500}};
   std::vector<pcl::PointCloud<pcl::PointXYZI>> raw, down;
-  for (const auto& s : scans) {
-    pcl::PointCloud<pcl::PointXYZI> cloud;
-    std::string error;
-    if (!scl::kitti::readScan(scl::kitti::scanPath(data + "/kitti/" + s.sequence, s.frame), &cloud, &error)) {
-      std::fprintf(stderr, "%s\n", error.c_str());
-      return 1;
-    }
+  if (!scl::bench::readScans(data, &raw)) return 1;
+  for (const auto& cloud : raw) {
     pcl::PointCloud<pcl::PointXYZI> filtered;
     pcl::VoxelGrid<pcl::PointXYZI> voxel;
     voxel.setLeafSize(0.4f, 0.4f, 0.4f);
     voxel.setInputCloud(cloud.makeShared());
     voxel.filter(filtered);
-    raw.push_back(std::move(cloud));
     down.push_back(std::move(filtered));
   }
 
@@ -231,7 +191,7 @@ int main(int argc, char** argv) {
 
   // Online: query then insert, one keyframe at a time, as the node does.
   scl::Database db(config);
-  GridStream stream(grids, 7);
+  scl::bench::GridStream stream(grids, 7);
   std::vector<double> step;
   std::size_t blind = 0;
   const std::size_t rss_before = residentBytes();

@@ -18,8 +18,9 @@ struct Database::Tree {
 
   explicit Tree(int dims) : dims(dims) {}
 
-  void add(const float* key) {
-    keys.push_back(key);
+  /// Takes the keys of the keyframes now eligible; rebuilds at most once, whether one key came or many.
+  void add(const std::vector<const float*>& added) {
+    keys.insert(keys.end(), added.begin(), added.end());
     if (keys.size() - built >= std::max(kMinTail, built / 16)) rebuild();
   }
 
@@ -69,27 +70,45 @@ Database::Database(const Config& config) : config_(config), tree_(new Tree(confi
 
 Database::~Database() = default;
 
-bool Database::acceptable(const KeyframeInfo& info, std::string* error) const {
+namespace {
+
+/// Why a keyframe with `info` cannot follow `previous` (its session's last keyframe, or null) in a
+/// session; empty when it can.
+std::string infoProblem(const KeyframeInfo& info, const KeyframeInfo* previous) {
   std::ostringstream why;
   if (!std::isfinite(info.stamp)) {
     why << "keyframe stamp is not finite";
-  } else if (keyframes_.size() > session_start_ && info.stamp < keyframes_.back().info.stamp) {
+  } else if (previous && info.stamp < previous->stamp) {
     why.precision(17);
-    why << "keyframe stamp " << info.stamp << " is earlier than the previous keyframe's "
-        << keyframes_.back().info.stamp;
+    why << "keyframe stamp " << info.stamp << " is earlier than the previous keyframe's " << previous->stamp;
   } else if (info.pose && !info.pose->matrix().allFinite()) {
     why << "keyframe pose is not finite";
   }
-  const std::string text = why.str();
+  return why.str();
+}
+
+bool fitsGrid(const Descriptor& d, const Config& config) {
+  const auto rings = static_cast<std::size_t>(config.num_rings);
+  const auto sectors = static_cast<std::size_t>(config.num_sectors);
+  return d.num_rings == config.num_rings && d.num_sectors == config.num_sectors &&
+         d.unit_columns.size() == rings * sectors && d.column_occupied.size() == sectors &&
+         d.ring_key.size() == rings && d.sector_key.size() == sectors;
+}
+
+constexpr const char* kGridMismatch = "descriptor grid size differs from the database configuration";
+
+}  // namespace
+
+bool Database::acceptable(const KeyframeInfo& info, std::string* error) const {
+  const std::string text = infoProblem(info, keyframes_.size() > session_start_ ? &keyframes_.back().info : nullptr);
   if (error) *error = text;
   return text.empty();
 }
 
 bool Database::add(const KeyframeInfo& info, Descriptor descriptor, std::string* error) {
   if (!acceptable(info, error)) return false;
-  if (descriptor.num_rings != config_.num_rings || descriptor.num_sectors != config_.num_sectors ||
-      static_cast<int>(descriptor.ring_key.size()) != config_.num_rings) {
-    if (error) *error = "descriptor grid size differs from the database configuration";
+  if (!fitsGrid(descriptor, config_)) {
+    if (error) *error = kGridMismatch;
     return false;
   }
   Keyframe keyframe;
@@ -98,6 +117,44 @@ bool Database::add(const KeyframeInfo& info, Descriptor descriptor, std::string*
   keyframe.session = session_;
   keyframe.descriptor = std::move(descriptor);
   keyframes_.push_back(std::move(keyframe));
+  return true;
+}
+
+bool Database::appendSessions(std::vector<Keyframe> keyframes, std::string* error) {
+  for (std::size_t i = 0; i < keyframes.size(); ++i) {
+    const Keyframe& k = keyframes[i];
+    const Keyframe* previous = i > 0 ? &keyframes[i - 1] : nullptr;
+    const bool continues = previous && k.session == previous->session;
+    std::string problem;
+    if (!previous && k.session != 0) {
+      problem = "the first keyframe is in session " + std::to_string(k.session) + ", not 0";
+    } else if (previous && !continues && k.session != previous->session + 1) {
+      problem = "session " + std::to_string(k.session) + " follows session " + std::to_string(previous->session) +
+                " (sessions are numbered 0, 1, ... in order)";
+    } else if (!fitsGrid(k.descriptor, config_)) {
+      problem = kGridMismatch;
+    } else if (!(std::isfinite(k.path_length) && k.path_length >= 0.0)) {
+      problem = "path length is not a finite non-negative number";
+    } else {
+      problem = infoProblem(k.info, continues ? &previous->info : nullptr);
+    }
+    if (!problem.empty()) {
+      if (error) *error = "keyframe " + std::to_string(i) + ": " + problem;
+      return false;
+    }
+  }
+  if (keyframes.empty()) {
+    startSession();
+    return true;
+  }
+  const std::uint32_t first = keyframes_.size() == session_start_ ? session_ : session_ + 1;
+  for (Keyframe& k : keyframes) {
+    k.session += first;
+    keyframes_.push_back(std::move(k));
+  }
+  session_ = keyframes_.back().session + 1;
+  session_start_ = keyframes_.size();
+  indexUpTo(keyframes_.size());
   return true;
 }
 
@@ -148,8 +205,12 @@ std::size_t Database::eligibleCount(const KeyframeInfo& info) const {
 }
 
 void Database::indexUpTo(std::size_t count) {
-  for (std::size_t i = indexed_; i < count; ++i) tree_->add(keyframes_[i].descriptor.ring_key.data());
-  indexed_ = std::max(indexed_, count);
+  if (count <= indexed_) return;
+  std::vector<const float*> keys;
+  keys.reserve(count - indexed_);
+  for (std::size_t i = indexed_; i < count; ++i) keys.push_back(keyframes_[i].descriptor.ring_key.data());
+  tree_->add(keys);
+  indexed_ = count;
 }
 
 QueryResult Database::query(const Descriptor& descriptor, const KeyframeInfo& info) {

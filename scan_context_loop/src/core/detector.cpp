@@ -43,6 +43,45 @@ void LoopDetector::reconfigure(const Config& config) {
   consistency_.reconfigure(config);
 }
 
+bool LoopDetector::appendSessions(PriorSessions sessions, std::string* error) {
+  const std::size_t n = sessions.keyframes.size();
+  const auto fail = [error](const std::string& why) {
+    if (error) *error = why;
+    return false;
+  };
+  if (!sessions.levelling.empty() && sessions.levelling.size() != n) {
+    return fail(std::to_string(sessions.levelling.size()) + " levelling rotations for " + std::to_string(n) +
+                " keyframes");
+  }
+  if (!sessions.clouds.empty() && sessions.clouds.size() != n) {
+    return fail(std::to_string(sessions.clouds.size()) + " registration clouds for " + std::to_string(n) + " keyframes");
+  }
+  const VoxelOptions voxels = voxelOptions(verification_);
+  for (std::size_t i = 0; i < sessions.clouds.size(); ++i) {
+    const VoxelCloud* cloud = sessions.clouds[i].get();
+    if (cloud && cloud->normals.size() != cloud->means.size()) {
+      return fail("keyframe " + std::to_string(i) + ": registration data with " + std::to_string(cloud->means.size()) +
+                  " voxel means but " + std::to_string(cloud->normals.size()) + " normals");
+    }
+    if (cloud && (cloud->resolution != voxels.resolution || cloud->max_range != voxels.max_range)) {
+      return fail("keyframe " + std::to_string(i) + ": registration data of " + std::to_string(cloud->resolution) +
+                  " m voxels within " + std::to_string(cloud->max_range) + " m, but verification uses " +
+                  std::to_string(voxels.resolution) + " m within " + std::to_string(voxels.max_range) + " m");
+    }
+  }
+  const std::size_t first = database_.size();
+  if (!database_.appendSessions(std::move(sessions.keyframes), error)) return false;
+  if (sessions.levelling.empty()) {
+    levelling_.resize(first + n, Eigen::Matrix3f::Identity());
+  } else {
+    levelling_.insert(levelling_.end(), sessions.levelling.begin(), sessions.levelling.end());
+  }
+  for (std::size_t i = 0; i < sessions.clouds.size(); ++i) {
+    if (sessions.clouds[i]) store_.add(first + i, std::move(*sessions.clouds[i]));
+  }
+  return true;
+}
+
 Detection LoopDetector::process(const PointView& raw, const KeyframeInfo& info) {
   Detection detection;
   const Config& config = database_.config();

@@ -44,6 +44,19 @@ std::string KeyframePipeline::reconfigure(const Config& config) {
 }
 KeyframePipeline::~KeyframePipeline() = default;
 
+void KeyframePipeline::forgetOdometry() {
+  // Another run of odometry: nothing of the last one carries over to keyframe selection or scans.
+  has_last_ = has_previous_ = false;
+  recent_.clear();
+  path_ = 0.0;
+}
+
+bool KeyframePipeline::appendSessions(PriorSessions sessions, std::string* error) {
+  if (!detector_.appendSessions(std::move(sessions), error)) return false;
+  forgetOdometry();
+  return true;
+}
+
 bool KeyframePipeline::selected(const KeyframeInfo& info) const {
   const Config& c = config();
   if (c.keyframe_min_distance <= 0.0 && c.keyframe_min_angle <= 0.0) return true;
@@ -93,11 +106,8 @@ Detection KeyframePipeline::process(const PointView& cloud, const KeyframeInfo& 
   }
   const bool new_session = jumpedBack(info);
   if (new_session) {
-    // Another run of odometry: nothing of the last one carries over to keyframe selection or scans.
     detector_.startSession();
-    has_last_ = has_previous_ = false;
-    recent_.clear();
-    path_ = 0.0;
+    forgetOdometry();
   }
   if (accumulate) remember(cloud, info);
   if (!new_session && !selected(info)) {

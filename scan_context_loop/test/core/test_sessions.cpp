@@ -100,5 +100,50 @@ TEST(Sessions, TheOdometryGateAndPathLengthStayWithinASession) {
   EXPECT_TRUE(db.sameSession(0, 1));
 }
 
+TEST(Sessions, AppendedSessionsFollowTheRunningOnesInOrderOrNothingChanges) {
+  Config c = descriptorOnly();
+  c.exclude_recent_frames = 0;
+  Database db(c);
+  const Descriptor d = makeDescriptor(viewOf(test::streetScene(1)), c);
+  ASSERT_TRUE(db.add(at(10.0, 0.0), d));
+  const auto keyframes = [&](std::vector<std::uint32_t> sessions, std::vector<double> stamps) {
+    std::vector<Keyframe> out;
+    for (std::size_t i = 0; i < sessions.size(); ++i) {
+      Keyframe k;
+      k.info = at(stamps[i], 0.0);
+      k.descriptor = d;
+      k.session = sessions[i];
+      out.push_back(k);
+    }
+    return out;
+  };
+  std::string error;
+  EXPECT_FALSE(db.appendSessions(keyframes({0, 2}, {1.0, 2.0}), &error));
+  EXPECT_NE(error.find("session 2 follows session 0"), std::string::npos) << error;
+  EXPECT_FALSE(db.appendSessions(keyframes({1}, {1.0}), &error));
+  EXPECT_NE(error.find("not 0"), std::string::npos) << error;
+  EXPECT_FALSE(db.appendSessions(keyframes({0, 0}, {5.0, 4.0}), &error));
+  EXPECT_NE(error.find("keyframe 1: keyframe stamp 4 is earlier"), std::string::npos) << error;
+  Descriptor small = d;
+  small.sector_key.pop_back();
+  auto bad_grid = keyframes({0}, {1.0});
+  bad_grid[0].descriptor = small;
+  EXPECT_FALSE(db.appendSessions(bad_grid, &error));
+  EXPECT_NE(error.find("grid size"), std::string::npos) << error;
+  EXPECT_EQ(db.size(), 1u);
+  EXPECT_EQ(db.session(), 0u);
+
+  // Stamps restart in a new session; the appended ones follow session 0 and a new one begins.
+  ASSERT_TRUE(db.appendSessions(keyframes({0, 0, 1}, {5.0, 6.0, 1.0}), &error)) << error;
+  ASSERT_EQ(db.size(), 4u);
+  EXPECT_EQ(db.keyframe(1).session, 1u);
+  EXPECT_EQ(db.keyframe(3).session, 2u);
+  EXPECT_EQ(db.session(), 3u);
+  EXPECT_EQ(db.sessionStart(), 4u);
+  EXPECT_EQ(db.indexedCount(), 4u);
+  // A query at the new session's start sees all four, whatever its stamp.
+  EXPECT_EQ(db.query(d, at(0.0, 0.0)).eligible, 4u);
+}
+
 }  // namespace
 }  // namespace scan_context_loop

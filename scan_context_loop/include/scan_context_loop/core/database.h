@@ -84,6 +84,16 @@ class Database {
   /// session only, and every keyframe of the earlier sessions is a candidate, never gated by odometry.
   /// Does nothing while the current session is empty.
   void startSession();
+  /// Appends keyframes recorded elsewhere (a saved database, database_file.h) as earlier sessions, then
+  /// starts a new session for the keyframes added from now on. Their `session` fields number their own
+  /// sessions 0, 1, ... in order (each keyframe's is its predecessor's or one more). They are renumbered
+  /// to follow this database's sessions: the first joins as session() + 1, or as session() when the
+  /// current session is still empty (so an empty database keeps their numbers). Like every earlier
+  /// session they are candidates at once, never gated by odometry; they enter the kd-tree now. Returns
+  /// false and changes nothing when a descriptor does not fit the configuration, the session numbers
+  /// are not as above, or a keyframe breaks what add() checks within its session (finite stamps and
+  /// poses, stamps that never decrease); `error` then names the keyframe and the problem.
+  bool appendSessions(std::vector<Keyframe> keyframes, std::string* error = nullptr);
   /// The current session's number, and its first keyframe.
   std::uint32_t session() const { return session_; }
   std::size_t sessionStart() const { return session_start_; }

@@ -9,6 +9,7 @@
 #include "scan_context_loop/core/consistency.h"
 #include "scan_context_loop/core/database.h"
 #include "scan_context_loop/core/descriptor.h"
+#include "scan_context_loop/core/prior_sessions.h"
 #include "scan_context_loop/core/verification.h"
 
 namespace scan_context_loop {
@@ -77,6 +78,14 @@ class LoopDetector {
   /// Keyframes from now on form a new session (Database::startSession).
   void startSession() { database_.startSession(); }
 
+  /// Adds keyframes of earlier runs (a saved database, database_file.h) after the current ones as
+  /// earlier sessions (Database::appendSessions), with their levelling and registration data (which
+  /// the cloud store keeps within its budget, CloudStore::add); keyframes from now on form a new
+  /// session. Returns false and changes nothing when they do not fit this detector: a descriptor or
+  /// session problem (Database::appendSessions), levelling or cloud lists of another length than the
+  /// keyframes', or registration data made with other voxel settings. `error` then says which.
+  bool appendSessions(PriorSessions sessions, std::string* error = nullptr);
+
   /// Takes new values of the live settings for the next keyframe; the caller checks that only live
   /// ones changed (KeyframePipeline::reconfigure).
   void reconfigure(const Config& config);
@@ -84,6 +93,8 @@ class LoopDetector {
   const Database& database() const { return database_; }
   const Config& config() const { return database_.config(); }
   const CloudStore& cloudStore() const { return store_; }
+  /// L_R_sensor of keyframe `index`: the levelling its descriptor and registration data were made in.
+  const Eigen::Matrix3f& levelling(std::size_t index) const { return levelling_.at(index); }
   const ConsistencyFilter& consistency() const { return consistency_; }
 
  private:

@@ -38,12 +38,20 @@ class KeyframePipeline {
   /// while running, or the rules broken).
   std::string reconfigure(const Config& config);
 
+  /// Adds keyframes of earlier runs (a saved database: loadDatabase in database_file.h) as earlier
+  /// sessions (LoopDetector::appendSessions). The next keyframe begins a new session, so nothing of the
+  /// odometry so far carries over to keyframe selection or scan accumulation, as after a jump back in
+  /// time. Returns false and changes nothing when they do not fit (`error` says why).
+  bool appendSessions(PriorSessions sessions, std::string* error = nullptr);
+
   const LoopDetector& detector() const { return detector_; }
   const Config& config() const { return detector_.config(); }
 
  private:
   /// The stamp lies Config::new_session_jump or more before the session's last keyframe.
   bool jumpedBack(const KeyframeInfo& info) const;
+  /// A new session begins: forgets the last keyframe's pose, the remembered scans and the path.
+  void forgetOdometry();
   /// Keyframe selection against the pose of the last keyframe that was processed.
   bool selected(const KeyframeInfo& info) const;
 

@@ -1,0 +1,44 @@
+// The database file: a detector's keyframes (descriptors, stamps, poses, tags, path lengths, sessions)
+// and optionally their levelling and registration data, saved for a later run to start from. The
+// layout, its version and its checks are in README.md, "Database file".
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+#include "scan_context_loop/core/config.h"
+#include "scan_context_loop/core/detector.h"
+#include "scan_context_loop/core/keyframes.h"
+#include "scan_context_loop/core/prior_sessions.h"
+
+namespace scan_context_loop {
+
+/// The format version this build writes and the only one it reads. It changes whenever the layout or
+/// the way descriptors are computed changes.
+constexpr std::uint32_t kDatabaseFileVersion = 1;
+
+struct SaveOptions {
+  /// Also save each keyframe's levelling rotation and registration data (the cloud store's
+  /// VoxelClouds, LZ4-compressed), so that loaded keyframes can be verified. Without them a loaded
+  /// keyframe is a candidate that verification reports as unverifiable.
+  bool include_clouds = false;
+};
+
+/// Writes every keyframe of `detector` to `path` atomically (AtomicFileWriter): a temporary file in
+/// the same directory, flushed to disk, renamed over `path`. On failure, `error` says why and an
+/// existing file at `path` is left as it was.
+bool saveDatabase(const LoopDetector& detector, const std::string& path, const SaveOptions& options,
+                  std::string* error);
+
+/// Reads and checks the file at `path` against `config` without changing anything: magic, version,
+/// header and payload checksums, size (truncation), the descriptor settings (and, with registration
+/// data, the verification voxel settings) against `config`'s, counts and sizes, finite values. Fills
+/// *sessions, or returns false with `error` naming the path and the problem.
+bool readDatabaseFile(const std::string& path, const Config& config, PriorSessions* sessions, std::string* error);
+
+/// readDatabaseFile, then appendSessions: the saved keyframes join after the current ones as earlier
+/// sessions, and keyframes from now on form a new session. On any error nothing changes.
+bool loadDatabase(const std::string& path, LoopDetector* detector, std::string* error);
+bool loadDatabase(const std::string& path, KeyframePipeline* pipeline, std::string* error);
+
+}  // namespace scan_context_loop

@@ -1,0 +1,66 @@
+// Whole-file reading and atomic replacement of a file, with errors that name the path and the cause.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace scan_context_loop {
+
+/// Reads a regular file front to back through a buffer of about a megabyte, so that a large file is
+/// never held in memory whole. Not copyable.
+class FileReader {
+ public:
+  FileReader() = default;
+  ~FileReader();
+  FileReader(const FileReader&) = delete;
+  FileReader& operator=(const FileReader&) = delete;
+
+  /// False, with the reason in *error (a missing file, a directory, no permission), when `path` cannot
+  /// be read.
+  bool open(const std::string& path, std::string* error);
+  /// The file's size when it was opened.
+  std::uint64_t size() const { return size_; }
+  /// The next `n` bytes, contiguous and valid until the next call; nullptr when the file ends before
+  /// them or a read fails (readError() then says why).
+  const std::uint8_t* take(std::size_t n);
+  const std::string& readError() const { return read_error_; }
+
+ private:
+  int fd_ = -1;
+  std::string path_, read_error_;
+  std::uint64_t size_ = 0;
+  std::vector<std::uint8_t> buffer_;
+  std::size_t begin_ = 0, end_ = 0;  // the buffered bytes not taken yet
+};
+
+/// Writes a file so that readers see either the old file or the whole new one: the data go to a
+/// temporary file in the target's directory, which commit() flushes to disk (fsync) and renames over
+/// the target. Until commit() succeeds the target is untouched; a writer destroyed without a successful
+/// commit removes its temporary file. Not copyable.
+class AtomicFileWriter {
+ public:
+  AtomicFileWriter() = default;
+  ~AtomicFileWriter();
+  AtomicFileWriter(const AtomicFileWriter&) = delete;
+  AtomicFileWriter& operator=(const AtomicFileWriter&) = delete;
+
+  /// Creates the temporary file for `path`; false with *error when the directory does not exist or
+  /// is not writable.
+  bool open(const std::string& path, std::string* error);
+  /// Appends to the temporary file.
+  bool write(const void* data, std::size_t size, std::string* error);
+  /// Overwrites bytes already written, at `offset` (a header whose fields are known only at the end).
+  bool writeAt(std::size_t offset, const void* data, std::size_t size, std::string* error);
+  /// fsync, rename over the target, fsync of the directory (so the rename survives a power cut).
+  bool commit(std::string* error);
+
+ private:
+  void discard();
+  std::string path_, temporary_;
+  int fd_ = -1;
+  std::size_t written_ = 0;
+};
+
+}  // namespace scan_context_loop

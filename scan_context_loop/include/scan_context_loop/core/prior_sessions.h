@@ -1,0 +1,25 @@
+// Keyframes recorded in earlier runs, with what verification needs of them, ready to join a detector.
+#pragma once
+
+#include <memory>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "scan_context_loop/core/database.h"
+#include "scan_context_loop/core/registration.h"
+
+namespace scan_context_loop {
+
+/// What a saved database holds (database_file.h) and LoopDetector::appendSessions takes.
+struct PriorSessions {
+  /// In database order, sessions numbered 0, 1, ... (Database::appendSessions).
+  std::vector<Keyframe> keyframes;
+  /// L_R_sensor of each keyframe (the levelling its descriptor and registration data were made in), or
+  /// empty for identity throughout.
+  std::vector<Eigen::Matrix3f> levelling;
+  /// The registration data of each keyframe (null where none was kept), or empty for none at all.
+  std::vector<std::unique_ptr<VoxelCloud>> clouds;
+};
+
+}  // namespace scan_context_loop

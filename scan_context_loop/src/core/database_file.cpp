@@ -1,0 +1,517 @@
+#include "scan_context_loop/core/database_file.h"
+
+#include <algorithm>
+#include <array>
+#include <climits>
+#include <cmath>
+#include <cstring>
+#include <sstream>
+
+#include <lz4.h>
+
+#include "scan_context_loop/core/byte_stream.h"
+#include "scan_context_loop/core/crc32.h"
+#include "scan_context_loop/core/file_io.h"
+
+namespace scan_context_loop {
+
+namespace {
+
+constexpr char kMagic[5] = {'S', 'C', 'L', 'D', 'B'};
+constexpr std::uint32_t kFlagClouds = 1u;
+/// magic, version, flags, num_rings, num_sectors, max_radius, min_range, lidar_height, ring_key,
+/// levelling, verify_voxel_leaf, verify_max_range, keyframes, sessions, payload bytes, payload CRC,
+/// header CRC (over every header byte before it).
+constexpr std::size_t kHeaderBytes = 5 + 4 + 4 + 4 + 4 + 8 + 8 + 8 + 1 + 1 + 8 + 8 + 8 + 4 + 8 + 4 + 4;
+/// Pose: rows 0-2 of the 4x4 matrix, row-major (row 3 is 0 0 0 1).
+constexpr int kPoseRows = 3;
+/// A voxel in the compressed registration data: its mean (3 x f32), then, after all means, its normal
+/// and shape (4 x i8).
+constexpr std::size_t kVoxelBytes = 3 * sizeof(float) + 4;
+static_assert(sizeof(Eigen::Vector3f) == 3 * sizeof(float), "voxel means are read and written as float triples");
+static_assert(sizeof(std::array<std::int8_t, 4>) == 4, "voxel normals are read and written as 4 bytes");
+/// The payload is written, and skipped over for its checksum, in pieces of about this size.
+constexpr std::size_t kChunkBytes = std::size_t(4) << 20;
+
+// The file's codes for the enums, fixed whatever order the enums take.
+constexpr RingKeyType kRingKeyCodes[] = {RingKeyType::kMeanHeight, RingKeyType::kOccupancy};
+constexpr LevellingMode kLevellingCodes[] = {LevellingMode::kAuto, LevellingMode::kPose, LevellingMode::kGround,
+                                             LevellingMode::kOff};
+
+template <typename E, std::size_t N>
+std::uint8_t codeOf(E value, const E (&codes)[N]) {
+  return static_cast<std::uint8_t>(std::find(codes, codes + N, value) - codes);
+}
+
+template <typename E, std::size_t N>
+bool fromCode(std::uint8_t code, const E (&codes)[N], E* value) {
+  if (code >= N) return false;
+  *value = codes[code];
+  return true;
+}
+
+/// What a file must share with the configuration that loads it.
+struct FileSettings {
+  std::uint32_t num_rings = 0, num_sectors = 0;
+  double max_radius = 0.0, min_range = 0.0, lidar_height = 0.0;
+  RingKeyType ring_key = RingKeyType::kMeanHeight;
+  LevellingMode levelling = LevellingMode::kAuto;
+  /// Registration data included: their voxel settings (both 0 without).
+  bool clouds = false;
+  double voxel_leaf = 0.0, voxel_max_range = 0.0;
+};
+
+struct Header {
+  FileSettings settings;
+  std::uint64_t keyframes = 0;
+  std::uint32_t sessions = 0;
+  std::uint64_t payload_bytes = 0;
+  std::uint32_t payload_crc = 0;
+};
+
+FileSettings settingsOf(const Config& config, bool clouds) {
+  FileSettings s;
+  s.num_rings = static_cast<std::uint32_t>(config.num_rings);
+  s.num_sectors = static_cast<std::uint32_t>(config.num_sectors);
+  s.max_radius = config.max_radius;
+  s.min_range = config.min_range;
+  s.lidar_height = config.lidar_height;
+  s.ring_key = config.ring_key;
+  s.levelling = config.levelling;
+  s.clouds = clouds;
+  if (clouds) {
+    s.voxel_leaf = config.verification.voxel_leaf;
+    s.voxel_max_range = config.verification.max_range;
+  }
+  return s;
+}
+
+template <typename T>
+std::string text(const T& value) {
+  std::ostringstream out;
+  out.precision(17);  // every double prints distinctly
+  out << value;
+  return out.str();
+}
+
+/// The first setting in which the file differs from the configuration, named by its configuration key
+/// with both values; empty when they agree.
+std::string settingsMismatch(const FileSettings& file, const FileSettings& ours) {
+  std::vector<std::array<std::string, 3>> rows = {
+      {"num_rings", text(file.num_rings), text(ours.num_rings)},
+      {"num_sectors", text(file.num_sectors), text(ours.num_sectors)},
+      {"max_radius", text(file.max_radius), text(ours.max_radius)},
+      {"min_range", text(file.min_range), text(ours.min_range)},
+      {"lidar_height", text(file.lidar_height), text(ours.lidar_height)},
+      {"ring_key", ringKeyTypeName(file.ring_key), ringKeyTypeName(ours.ring_key)},
+      {"levelling", levellingModeName(file.levelling), levellingModeName(ours.levelling)},
+  };
+  if (file.clouds) {
+    rows.push_back({"verify_voxel_leaf", text(file.voxel_leaf), text(ours.voxel_leaf)});
+    rows.push_back({"verify_max_range", text(file.voxel_max_range), text(ours.voxel_max_range)});
+  }
+  for (const auto& [name, saved, current] : rows) {
+    if (saved != current) {
+      return "saved with " + name + " " + saved + ", but the configuration has " + current +
+             ": the saved keyframes cannot be compared with this configuration's";
+    }
+  }
+  return "";
+}
+
+std::vector<std::uint8_t> encodeHeader(const Header& h) {
+  ByteWriter out;
+  out.bytes(kMagic, sizeof(kMagic));
+  out.u32(kDatabaseFileVersion);
+  out.u32(h.settings.clouds ? kFlagClouds : 0u);
+  out.u32(h.settings.num_rings);
+  out.u32(h.settings.num_sectors);
+  out.f64(h.settings.max_radius);
+  out.f64(h.settings.min_range);
+  out.f64(h.settings.lidar_height);
+  out.u8(codeOf(h.settings.ring_key, kRingKeyCodes));
+  out.u8(codeOf(h.settings.levelling, kLevellingCodes));
+  out.f64(h.settings.voxel_leaf);
+  out.f64(h.settings.voxel_max_range);
+  out.u64(h.keyframes);
+  out.u32(h.sessions);
+  out.u64(h.payload_bytes);
+  out.u32(h.payload_crc);
+  out.u32(crc32(out.buffer().data(), out.size()));
+  return out.buffer();
+}
+
+/// Decodes the header fields after magic and version (whose checksum the caller checked).
+std::string decodeHeader(ByteReader* in, Header* h) {
+  std::uint32_t flags = 0;
+  std::uint8_t ring_key = 0, levelling = 0;
+  in->u32(&flags);
+  in->u32(&h->settings.num_rings);
+  in->u32(&h->settings.num_sectors);
+  in->f64(&h->settings.max_radius);
+  in->f64(&h->settings.min_range);
+  in->f64(&h->settings.lidar_height);
+  in->u8(&ring_key);
+  in->u8(&levelling);
+  in->f64(&h->settings.voxel_leaf);
+  in->f64(&h->settings.voxel_max_range);
+  in->u64(&h->keyframes);
+  in->u32(&h->sessions);
+  in->u64(&h->payload_bytes);
+  in->u32(&h->payload_crc);
+  in->take(4);  // the header checksum
+  if ((flags & ~kFlagClouds) != 0) return "unknown flags " + text(flags) + " in the header";
+  h->settings.clouds = (flags & kFlagClouds) != 0;
+  if (!fromCode(ring_key, kRingKeyCodes, &h->settings.ring_key)) return "unknown ring_key code " + text(int(ring_key));
+  if (!fromCode(levelling, kLevellingCodes, &h->settings.levelling)) {
+    return "unknown levelling code " + text(int(levelling));
+  }
+  return "";
+}
+
+bool allFinite(const std::vector<float>& values) {
+  return std::all_of(values.begin(), values.end(), [](float v) { return std::isfinite(v); });
+}
+
+void encodeKeyframe(const Keyframe& k, std::uint32_t session, ByteWriter* out) {
+  out->f64(k.info.stamp);
+  out->u32(session);
+  out->i64(k.info.tag);
+  out->f64(k.path_length);
+  out->u8(k.info.pose ? 1 : 0);
+  if (k.info.pose) {
+    for (int r = 0; r < kPoseRows; ++r) {
+      for (int c = 0; c < 4; ++c) out->f64(k.info.pose->matrix()(r, c));
+    }
+  }
+  const Descriptor& d = k.descriptor;
+  out->u32(static_cast<std::uint32_t>(d.occupied_columns));
+  out->f32s(d.unit_columns.data(), d.unit_columns.size());
+  out->bytes(d.column_occupied.data(), d.column_occupied.size());
+  out->f32s(d.ring_key.data(), d.ring_key.size());
+  out->f32s(d.sector_key.data(), d.sector_key.size());
+}
+
+/// A keyframe record: stamp, session, tag, path length and the pose flag; the pose; the descriptor.
+constexpr std::size_t kKeyframeHeadBytes = 8 + 4 + 8 + 8 + 1;
+constexpr std::size_t kPoseBytes = kPoseRows * 4 * 8;
+std::size_t descriptorBytes(std::size_t rings, std::size_t sectors) {
+  return 4 + 4 * rings * sectors + sectors + 4 * rings + 4 * sectors;
+}
+
+/// The payload as it is read: every piece taken goes into its checksum.
+class PayloadReader {
+ public:
+  PayloadReader(FileReader* file, std::uint64_t size) : file_(file), left_(size) {}
+  /// *out reads the next `n` bytes; false when the payload or the file ends before them.
+  bool take(std::size_t n, ByteReader* out) {
+    const std::uint8_t* p = n <= left_ ? file_->take(n) : nullptr;
+    if (p == nullptr) return false;
+    crc_ = crc32(p, n, crc_);
+    left_ -= n;
+    *out = ByteReader(p, n);
+    return true;
+  }
+  /// Reads the rest, for the checksum.
+  bool drain() {
+    ByteReader ignored(nullptr, 0);
+    while (left_ > 0) {
+      if (!take(static_cast<std::size_t>(std::min<std::uint64_t>(left_, kChunkBytes)), &ignored)) return false;
+    }
+    return true;
+  }
+  std::uint64_t left() const { return left_; }
+  std::uint32_t crc() const { return crc_; }
+
+ private:
+  FileReader* file_;
+  std::uint64_t left_;
+  std::uint32_t crc_ = 0;
+};
+
+const char* const kKeyframeOverrun = "the payload ends inside this keyframe's record: the counts and sizes disagree";
+
+/// Decodes one keyframe record; returns what is wrong with it, or "".
+std::string decodeKeyframe(PayloadReader* payload, int rings, int sectors, Keyframe* k) {
+  ByteReader in(nullptr, 0);
+  std::uint8_t has_pose = 0;
+  if (!payload->take(kKeyframeHeadBytes, &in)) return kKeyframeOverrun;
+  in.f64(&k->info.stamp);
+  in.u32(&k->session);
+  in.i64(&k->info.tag);
+  in.f64(&k->path_length);
+  in.u8(&has_pose);
+  if (has_pose > 1) return "pose flag " + text(int(has_pose)) + " is neither 0 nor 1";
+  if (has_pose) {
+    if (!payload->take(kPoseBytes, &in)) return kKeyframeOverrun;
+    Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+    for (int r = 0; r < kPoseRows; ++r) {
+      for (int c = 0; c < 4; ++c) in.f64(&pose.matrix()(r, c));
+    }
+    k->info.pose = pose;
+  }
+  if (!payload->take(descriptorBytes(rings, sectors), &in)) return kKeyframeOverrun;
+  Descriptor& d = k->descriptor;
+  d.num_rings = rings;
+  d.num_sectors = sectors;
+  d.unit_columns.resize(static_cast<std::size_t>(rings) * sectors);
+  d.ring_key.resize(rings);
+  d.sector_key.resize(sectors);
+  std::uint32_t occupied = 0;
+  in.u32(&occupied);
+  in.f32s(d.unit_columns.data(), d.unit_columns.size());
+  const std::uint8_t* columns = in.take(sectors);
+  d.column_occupied.assign(columns, columns + sectors);
+  in.f32s(d.ring_key.data(), d.ring_key.size());
+  in.f32s(d.sector_key.data(), d.sector_key.size());
+  if (!allFinite(d.unit_columns) || !allFinite(d.ring_key) || !allFinite(d.sector_key)) {
+    return "the descriptor holds a value that is not finite";
+  }
+  if (std::any_of(d.column_occupied.begin(), d.column_occupied.end(), [](std::uint8_t v) { return v > 1; })) {
+    return "a column occupancy flag is neither 0 nor 1";
+  }
+  const auto counted = std::count(d.column_occupied.begin(), d.column_occupied.end(), std::uint8_t(1));
+  if (occupied != static_cast<std::uint32_t>(counted)) {
+    return "occupied_columns is " + text(occupied) + " but " + text(counted) + " columns are flagged occupied";
+  }
+  d.occupied_columns = static_cast<int>(occupied);
+  return "";
+}
+
+void encodeCloud(const Eigen::Matrix3f& levelling, const VoxelCloud* cloud, ByteWriter* out) {
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c) out->f32(levelling(r, c));
+  }
+  out->u8(cloud ? 1 : 0);
+  if (!cloud) return;
+  ByteWriter raw;
+  raw.f32s(cloud->means.empty() ? nullptr : cloud->means.front().data(), 3 * cloud->size());
+  raw.bytes(cloud->normals.data(), 4 * cloud->size());
+  std::vector<char> packed(static_cast<std::size_t>(LZ4_compressBound(static_cast<int>(raw.size()))));
+  const int packed_bytes = LZ4_compress_default(reinterpret_cast<const char*>(raw.buffer().data()), packed.data(),
+                                                static_cast<int>(raw.size()), static_cast<int>(packed.size()));
+  out->u32(static_cast<std::uint32_t>(cloud->size()));
+  out->u32(static_cast<std::uint32_t>(packed_bytes));
+  out->bytes(packed.data(), static_cast<std::size_t>(packed_bytes));
+}
+
+/// Decodes one keyframe's levelling and registration data; returns what is wrong with them, or "".
+std::string decodeCloud(PayloadReader* payload, const FileSettings& settings, Eigen::Matrix3f* levelling,
+                        std::unique_ptr<VoxelCloud>* cloud, std::vector<std::uint8_t>* scratch) {
+  const char* const overrun = "the payload ends inside this keyframe's registration data: the counts and sizes disagree";
+  ByteReader in(nullptr, 0);
+  std::array<float, 9> rows;
+  std::uint8_t has_cloud = 0;
+  if (!payload->take(rows.size() * sizeof(float) + 1, &in)) return overrun;
+  in.f32s(rows.data(), rows.size());
+  in.u8(&has_cloud);
+  if (!std::all_of(rows.begin(), rows.end(), [](float v) { return std::isfinite(v); })) {
+    return "the levelling rotation holds a value that is not finite";
+  }
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c) (*levelling)(r, c) = rows[3 * r + c];
+  }
+  if (has_cloud > 1) return "registration data flag " + text(int(has_cloud)) + " is neither 0 nor 1";
+  if (!has_cloud) return "";
+  std::uint32_t voxels = 0, packed_bytes = 0;
+  if (!payload->take(8, &in)) return overrun;
+  in.u32(&voxels);
+  in.u32(&packed_bytes);
+  if (!payload->take(packed_bytes, &in)) return overrun;
+  const std::uint8_t* packed = in.take(packed_bytes);
+  const std::uint64_t raw_bytes = std::uint64_t(voxels) * kVoxelBytes;
+  if (raw_bytes > static_cast<std::uint64_t>(INT_MAX) || packed_bytes > static_cast<std::uint32_t>(INT_MAX)) {
+    return "registration data of " + text(voxels) + " voxels is larger than LZ4 handles";
+  }
+  // LZ4 expands at most 255-fold: a count that no compressed size could hold is refused before memory
+  // is set aside for it.
+  if (raw_bytes > 255 * std::uint64_t(packed_bytes) + 16) {
+    return "registration data of " + text(voxels) + " voxels cannot come from " + text(packed_bytes) +
+           " compressed bytes";
+  }
+  scratch->resize(static_cast<std::size_t>(raw_bytes));
+  const int unpacked = LZ4_decompress_safe(reinterpret_cast<const char*>(packed), reinterpret_cast<char*>(scratch->data()),
+                                           static_cast<int>(packed_bytes), static_cast<int>(raw_bytes));
+  if (unpacked != static_cast<int>(raw_bytes)) {
+    return "registration data do not decompress to " + text(voxels) + " voxels";
+  }
+  auto out = std::make_unique<VoxelCloud>();
+  out->resolution = static_cast<float>(settings.voxel_leaf);
+  out->max_range = static_cast<float>(settings.voxel_max_range);
+  out->means.resize(voxels);
+  out->normals.resize(voxels);
+  if (voxels > 0) {
+    ByteReader raw(scratch->data(), scratch->size());
+    raw.f32s(out->means.front().data(), 3 * std::size_t(voxels));
+    std::memcpy(out->normals.data(), raw.take(4 * std::size_t(voxels)), 4 * std::size_t(voxels));
+  }
+  for (std::size_t i = 0; i < out->size(); ++i) {
+    if (!out->means[i].allFinite()) return "a voxel mean is not finite";
+    if (out->normals[i][3] < VoxelCloud::kPlanar || out->normals[i][3] > VoxelCloud::kScatter) {
+      return "voxel shape code " + text(int(out->normals[i][3])) + " is not one of 1-4";
+    }
+  }
+  *cloud = std::move(out);
+  return "";
+}
+
+/// Streams the payload to the file in pieces, keeping its size and checksum.
+class PayloadWriter {
+ public:
+  explicit PayloadWriter(AtomicFileWriter* file) : file_(file) {}
+  ByteWriter* out() { return &buffer_; }
+  bool flushIfFull(std::string* error) { return buffer_.size() < kChunkBytes || flush(error); }
+  bool flush(std::string* error) {
+    crc_ = crc32(buffer_.buffer().data(), buffer_.size(), crc_);
+    bytes_ += buffer_.size();
+    const bool ok = file_->write(buffer_.buffer().data(), buffer_.size(), error);
+    buffer_.clear();
+    return ok;
+  }
+  std::uint64_t bytes() const { return bytes_; }
+  std::uint32_t crc() const { return crc_; }
+
+ private:
+  AtomicFileWriter* file_;
+  ByteWriter buffer_;
+  std::uint64_t bytes_ = 0;
+  std::uint32_t crc_ = 0;
+};
+
+template <typename Target>
+bool loadInto(const std::string& path, Target* target, std::string* error) {
+  PriorSessions sessions;
+  if (!readDatabaseFile(path, target->config(), &sessions, error)) return false;
+  std::string why;
+  if (target->appendSessions(std::move(sessions), &why)) return true;
+  if (error) *error = path + ": " + why;
+  return false;
+}
+
+}  // namespace
+
+bool saveDatabase(const LoopDetector& detector, const std::string& path, const SaveOptions& options,
+                  std::string* error) {
+  const Database& database = detector.database();
+  Header header;
+  header.settings = settingsOf(detector.config(), options.include_clouds);
+  header.keyframes = database.size();
+  AtomicFileWriter file;
+  if (!file.open(path, error)) return false;
+  const std::vector<std::uint8_t> placeholder(kHeaderBytes, 0);
+  if (!file.write(placeholder.data(), placeholder.size(), error)) return false;
+  PayloadWriter payload(&file);
+  // Sessions are numbered 0, 1, ... in the file, whatever their numbers in this database.
+  for (std::size_t i = 0; i < database.size(); ++i) {
+    if (i == 0 || !database.sameSession(i - 1, i)) ++header.sessions;
+    encodeKeyframe(database.keyframe(i), header.sessions - 1, payload.out());
+    if (!payload.flushIfFull(error)) return false;
+  }
+  for (std::size_t i = 0; options.include_clouds && i < database.size(); ++i) {
+    encodeCloud(detector.levelling(i), detector.cloudStore().get(i), payload.out());
+    if (!payload.flushIfFull(error)) return false;
+  }
+  if (!payload.flush(error)) return false;
+  header.payload_bytes = payload.bytes();
+  header.payload_crc = payload.crc();
+  const std::vector<std::uint8_t> head = encodeHeader(header);
+  return file.writeAt(0, head.data(), head.size(), error) && file.commit(error);
+}
+
+bool readDatabaseFile(const std::string& path, const Config& config, PriorSessions* sessions, std::string* error) {
+  const auto fail = [&](const std::string& why) {
+    if (error) *error = path + ": " + why;
+    return false;
+  };
+  FileReader file;
+  if (!file.open(path, error)) return false;
+  if (file.size() == 0) return fail("the file is empty");
+  const std::size_t head_bytes = static_cast<std::size_t>(std::min<std::uint64_t>(file.size(), kHeaderBytes));
+  const std::uint8_t* head = file.take(head_bytes);
+  if (head == nullptr) return fail(file.readError());
+  if (std::memcmp(head, kMagic, std::min(head_bytes, sizeof(kMagic))) != 0) {
+    return fail("not a Scan Context database (it does not begin with \"SCLDB\")");
+  }
+  const std::string short_header = "truncated: " + text(file.size()) + " bytes, shorter than the " +
+                                   text(kHeaderBytes) + "-byte header";
+  ByteReader in(head, head_bytes);
+  std::uint32_t version = 0;
+  if (!in.take(sizeof(kMagic)) || !in.u32(&version)) return fail(short_header);
+  if (version != kDatabaseFileVersion) {
+    return fail("format version " + text(version) + ", but this build reads version " +
+                text(kDatabaseFileVersion) + " only");
+  }
+  if (head_bytes < kHeaderBytes) return fail(short_header);
+  ByteReader stored_crc(head + kHeaderBytes - 4, 4);
+  std::uint32_t header_crc = 0;
+  stored_crc.u32(&header_crc);
+  if (crc32(head, kHeaderBytes - 4) != header_crc) return fail("header checksum mismatch: the header is corrupt");
+  Header header;
+  if (const std::string problem = decodeHeader(&in, &header); !problem.empty()) return fail(problem);
+  const std::uint64_t payload_bytes = file.size() - kHeaderBytes;
+  if (payload_bytes < header.payload_bytes) {
+    return fail("truncated: " + text(file.size()) + " of the " + text(kHeaderBytes + header.payload_bytes) +
+                " bytes the header gives");
+  }
+  if (payload_bytes > header.payload_bytes) {
+    return fail(text(file.size()) + " bytes, more than the " + text(kHeaderBytes + header.payload_bytes) +
+                " the header gives: something follows the payload");
+  }
+  if (const std::string problem = settingsMismatch(header.settings, settingsOf(config, header.settings.clouds));
+      !problem.empty()) {
+    return fail(problem);
+  }
+  const int rings = config.num_rings, sectors = config.num_sectors;
+  if (header.keyframes > payload_bytes / (kKeyframeHeadBytes + descriptorBytes(rings, sectors))) {
+    return fail("the header counts " + text(header.keyframes) + " keyframes, more than the " + text(payload_bytes) +
+                "-byte payload can hold");
+  }
+
+  // One pass over the payload: records are decoded as they are read and checksummed on the way. A
+  // damaged payload may first show as a record that makes no sense; the checksum over the whole payload
+  // then says which it is.
+  PayloadReader payload(&file, payload_bytes);
+  const auto checked = [&](const std::string& problem) {
+    if (!payload.drain()) return fail(file.readError().empty() ? "the file shrank while being read" : file.readError());
+    if (payload.crc() != header.payload_crc) return fail("payload checksum mismatch: the file is corrupt");
+    return problem.empty() || fail(problem);
+  };
+  PriorSessions loaded;
+  loaded.keyframes.resize(header.keyframes);
+  for (std::size_t i = 0; i < loaded.keyframes.size(); ++i) {
+    if (const std::string problem = decodeKeyframe(&payload, rings, sectors, &loaded.keyframes[i]); !problem.empty()) {
+      return checked("keyframe " + text(i) + ": " + problem);
+    }
+  }
+  const std::uint32_t sessions_found = loaded.keyframes.empty() ? 0 : loaded.keyframes.back().session + 1;
+  if (sessions_found != header.sessions) {
+    return checked("the header counts " + text(header.sessions) + " sessions, but the keyframes number " +
+                   text(sessions_found));
+  }
+  if (header.settings.clouds) {
+    loaded.levelling.resize(loaded.keyframes.size());
+    loaded.clouds.resize(loaded.keyframes.size());
+    std::vector<std::uint8_t> scratch;
+    for (std::size_t i = 0; i < loaded.keyframes.size(); ++i) {
+      const std::string problem =
+          decodeCloud(&payload, header.settings, &loaded.levelling[i], &loaded.clouds[i], &scratch);
+      if (!problem.empty()) return checked("keyframe " + text(i) + ": " + problem);
+    }
+  }
+  if (payload.left() != 0) {
+    return checked(text(payload.left()) + " bytes of the payload follow the last record: the counts and sizes disagree");
+  }
+  if (!checked("")) return false;
+  *sessions = std::move(loaded);
+  return true;
+}
+
+bool loadDatabase(const std::string& path, LoopDetector* detector, std::string* error) {
+  return loadInto(path, detector, error);
+}
+
+bool loadDatabase(const std::string& path, KeyframePipeline* pipeline, std::string* error) {
+  return loadInto(path, pipeline, error);
+}
+
+}  // namespace scan_context_loop

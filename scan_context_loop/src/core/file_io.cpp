@@ -1,0 +1,151 @@
+#include "scan_context_loop/core/file_io.h"
+
+#include <algorithm>
+#include <cerrno>
+#include <cstring>
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+namespace scan_context_loop {
+
+namespace {
+
+bool fail(std::string* error, const std::string& what) {
+  if (error) *error = what + ": " + std::strerror(errno);
+  return false;
+}
+
+std::string directoryOf(const std::string& path) {
+  const std::size_t slash = path.rfind('/');
+  if (slash == std::string::npos) return ".";
+  return slash == 0 ? "/" : path.substr(0, slash);
+}
+
+}  // namespace
+
+FileReader::~FileReader() {
+  if (fd_ >= 0) ::close(fd_);
+}
+
+bool FileReader::open(const std::string& path, std::string* error) {
+  if (fd_ >= 0) ::close(fd_);
+  path_ = path;
+  begin_ = end_ = 0;
+  fd_ = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd_ < 0) return fail(error, "cannot open " + path);
+  struct stat st;
+  if (::fstat(fd_, &st) != 0) return fail(error, "cannot stat " + path);
+  if (!S_ISREG(st.st_mode)) {
+    if (error) *error = path + (S_ISDIR(st.st_mode) ? " is a directory" : " is not a regular file");
+    return false;
+  }
+  size_ = static_cast<std::uint64_t>(st.st_size);
+  return true;
+}
+
+const std::uint8_t* FileReader::take(std::size_t n) {
+  constexpr std::size_t kChunk = std::size_t(1) << 20;
+  if (end_ - begin_ < n) {
+    // Keep what is left at the front, then read until n bytes are there or the file ends.
+    if (begin_ > 0) std::memmove(buffer_.data(), buffer_.data() + begin_, end_ - begin_);
+    end_ -= begin_;
+    begin_ = 0;
+    if (buffer_.size() < std::max(n, kChunk)) buffer_.resize(std::max(n, kChunk));
+    while (end_ < n && fd_ >= 0) {
+      const ssize_t got = ::read(fd_, buffer_.data() + end_, buffer_.size() - end_);
+      if (got < 0 && errno == EINTR) continue;
+      if (got < 0) read_error_ = "cannot read " + path_ + ": " + std::strerror(errno);
+      if (got <= 0) return nullptr;
+      end_ += static_cast<std::size_t>(got);
+    }
+    if (end_ < n) return nullptr;
+  }
+  const std::uint8_t* p = buffer_.data() + begin_;
+  begin_ += n;
+  return p;
+}
+
+AtomicFileWriter::~AtomicFileWriter() { discard(); }
+
+void AtomicFileWriter::discard() {
+  if (fd_ >= 0) ::close(fd_);
+  if (!temporary_.empty()) ::unlink(temporary_.c_str());
+  fd_ = -1;
+  written_ = 0;
+  temporary_.clear();
+}
+
+bool AtomicFileWriter::open(const std::string& path, std::string* error) {
+  discard();
+  path_ = path;
+  struct stat st;
+  if (::stat(path.c_str(), &st) == 0 && S_ISDIR(st.st_mode)) {
+    if (error) *error = "cannot write " + path + ": it is a directory";
+    return false;
+  }
+  std::string name = path + ".tmp.XXXXXX";
+  fd_ = ::mkstemp(&name[0]);
+  if (fd_ < 0) return fail(error, "cannot create a temporary file in " + directoryOf(path));
+  temporary_ = name;
+  // mkstemp makes the file private (0600); the result is an ordinary data file.
+  ::fchmod(fd_, 0644);
+  return true;
+}
+
+bool AtomicFileWriter::write(const void* data, std::size_t size, std::string* error) {
+  if (!writeAt(written_, data, size, error)) return false;
+  written_ += size;
+  return true;
+}
+
+bool AtomicFileWriter::writeAt(std::size_t offset, const void* data, std::size_t size, std::string* error) {
+  const auto* p = static_cast<const std::uint8_t*>(data);
+  while (size > 0) {
+    const ssize_t n = ::pwrite(fd_, p, size, static_cast<off_t>(offset));
+    if (n < 0 && errno == EINTR) continue;
+    if (n < 0) {
+      const bool ok = fail(error, "cannot write " + temporary_);
+      discard();
+      return ok;
+    }
+    p += n;
+    offset += static_cast<std::size_t>(n);
+    size -= static_cast<std::size_t>(n);
+  }
+  return true;
+}
+
+bool AtomicFileWriter::commit(std::string* error) {
+  if (fd_ < 0) {
+    if (error) *error = "nothing to commit for " + path_;
+    return false;
+  }
+  if (::fsync(fd_) != 0) {
+    const bool ok = fail(error, "cannot flush " + temporary_);
+    discard();
+    return ok;
+  }
+  const int closed = ::close(fd_);
+  fd_ = -1;
+  if (closed != 0) {
+    const bool ok = fail(error, "cannot close " + temporary_);
+    discard();
+    return ok;
+  }
+  if (::rename(temporary_.c_str(), path_.c_str()) != 0) {
+    const bool ok = fail(error, "cannot rename " + temporary_ + " to " + path_);
+    discard();
+    return ok;
+  }
+  temporary_.clear();
+  const int dir = ::open(directoryOf(path_).c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (dir >= 0) {
+    ::fsync(dir);
+    ::close(dir);
+  }
+  return true;
+}
+
+}  // namespace scan_context_loop
