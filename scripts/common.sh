@@ -14,7 +14,7 @@ SCL_PACKAGES=(
   libpcl-conversions-dev libpcl-dev libflann-dev libeigen3-dev liblz4-dev
   libtf2-ros-dev libtf2-eigen-dev libvisualization-msgs-dev libnav-msgs-dev libgeometry-msgs-dev
   libstd-msgs-dev libsensor-msgs-dev libdiagnostic-updater-dev
-  libdynamic-reconfigure-config-init-mutex-dev python3-dynamic-reconfigure
+  libdynamic-reconfigure-config-init-mutex-dev python3-dynamic-reconfigure libstd-srvs-dev
   ros-message-generation ros-message-runtime librostest-dev python3-rostest python3-roslaunch
   python3-rosbag librosbag-dev python3-rosmaster rosout libgtest-dev
   python3-numpy python3-matplotlib python3-yaml libyaml-cpp-dev rviz

@@ -5,6 +5,7 @@ add_library(scan_context_loop_nodelet
   src/ros/markers.cpp
   src/ros/live_settings.cpp
   src/ros/loop_pair.cpp
+  src/ros/database_services.cpp
   src/ros/loop_closure_ros.cpp
   src/ros/loop_closure_nodelet.cpp
 )
@@ -123,4 +124,10 @@ if(CATKIN_ENABLE_TESTING)
   add_rostest_gtest(test_ros_sessions test/ros/sessions.test test/ros/test_sessions.cpp)
   target_link_libraries(test_ros_sessions scan_context_loop_ros_harness)
   add_dependencies(test_ros_sessions scan_context_loop_nodelet)
+endif()
+
+if(CATKIN_ENABLE_TESTING)
+  add_rostest_gtest(test_ros_relocalization test/ros/relocalization.test test/ros/test_relocalization.cpp)
+  target_link_libraries(test_ros_relocalization scan_context_loop_ros_harness)
+  add_dependencies(test_ros_relocalization scan_context_loop_nodelet)
 endif()

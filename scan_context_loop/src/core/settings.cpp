@@ -279,6 +279,11 @@ std::vector<Setting<NodeOptions>> makeNodeSettings() {
       boolSetting<O>("lio_sam_output", N(lio_sam_output), "also publish LIO-SAM's loop message"),
       live(doubleSetting<O>("lio_sam_min_interval", N(lio_sam_min_interval), atLeast(0),
                        "lio_loop: at most one message per this many seconds")),
+      stringSetting<O>("mode", N(mode), {"detect", "relocalize"}, "detect loops, or relocalize in a loaded map"),
+      stringSetting<O>("map_frame", N(map_frame), {}, "relocalize: the frame of the loaded map's poses"),
+      stringSetting<O>("database_load", N(database_load), {}, "database file loaded at start (empty: none)"),
+      stringSetting<O>("database_save", N(database_save), {}, "database file written at shutdown (empty: none)"),
+      boolSetting<O>("database_save_clouds", N(database_save_clouds), "saved databases include the registration clouds"),
       doubleSetting<O>("unsynchronised_warning", N(unsynchronised_warning), positive(),
                        "warn when clouds come without poses this long [s]"),
   };

@@ -7,6 +7,7 @@
 #include <tf2_eigen/tf2_eigen.h>
 
 #include "scan_context_loop/LoopClosure.h"
+#include "scan_context_loop/core/database_file.h"
 #include "scan_context_loop/core/settings.h"
 #include "scan_context_loop/ros/cloud_input.h"
 #include "scan_context_loop/ros/live_settings.h"
@@ -25,7 +26,9 @@ LoopClosureRos::LoopClosureRos(const ros::NodeHandle& nh, const ros::NodeHandle&
     : nh_(nh), pnh_(pnh), name_(name) {}
 
 LoopClosureRos::~LoopClosureRos() {
-  // Stop the inputs first so nothing new is queued, then let the worker finish the keyframe in hand.
+  // Stop the services (a call in progress completes, the worker still runs) and the inputs first so
+  // nothing new is queued, then let the worker finish the keyframe in hand.
+  for (auto* service : {&save_srv_, &load_srv_, &reset_srv_, &relocalize_srv_}) service->shutdown();
   cloud_sub_.unsubscribe();
   odom_sub_.unsubscribe();
   cloud_only_sub_.shutdown();
@@ -37,6 +40,17 @@ LoopClosureRos::~LoopClosureRos() {
   }
   queue_cv_.notify_all();
   if (worker_.joinable()) worker_.join();
+  if (pipeline_ && !options_.database_save.empty() && options_.mode != "relocalize") {
+    SaveOptions save;
+    save.include_clouds = options_.database_save_clouds;
+    std::string error;
+    if (saveDatabase(pipeline_->detector(), options_.database_save, save, &error)) {
+      ROS_INFO_NAMED(name_, "database saved to %s (%zu keyframes)", options_.database_save.c_str(),
+                     pipeline_->detector().database().size());
+    } else {
+      ROS_ERROR_NAMED(name_, "database not saved: %s", error.c_str());
+    }
+  }
 }
 
 bool LoopClosureRos::start() {
@@ -46,7 +60,15 @@ bool LoopClosureRos::start() {
     ROS_FATAL_NAMED(name_, "not starting: fix the parameters above (see config/default.yaml)");
     return false;
   }
+  if (options_.mode == "relocalize") config_.prior_sessions_only = true;  // the map alone is searched
   pipeline_.reset(new KeyframePipeline(config_));
+  if (!options_.database_load.empty()) {
+    const std::string error = loadFile(options_.database_load);
+    if (!error.empty()) ROS_ERROR_NAMED(name_, "database_load %s: %s", options_.database_load.c_str(), error.c_str());
+  }
+  if (options_.mode == "relocalize" && pipeline_->detector().database().size() == 0) {
+    ROS_WARN_NAMED(name_, "mode relocalize without a map: nothing is published until ~load_database loads one");
+  }
 
   loop_pub_ = nh_.advertise<scan_context_loop::LoopClosure>("loop_closures", 100);
   if (config_.verification.enabled) rejected_pub_ = nh_.advertise<scan_context_loop::LoopClosure>("loop_candidates_rejected", 100);
@@ -63,6 +85,7 @@ bool LoopClosureRos::start() {
       ros::SubscriberStatusCallback(), ros::VoidConstPtr(), true);
   if (options_.lio_sam_output) lio_pub_ = nh_.advertise<std_msgs::Float64MultiArray>("lio_loop", 100);
   pair_pub_ = nh_.advertise<geometry_msgs::PoseWithCovarianceStamped>("loop_closure_pairs", 200);
+  advertiseSessionServices();
 
   // The live settings: dynamic_reconfigure starts from the parameters just read (its first call
   // changes nothing) and calls back from the spinner thread.
@@ -213,13 +236,20 @@ void LoopClosureRos::takeReconfigured() {
 void LoopClosureRos::work() {
   while (true) {
     Item item;
+    std::function<void()> task;
     bool have_item = false, redraw = false;
     {
       std::unique_lock<std::mutex> lock(queue_mutex_);
-      queue_cv_.wait(lock, [this] { return stop_ || !queue_.empty() || redraw_markers_ || reconfigured_; });
+      queue_cv_.wait(lock, [this] {
+        return stop_ || !queue_.empty() || redraw_markers_ || reconfigured_ || !tasks_.empty();
+      });
       if (stop_) return;
+      if (!tasks_.empty()) {
+        task = std::move(tasks_.front());
+        tasks_.pop_front();
+      }
       std::swap(redraw, redraw_markers_);
-      if (!queue_.empty()) {
+      if (!task && !queue_.empty()) {
         item = std::move(queue_.front());
         queue_.pop_front();
         queue_length_ = queue_.size();
@@ -227,6 +257,7 @@ void LoopClosureRos::work() {
       }
     }
     takeReconfigured();
+    if (task) task();
     if (redraw && !positions_.empty()) {
       markers_shown_ = MarkerState();
       publishMarkers(marker_frame_);
@@ -405,6 +436,7 @@ void LoopClosureRos::publishLoops(const Detection& detection, const std::string&
                               loop.query_id, loop.match_id, apart, loop.yaw * 180.0 / M_PI, loop.distance);
     }
     if (options_.lio_sam_output) sendToLioSam(loop);
+    if (options_.mode == "relocalize") publishRelocalization(loop);
   }
 }
 

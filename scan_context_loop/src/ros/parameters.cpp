@@ -82,6 +82,7 @@ std::vector<std::string> readParameters(const ros::NodeHandle& pnh, Config* c, R
     if (!ok) problems.push_back(text);
   };
   check(!o->fixed_frame.empty() || o->pose_source != "tf", "fixed_frame must be set when pose_source is tf");
+  check(o->mode != "relocalize" || c->verification.enabled, "mode relocalize needs verify: true");
   check(!(o->pose_source == "tf" && c->cloud_in_world_frame && o->sensor_frame.empty()),
         "sensor_frame must name the sensor's tf frame when pose_source is tf and cloud_in_world_frame is true");
   return problems;

@@ -44,6 +44,9 @@ class KeyframePipeline {
   /// time. Returns false and changes nothing when they do not fit (`error` says why).
   bool appendSessions(PriorSessions sessions, std::string* error = nullptr);
 
+  /// LoopDetector::locate: where a cloud is among the stored keyframes, without storing it.
+  Detection locate(const PointView& cloud) { return detector_.locate(cloud); }
+
   const LoopDetector& detector() const { return detector_; }
   const Config& config() const { return detector_.config(); }
 

@@ -20,6 +20,13 @@ struct NodeOptions {
   bool lio_sam_output = false;          ///< also publish std_msgs/Float64MultiArray [query, match stamps]
   double lio_sam_min_interval = 1.0;    ///< lio_loop: at most one message per this many seconds
   double unsynchronised_warning = 5.0;  ///< warn when clouds come without poses for this long [s]
+  /// "detect": loops within and across sessions; "relocalize": a prior map (database_load) read-only,
+  /// each keyframe's verified place in it published on `relocalization` (sets prior_sessions_only).
+  std::string mode = "detect";
+  std::string map_frame = "map";        ///< relocalize: the frame of the loaded map's poses
+  std::string database_load;            ///< a database file loaded at start as prior sessions ("": none)
+  std::string database_save;            ///< the database saved here at shutdown ("": not saved)
+  bool database_save_clouds = true;     ///< saves include the registration clouds (needed to verify later)
 };
 
 }  // namespace scan_context_loop

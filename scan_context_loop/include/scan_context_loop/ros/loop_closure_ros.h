@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <condition_variable>
 #include <deque>
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -22,12 +23,16 @@
 #include <nav_msgs/Odometry.h>
 #include <ros/ros.h>
 #include <sensor_msgs/PointCloud2.h>
+#include <std_srvs/Trigger.h>
 #include <tf2_ros/buffer.h>
 #include <tf2_ros/transform_listener.h>
 
 #include "scan_context_loop/core/keyframes.h"
 #include "scan_context_loop/LoopClosure.h"
 #include "scan_context_loop/LoopClosureConfig.h"
+#include "scan_context_loop/LoadDatabase.h"
+#include "scan_context_loop/Relocalize.h"
+#include "scan_context_loop/SaveDatabase.h"
 #include "scan_context_loop/ros/markers.h"
 #include "scan_context_loop/ros/parameters.h"
 
@@ -73,6 +78,22 @@ class LoopClosureRos {
   /// lio_sam_output: the loop on lio_loop if it is verified, new and due (lio_sam_min_interval).
   void sendToLioSam(const scan_context_loop::LoopClosure& loop);
   void checkSynchronisation(const ros::WallTimerEvent&);
+
+  // Database services and relocalization (database_services.cpp). Each service hands its work to the
+  // worker, which owns the database, and waits for it.
+  bool onSave(scan_context_loop::SaveDatabase::Request& request, scan_context_loop::SaveDatabase::Response& response);
+  bool onLoad(scan_context_loop::LoadDatabase::Request& request, scan_context_loop::LoadDatabase::Response& response);
+  bool onReset(std_srvs::Trigger::Request& request, std_srvs::Trigger::Response& response);
+  bool onRelocalize(scan_context_loop::Relocalize::Request& request, scan_context_loop::Relocalize::Response& response);
+  /// Runs `task` on the worker between keyframes and waits for it; false when the node is stopping.
+  bool runOnWorker(std::function<void()> task);
+  /// Loads a database file into the pipeline (worker, or start() before the worker runs); "" or why not.
+  std::string loadFile(const std::string& path);
+  /// The per-keyframe lists (positions, poses, stamps, sessions) for keyframes a load added.
+  void adoptLoadedKeyframes();
+  /// mode relocalize: a loop into the map as T_map<-sensor on `relocalization`.
+  void publishRelocalization(const scan_context_loop::LoopClosure& loop);
+  void advertiseSessionServices();
   /// dynamic_reconfigure: checks the live settings and hands them to the worker (applied before its
   /// next keyframe); a refused change is logged and the values in force are reported back.
   void onReconfigure(scan_context_loop::LoopClosureConfig& values, std::uint32_t level);
@@ -93,7 +114,8 @@ class LoopClosureRos {
   std::unique_ptr<message_filters::Synchronizer<ApproxPolicy>> approx_sync_;
   std::unique_ptr<message_filters::Synchronizer<ExactPolicy>> exact_sync_;
   ros::Subscriber cloud_only_sub_;
-  ros::Publisher loop_pub_, rejected_pub_, marker_pub_, lio_pub_, pair_pub_;
+  ros::Publisher loop_pub_, rejected_pub_, marker_pub_, lio_pub_, pair_pub_, relocalization_pub_;
+  ros::ServiceServer save_srv_, load_srv_, reset_srv_, relocalize_srv_;
   std::unique_ptr<tf2_ros::Buffer> tf_buffer_;
   std::unique_ptr<tf2_ros::TransformListener> tf_listener_;
   ros::WallTimer sync_timer_;
@@ -109,6 +131,7 @@ class LoopClosureRos {
   std::deque<Item> queue_;
   bool stop_ = false;
   bool redraw_markers_ = false;  // a marker subscriber connected: publish every marker once
+  std::deque<std::function<void()>> tasks_;  // service work for the worker, in order
   // dynamic_reconfigure's accepted settings (all keys; only live ones ever differ from config_), and
   // whether the worker has yet to take them.
   Config live_config_;

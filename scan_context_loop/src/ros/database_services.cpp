@@ -1,0 +1,169 @@
+// The node's database services (save, load, reset), relocalization in a loaded map, and the database
+// file at start and shutdown. The worker owns the database: each service hands it a task and waits.
+#include <future>
+#include <memory>
+
+#include <tf2_eigen/tf2_eigen.h>
+
+#include "scan_context_loop/core/database_file.h"
+#include "scan_context_loop/ros/cloud_input.h"
+#include "scan_context_loop/ros/loop_closure_ros.h"
+#include "scan_context_loop/ros/loop_pair.h"
+
+namespace scan_context_loop {
+
+void LoopClosureRos::advertiseSessionServices() {
+  save_srv_ = pnh_.advertiseService("save_database", &LoopClosureRos::onSave, this);
+  load_srv_ = pnh_.advertiseService("load_database", &LoopClosureRos::onLoad, this);
+  reset_srv_ = pnh_.advertiseService("reset", &LoopClosureRos::onReset, this);
+  if (options_.mode == "relocalize") {
+    relocalization_pub_ = nh_.advertise<geometry_msgs::PoseWithCovarianceStamped>("relocalization", 10);
+    relocalize_srv_ = pnh_.advertiseService("relocalize", &LoopClosureRos::onRelocalize, this);
+  }
+}
+
+bool LoopClosureRos::runOnWorker(std::function<void()> task) {
+  auto done = std::make_shared<std::promise<void>>();
+  std::future<void> finished = done->get_future();
+  {
+    std::lock_guard<std::mutex> lock(queue_mutex_);
+    if (stop_) return false;
+    tasks_.push_back([task, done] {
+      task();
+      done->set_value();
+    });
+  }
+  queue_cv_.notify_all();
+  finished.wait();
+  return true;
+}
+
+std::string LoopClosureRos::loadFile(const std::string& path) {
+  std::string error;
+  if (!loadDatabase(path, pipeline_.get(), &error)) return error;
+  adoptLoadedKeyframes();
+  ROS_INFO_NAMED(name_, "loaded %s: the database now holds %zu keyframes in %u sessions", path.c_str(),
+                 pipeline_->detector().database().size(), pipeline_->detector().database().session() + 1);
+  return "";
+}
+
+void LoopClosureRos::adoptLoadedKeyframes() {
+  const Database& database = pipeline_->detector().database();
+  for (std::size_t k = positions_.size(); k < database.size(); ++k) {
+    const Keyframe& keyframe = database.keyframe(k);
+    const Eigen::Isometry3d pose = keyframe.info.pose ? *keyframe.info.pose : Eigen::Isometry3d::Identity();
+    poses_.push_back(pose);
+    positions_.push_back(pose.translation());
+    stamps_.push_back(keyframe.info.stamp >= 0.0 && keyframe.info.stamp < 4e9 ? ros::Time(keyframe.info.stamp)
+                                                                               : ros::Time());
+    sessions_.push_back(keyframe.session);
+  }
+  database_size_ = database.size();
+  sessions_count_ = database.session() + 1;
+  markers_shown_ = MarkerState();  // redraw everything with the new keyframes
+}
+
+bool LoopClosureRos::onSave(scan_context_loop::SaveDatabase::Request& request,
+                            scan_context_loop::SaveDatabase::Response& response) {
+  const bool ran = runOnWorker([&] {
+    SaveOptions save;
+    save.include_clouds = request.include_clouds;
+    std::string error;
+    response.success = saveDatabase(pipeline_->detector(), request.path, save, &error);
+    response.keyframes = static_cast<std::uint32_t>(pipeline_->detector().database().size());
+    response.message = response.success ? "saved " + std::to_string(response.keyframes) + " keyframes" : error;
+  });
+  if (!ran) response.message = "the node is stopping";
+  if (!response.success) ROS_ERROR_NAMED(name_, "save_database %s: %s", request.path.c_str(), response.message.c_str());
+  return true;
+}
+
+bool LoopClosureRos::onLoad(scan_context_loop::LoadDatabase::Request& request,
+                            scan_context_loop::LoadDatabase::Response& response) {
+  const bool ran = runOnWorker([&] {
+    const std::string error = loadFile(request.path);
+    response.success = error.empty();
+    response.message = response.success ? "loaded" : error;
+    response.keyframes = static_cast<std::uint32_t>(pipeline_->detector().database().size());
+    response.sessions = pipeline_->detector().database().session() + 1;
+  });
+  if (!ran) response.message = "the node is stopping";
+  if (!response.success) ROS_ERROR_NAMED(name_, "load_database %s: %s", request.path.c_str(), response.message.c_str());
+  return true;
+}
+
+bool LoopClosureRos::onReset(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& response) {
+  const bool ran = runOnWorker([&] {
+    pipeline_.reset(new KeyframePipeline(config_));
+    positions_.clear();
+    poses_.clear();
+    stamps_.clear();
+    sessions_.clear();
+    edges_.clear();
+    rejected_edges_.clear();
+    markers_shown_ = MarkerState();
+    database_size_ = 0;
+    sessions_count_ = 1;
+    loops_waiting_ = 0;
+    if (marker_pub_.getNumSubscribers() > 0) {
+      visualization_msgs::MarkerArray clear;
+      clear.markers.resize(1);
+      clear.markers[0].action = visualization_msgs::Marker::DELETEALL;
+      marker_pub_.publish(clear);
+    }
+    response.success = true;
+    response.message = "database cleared";
+    // In relocalize mode the map is read-only: it comes back.
+    if (options_.mode == "relocalize") {
+      const std::string error = loadFile(options_.database_load);
+      response.success = error.empty();
+      response.message = error.empty() ? "database cleared, map reloaded" : "map not reloaded: " + error;
+    }
+  });
+  if (!ran) response.message = "the node is stopping";
+  ROS_INFO_NAMED(name_, "reset: %s", response.message.c_str());
+  return true;
+}
+
+bool LoopClosureRos::onRelocalize(scan_context_loop::Relocalize::Request& request,
+                                  scan_context_loop::Relocalize::Response& response) {
+  const bool ran = runOnWorker([&] {
+    PointView view;
+    std::string why;
+    if (!viewCloud(request.cloud, &view, &why)) {
+      response.message = "cloud refused: " + why;
+      return;
+    }
+    const Detection detection = pipeline_->locate(view);
+    if (!detection.verified) {
+      response.message = detection.verifications.empty() ? "no candidate in the map"
+                                                         : "no candidate verified: " +
+                                                               detection.verifications.back().result.reason;
+      return;
+    }
+    const VerifiedCandidate& place = detection.verifications.back();
+    scan_context_loop::LoopClosure loop;
+    loop.header.frame_id = options_.map_frame;
+    loop.query_stamp = request.cloud.header.stamp;
+    loop.match_stamp = stamps_[place.index];
+    loop.relative_pose = tf2::toMsg(place.result.relative);
+    const Eigen::Matrix<double, 6, 6> covariance = loopCovariance(place.toLoop(detection.index), config_);
+    for (int i = 0; i < 36; ++i) loop.covariance[i] = covariance(i / 6, i % 6);
+    response.pose = loopPair(loop, poses_[place.index])[1];
+    response.found = true;
+    response.match_id = static_cast<std::uint32_t>(place.index);
+    response.match_session = sessions_[place.index];
+    response.message = "verified (fitness " + std::to_string(place.result.fitness) + ")";
+  });
+  if (!ran) response.message = "the node is stopping";
+  return true;
+}
+
+void LoopClosureRos::publishRelocalization(const scan_context_loop::LoopClosure& loop) {
+  if (loop.match_session == loop.query_session || !loop.verified) return;
+  geometry_msgs::PoseWithCovarianceStamped pose = loopPair(loop, poses_[loop.match_id])[1];
+  pose.header.frame_id = options_.map_frame;
+  relocalization_pub_.publish(pose);
+}
+
+}  // namespace scan_context_loop
