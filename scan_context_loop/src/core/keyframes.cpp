@@ -55,6 +55,16 @@ bool KeyframePipeline::selected(const KeyframeInfo& info) const {
   return moved || turned;
 }
 
+void KeyframePipeline::startSession() {
+  const Database& database = detector_.database();
+  if (database.size() == database.sessionStart()) return;
+  // Another run of odometry: nothing of the last one carries over to keyframe selection or scans.
+  detector_.startSession();
+  has_last_ = has_previous_ = false;
+  recent_.clear();
+  path_ = 0.0;
+}
+
 bool KeyframePipeline::jumpedBack(const KeyframeInfo& info) const {
   const Database& database = detector_.database();
   const double jump = config().new_session_jump;
@@ -92,13 +102,7 @@ Detection KeyframePipeline::process(const PointView& cloud, const KeyframeInfo& 
     return refused;
   }
   const bool new_session = jumpedBack(info);
-  if (new_session) {
-    // Another run of odometry: nothing of the last one carries over to keyframe selection or scans.
-    detector_.startSession();
-    has_last_ = has_previous_ = false;
-    recent_.clear();
-    path_ = 0.0;
-  }
+  if (new_session) startSession();
   if (accumulate) remember(cloud, info);
   if (!new_session && !selected(info)) {
     Detection skipped;

@@ -38,6 +38,11 @@ class KeyframePipeline {
   /// while running, or the rules broken).
   std::string reconfigure(const Config& config);
 
+  /// Keyframes from the next one on form a new session, as when a stamp jumps back
+  /// (Config::new_session_jump), for a caller that knows another run begins. Nothing changes while the
+  /// current session is empty.
+  void startSession();
+
   const LoopDetector& detector() const { return detector_; }
   const Config& config() const { return detector_.config(); }
 
