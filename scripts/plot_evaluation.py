@@ -51,7 +51,13 @@ def main():
     for r in rows:
         q, m = int(r["query"]), int(r["match"])
         detected = m >= 0 and float(r["distance"]) < threshold
-        if detected and q in trajectory and m in trajectory:
+        # With --prior, a match may be a frame of the prior sequence, which trajectory.csv does not hold.
+        if detected and int(r.get("match_in_prior", "0")) and q in trajectory:
+            label = "match in the prior map (%s)" % ("true" if int(r["correct"]) else "false")
+            ax.plot(*trajectory[q], "s", color="g" if int(r["correct"]) else "r", ms=3,
+                    label=None if label in shown else label)
+            shown.add(label)
+        elif detected and q in trajectory and m in trajectory:
             good = int(r["correct"])
             label = "true positive" if good else "false positive"
             ax.plot([trajectory[q][0], trajectory[m][0]], [trajectory[q][1], trajectory[m][1]],

@@ -16,13 +16,14 @@ int main(int argc, char** argv) {
   eval::SequenceOptions options;
   double radius = 5.0;
   std::vector<std::string> overrides;
-  std::string config_file;
+  std::string config_file, prior_dir;
   scl::cli::Parser cli("scan_context_evaluate",
                        "Runs the Scan Context detector frame by frame over a KITTI-format sequence (velodyne/*.bin, "
                        "poses.txt, calib.txt, optional times.txt and odom_poses.txt) through the node's own code "
                        "(KeyframePipeline), and writes OUT_DIR/results.csv, metrics.json and trajectory.csv (scripts/evaluate adds pr.png and "
                        "map.png); with verification also verifications.csv, one row per candidate registered, scored "
-                       "against the truth. Prints a summary, and last the line `output: OUT_DIR`.");
+                       "against the truth; with --prior also relocalization.csv. Prints a summary, and last the line "
+                       "`output: OUT_DIR`.");
   cli.positional("SEQUENCE_DIR", "the KITTI-format sequence", &sequence_dir)
       .positional("OUT_DIR", "where the results go (created with its parents when missing)", &out_dir)
       .option("--config", "FILE",
@@ -36,7 +37,14 @@ int main(int argc, char** argv) {
       .option("--last", "N", "last frame of the window (default: to the end)", &options.last)
       .option("--revisit-radius", "R", "ground-truth revisit radius [m] (default 5)", &radius)
       .flag("--truth-odometry", "feed the true poses even when odom_poses.txt exists",
-            [&options] { options.use_odometry_file = false; });
+            [&options] { options.use_odometry_file = false; })
+      .option("--prior", "DIR",
+              "relocalization in a prior map: run DIR's keyframes (all its frames, the same keyframe spacing and "
+              "odometry source) first as session 0, then SEQUENCE_DIR's as a new session, and score "
+              "SEQUENCE_DIR's loops into DIR's keyframes too (metrics.json \"relocalization\", "
+              "relocalization.csv). Both poses.txt must be in one world frame, as scripts/simulate --session 2 "
+              "writes them",
+              &prior_dir);
   if (const int status = cli.parse(argc, argv); status >= 0) return status;
   if (!config_file.empty() && !eval::loadConfigFile(config_file, &config, &error)) {
     std::fprintf(stderr, "scan_context_evaluate: %s\n", error.c_str());
@@ -60,7 +68,17 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "scan_context_evaluate: %s\n", error.c_str());
     return 1;
   }
-  const eval::Evaluation result = eval::evaluate(sequence, config, radius);
+  eval::Sequence prior;
+  if (!prior_dir.empty()) {
+    eval::SequenceOptions whole = options;
+    whole.first = 0;
+    whole.last = -1;
+    if (!eval::loadSequence(prior_dir, whole, &prior, &error)) {
+      std::fprintf(stderr, "scan_context_evaluate: --prior %s\n", error.c_str());
+      return 1;
+    }
+  }
+  const eval::Evaluation result = eval::evaluate(sequence, config, radius, prior_dir.empty() ? nullptr : &prior);
   for (std::size_t i = 0; i < result.errors.size() && i < 5; ++i) {
     std::fprintf(stderr, "scan_context_evaluate: skipped %s\n", result.errors[i].c_str());
   }
@@ -68,7 +86,8 @@ int main(int argc, char** argv) {
       !eval::writeResultsCsv(out_dir + "/results.csv", result, &error) ||
       !eval::writeMetricsJson(out_dir + "/metrics.json", result, sequence, config, radius, &error) ||
       !eval::writeTrajectoryCsv(out_dir + "/trajectory.csv", sequence, &error) ||
-      (result.verification && !eval::writeVerificationsCsv(out_dir + "/verifications.csv", result, &error))) {
+      (result.verification && !eval::writeVerificationsCsv(out_dir + "/verifications.csv", result, &error)) ||
+      (result.has_prior && !eval::writeRelocalizationCsv(out_dir + "/relocalization.csv", result, &error))) {
     std::fprintf(stderr, "scan_context_evaluate: %s\n", error.c_str());
     return 1;
   }
@@ -97,6 +116,24 @@ int main(int argc, char** argv) {
     if (config.consistency_min_support > 0) {
       std::printf("consistency check: %zu loops reported after their keyframe, %zu dropped without support\n",
                   v.reported_late, result.loops_dropped);
+    }
+  }
+  if (result.has_prior) {
+    const eval::RelocalizationMetrics& r = result.relocalization;
+    std::printf("relocalization in %s (%zu keyframes): %zu of %zu query keyframes at a prior place (R = %.1f m); "
+                "loops into the prior: precision %.3f, recall %.3f (%zu TP, %zu FP)\n",
+                prior_dir.c_str(), r.prior_keyframes, r.prior_places, r.queries, radius, r.precision, r.recall,
+                r.true_positives, r.false_positives);
+    std::printf("relocalization pose error of true ones: translation %.3f m median / %.3f p90, yaw %.3f deg median "
+                "/ %.3f p90\n",
+                r.translation_error_median, r.translation_error_p90, r.yaw_error_median, r.yaw_error_p90);
+    if (r.first_query >= 0) {
+      std::printf("first correct relocalization: %.1f s, %.0f m after the start (frame %d; first prior place at "
+                  "%.1f s, %.0f m); %zu wrong before it\n",
+                  r.first_seconds, r.first_metres, r.first_query, r.first_place_seconds, r.first_place_metres,
+                  r.false_before_first);
+    } else {
+      std::printf("no correct relocalization\n");
     }
   }
   std::printf("output: %s\n", out_dir.c_str());

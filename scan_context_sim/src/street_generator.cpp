@@ -290,12 +290,34 @@ class StreetBuilder : public StreetKit {
 
 }  // namespace
 
-World generateWorld(const std::vector<PathPoint>& path, const WorldOptions& options) {
+namespace {
+
+World build(const std::vector<PathPoint>& path, const WorldOptions& options, const LaterDrive* later) {
   const std::vector<PathPoint> dense = densify(path, 1.0);
   StreetBuilder builder(dense, options);
   const StreetRecord record = builder.build();
-  if (options.changed_world > 0.0 && options.duration > 0.0) changeWorld(path, record, &builder);
+  if (options.changed_world > 0.0 && options.duration > 0.0) {
+    changeWorld(path, options.times, record, duringDrive(options), &builder);
+  }
+  if (later != nullptr && !later->times.empty()) {
+    Changes since;
+    since.strength = later->changed;
+    since.from = since.to = later->times.front();
+    since.seen_before = true;
+    since.salt = 0x2D7F93A1B6C5E8ull;
+    changeWorld(later->path, later->times, record, since, &builder);
+  }
   return World(std::move(builder.out), groundPlane(options));
+}
+
+}  // namespace
+
+World generateWorld(const std::vector<PathPoint>& path, const WorldOptions& options) {
+  return build(path, options, nullptr);
+}
+
+World generateWorld(const std::vector<PathPoint>& path, const WorldOptions& options, const LaterDrive& later) {
+  return build(path, options, &later);
 }
 
 }  // namespace sim

@@ -13,16 +13,17 @@ namespace {
 /// Where the sensor is along the drive at a time, and where along the path a distance is.
 class DriveClock {
  public:
-  DriveClock(const std::vector<PathPoint>& path, const WorldOptions& options) : path_(path), arc_(path.size(), 0.0) {
+  DriveClock(const std::vector<PathPoint>& path, const std::vector<double>& times, double duration)
+      : path_(path), arc_(path.size(), 0.0) {
     for (std::size_t k = 1; k < path.size(); ++k) {
       arc_[k] = arc_[k - 1] + std::hypot(path[k].x - path[k - 1].x, path[k].y - path[k - 1].y);
     }
-    if (options.times.size() == path.size()) {
-      times_ = options.times;
+    if (times.size() == path.size()) {
+      times_ = times;
     } else {  // a uniform speed over the duration
       times_.resize(path.size());
       const double length = std::max(arc_.back(), 1e-9);
-      for (std::size_t k = 0; k < path.size(); ++k) times_[k] = options.duration * arc_[k] / length;
+      for (std::size_t k = 0; k < path.size(); ++k) times_[k] = duration * arc_[k] / length;
     }
   }
 
@@ -128,9 +129,9 @@ void addPedestrian(StreetKit& kit, const DriveClock& clock) {
 
 }  // namespace
 
-void addTraffic(const std::vector<PathPoint>& path, double strength, StreetKit* kit) {
+void addTraffic(const std::vector<PathPoint>& path, const std::vector<double>& times, double strength, StreetKit* kit) {
   if (path.size() < 2) return;
-  const DriveClock clock(path, kit->options);
+  const DriveClock clock(path, times, kit->options.duration);
   const double duration = clock.end() - clock.start();
   const long vehicles = kit->options.vehicles ? std::lround(strength * duration / 4.0) : 0;
   const long pedestrians = std::lround(strength * duration / 2.0);

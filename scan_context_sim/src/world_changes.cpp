@@ -12,8 +12,21 @@ namespace {
 /// How close to a road centre a grown canopy may reach [m] (street trees reach about 3.4 m).
 constexpr double kKeepOffRoads = 3.0;
 
-/// When a change happens: anywhere in the drive, so the later a revisit, the likelier it sees it.
-double changeTime(StreetKit& kit) { return kit.uniform(0.0, kit.options.duration); }
+/// When a change happens: anywhere in the window (during the drive: the later a revisit, the likelier it
+/// sees it).
+double changeTime(StreetKit& kit, const Changes& c) { return c.from + (c.to - c.from) * kit.uniform(0.0, 1.0); }
+
+/// Solid `index` has stood unchanged all along so far (nothing made it come, go or change yet).
+bool unchanged(const StreetKit& kit, std::size_t index) {
+  return kit.out[index].present_from <= -1e300 && kit.out[index].present_to >= 1e300;
+}
+
+/// Whether a recorded thing may change now: with the chance, and, when the street was seen before, only
+/// when it has not changed yet.
+bool changes(StreetKit& kit, std::size_t index, const Changes& c) {
+  if (c.seen_before && !unchanged(kit, index)) return false;
+  return kit.chance(c.strength);
+}
 
 /// Grown or cut by 20-50 %.
 double growthFactor(StreetKit& kit) { return kit.chance(0.5) ? 1.0 + kit.uniform(0.2, 0.5) : 1.0 - kit.uniform(0.2, 0.5); }
@@ -54,19 +67,38 @@ Primitive scaledEllipsoid(const Primitive& e, double factor, double base) {
   return scaled;
 }
 
-/// About `strength` of the cars that stayed for the whole drive leave, arrive or move to another space
-/// a car length or more along the kerb where there is room; new cars take about
-/// 0.6 `strength` of the empty spaces.
-void changeParkedCars(StreetKit& kit, const StreetRecord& record, double strength) {
+/// The car leaves at `when`.
+void carLeaves(StreetKit& kit, const StreetRecord::Car& car, double when) {
+  removeAt(kit, car.body, when);
+  if (car.cabin != car.body) removeAt(kit, car.cabin, when);
+}
+
+/// Another vehicle, no longer than the car, takes its space at `when`; otherwise the car just leaves.
+void carReplaced(StreetKit& kit, const StreetRecord::Car& car, double when) {
+  const Primitive& body = kit.out[car.body];
+  const Eigen::Vector2d c(body.center.x(), body.center.y());
+  const VehicleShape shape = kit.vehicleShape(styleOf(kit.districtAt(c)).industrial);
+  carLeaves(kit, car, when);
+  if (shape.length > 2.0 * body.half.x()) return;
+  Vehicle v = kit.vehicleAt(shape, {c.x(), c.y(), static_cast<double>(body.yaw)}, -shape.length / 2, 0.0, body.yaw);
+  v.body.present_from = v.cabin.present_from = when;
+  kit.add(v);
+}
+
+/// About `strength` of the cars that stayed for the whole drive leave, arrive (seen before: are
+/// replaced by another vehicle) or move to another space a car length or more along the kerb where there
+/// is room; new cars take about 0.6 `strength` of the empty spaces.
+void changeParkedCars(StreetKit& kit, const StreetRecord& record, const Changes& c) {
+  const double strength = c.strength;
   for (const StreetRecord::Car& car : record.parked) {
-    if (!kit.chance(strength)) continue;
-    const double when = changeTime(kit);
+    if (!changes(kit, car.body, c)) continue;
+    const double when = changeTime(kit, c);
     const double kind = kit.uniform(0.0, 1.0);
     if (kind < 1.0 / 3.0) {
-      removeAt(kit, car.body, when);
-      if (car.cabin != car.body) removeAt(kit, car.cabin, when);
+      carLeaves(kit, car, when);
     } else if (kind < 2.0 / 3.0) {
-      kit.out[car.body].present_from = kit.out[car.cabin].present_from = when;
+      if (c.seen_before) carReplaced(kit, car, when);
+      else kit.out[car.body].present_from = kit.out[car.cabin].present_from = when;
     } else {
       const Primitive& body = kit.out[car.body];
       const double car_length = 2.0 * body.half.x();
@@ -82,8 +114,7 @@ void changeParkedCars(StreetKit& kit, const StreetRecord& record, double strengt
         replaceAt(kit, car.body, moved_body, when);
         if (car.cabin != car.body) replaceAt(kit, car.cabin, moved_cabin, when);
       } else {  // no room there: it just leaves
-        removeAt(kit, car.body, when);
-        if (car.cabin != car.body) removeAt(kit, car.cabin, when);
+        carLeaves(kit, car, when);
       }
     }
   }
@@ -91,7 +122,7 @@ void changeParkedCars(StreetKit& kit, const StreetRecord& record, double strengt
     if (!kit.chance(0.6 * strength)) continue;
     Vehicle v = kit.parkedVehicle(space.p, space.sign, 0.0, space.industrial);
     const Footprint f = StreetKit::footprintOf(v.body);
-    const double when = changeTime(kit);
+    const double when = changeTime(kit, c);
     if (!kit.roads.clear(f, kit.parkingClearance()) || !kit.occupied.free(f, 0.3)) continue;
     v.body.present_from = v.cabin.present_from = when;
     kit.occupied.mark(f);
@@ -102,10 +133,10 @@ void changeParkedCars(StreetKit& kit, const StreetRecord& record, double strengt
 /// About `strength` of the solids `items` change, each at its own time: a third are removed, the others
 /// become resized(solid, factor) with a factor from growthFactor().
 template <typename Resize>
-void regrowOrRemove(StreetKit& kit, const std::vector<std::size_t>& items, double strength, Resize resized) {
+void regrowOrRemove(StreetKit& kit, const std::vector<std::size_t>& items, const Changes& c, Resize resized) {
   for (const std::size_t item : items) {
-    if (!kit.chance(strength)) continue;
-    const double when = changeTime(kit);
+    if (!changes(kit, item, c)) continue;
+    const double when = changeTime(kit, c);
     if (kit.chance(1.0 / 3.0)) {
       removeAt(kit, item, when);
       continue;
@@ -117,38 +148,38 @@ void regrowOrRemove(StreetKit& kit, const std::vector<std::size_t>& items, doubl
 
 /// About `strength` of the trees, bushes and hedges grow or are cut back by 20-50 %; a third of the
 /// bushes and hedges that change are removed; new hedges appear along property lines.
-void changeVegetation(StreetKit& kit, const StreetRecord& record, double strength) {
+void changeVegetation(StreetKit& kit, const StreetRecord& record, const Changes& c) {
   for (const StreetRecord::Tree& tree : record.trees) {
-    if (!kit.chance(strength)) continue;
+    if (!changes(kit, tree.canopy, c)) continue;
     const Primitive& canopy = kit.out[tree.canopy];
     double factor = growthFactor(kit);
     // Trees that would grow to reach over the road are cut back instead, as councils do.
-    const Eigen::Vector2d c(canopy.center.x(), canopy.center.y());
+    const Eigen::Vector2d centre(canopy.center.x(), canopy.center.y());
     const double radius = canopy.half.x() * factor;
-    if (factor > 1.0 && !kit.roads.clear(StreetKit::footprintOf(c, 0.0, radius, radius), kKeepOffRoads)) {
+    if (factor > 1.0 && !kit.roads.clear(StreetKit::footprintOf(centre, 0.0, radius, radius), kKeepOffRoads)) {
       factor = 2.0 - factor;
     }
     // The canopy keeps its bottom where the trunk holds it.
     const Primitive grown = scaledEllipsoid(canopy, factor, canopy.center.z() - canopy.half.z());
-    replaceAt(kit, tree.canopy, grown, changeTime(kit));
+    replaceAt(kit, tree.canopy, grown, changeTime(kit, c));
   }
-  regrowOrRemove(kit, record.bushes, strength, [&](const Primitive& bush, double factor) {
+  regrowOrRemove(kit, record.bushes, c, [&](const Primitive& bush, double factor) {
     return scaledEllipsoid(bush, factor, kit.groundAt(Eigen::Vector2d(bush.center.x(), bush.center.y())));
   });
-  regrowOrRemove(kit, record.hedges, strength, [](Primitive hedge, double factor) {
+  regrowOrRemove(kit, record.hedges, c, [](Primitive hedge, double factor) {
     hedge.z1 = static_cast<float>(hedge.z0 + (hedge.z1 - hedge.z0) * factor);
     hedge.half.y() *= static_cast<float>(factor);
     return hedge;
   });
   // New hedges: about one per 100 m of drive at full strength, where the property line is free.
-  placeSeveral(strength * static_cast<double>(kit.dense.size()) / 100.0, [&] {
+  placeSeveral(c.strength * static_cast<double>(kit.dense.size()) / 100.0, [&] {
     const PathPoint& p = randomPlace(kit);
     const double sign = kit.chance(0.5) ? 1.0 : -1.0;
     const Style& style = styleOf(kit.districtAt(StreetKit::at(p, 0.0, sign * 15.0)));
     const double length = kit.uniform(4.0, 12.0), thickness = kit.uniform(0.6, 1.0), height = kit.uniform(0.8, 1.6);
     Primitive hedge = kit.alongPropertyLine(p, sign, style, length, thickness, height, Material::kFoliage);
     hedge.free_path = 0.3f;
-    hedge.present_from = changeTime(kit);
+    hedge.present_from = changeTime(kit, c);
     return kit.placeBox(hedge, kit.propertyLine(style) - 0.3, 0.05);
   });
 }
@@ -156,8 +187,8 @@ void changeVegetation(StreetKit& kit, const StreetRecord& record, double strengt
 /// Construction sites, about one per 150 m of drive at full strength, from their time on: a site
 /// hoarding or fence on the pavement, a skip in the parking lane, or a barrier fencing off the parking
 /// lane.
-void addConstruction(StreetKit& kit, double strength) {
-  placeSeveral(strength * static_cast<double>(kit.dense.size()) / 150.0, [&] {
+void addConstruction(StreetKit& kit, const Changes& c) {
+  placeSeveral(c.strength * static_cast<double>(kit.dense.size()) / 150.0, [&] {
     const PathPoint& p = randomPlace(kit);
     const double sign = kit.chance(0.5) ? 1.0 : -1.0;
     const Style& style = styleOf(kit.districtAt(StreetKit::at(p, 0.0, sign * 15.0)));
@@ -181,21 +212,29 @@ void addConstruction(StreetKit& kit, double strength) {
       site = kit.box(StreetKit::at(p, length / 2, sign * (kit.kerb() - 1.0)), p.heading, length / 2, 0.05, 0.0,
                      kit.uniform(1.0, 2.0), Material::kWall);
     }
-    site.present_from = changeTime(kit);
+    site.present_from = changeTime(kit, c);
     return kit.placeBox(site, clearance, margin);
   });
 }
 
 }  // namespace
 
-void changeWorld(const std::vector<PathPoint>& path, const StreetRecord& record, StreetKit* kit) {
-  std::mt19937 draws(static_cast<std::uint32_t>(mix(kit->options.seed ^ 0xC4A1B3D5E7F90ull)));
+Changes duringDrive(const WorldOptions& options) {
+  Changes c;
+  c.strength = options.changed_world;
+  c.to = options.duration;
+  c.salt = 0xC4A1B3D5E7F90ull;
+  return c;
+}
+
+void changeWorld(const std::vector<PathPoint>& path, const std::vector<double>& times, const StreetRecord& record,
+                 const Changes& changes, StreetKit* kit) {
+  std::mt19937 draws(static_cast<std::uint32_t>(mix(kit->options.seed ^ changes.salt)));
   const DrawFrom scoped(*kit, &draws);
-  const double strength = kit->options.changed_world;
-  changeParkedCars(*kit, record, strength);
-  changeVegetation(*kit, record, strength);
-  addConstruction(*kit, strength);
-  addTraffic(path, strength, kit);
+  changeParkedCars(*kit, record, changes);
+  changeVegetation(*kit, record, changes);
+  addConstruction(*kit, changes);
+  addTraffic(path, times, changes.strength, kit);
 }
 
 }  // namespace sim

@@ -15,6 +15,7 @@
 #include "scan_context_sim/city_drive.h"
 #include "scan_context_sim/narrow_drive.h"
 #include "scan_context_sim/platform_tilt.h"
+#include "scan_context_sim/second_session.h"
 #include "scan_context_sim/sensor.h"
 #include "scan_context_sim/sequence_writer.h"
 #include "scan_context_sim/stack_shape.h"
@@ -40,6 +41,8 @@ struct Options {
   double dynamic_cars = 0.3;
   double changed_world = 0.0;
   bool repeat_templates = false;
+  int session = 1;
+  sim::SecondSessionOptions second;
   sim::DriftOptions drift;
   sim::BagOptions bag;
   bool bag_frames = false;  ///< --sensor-frame or --odom-frame given
@@ -107,6 +110,19 @@ void addOptions(scl::cli::Parser* cli, Options* o) {
               &o->changed_world)
       .flag("--repeat-templates", "buildings and frontage from a few designs per district: streets alike",
             &o->repeat_templates)
+      .option("--session", "N",
+              "1 (default): the drive; 2: the same world on another day, for relocalization in session 1's map: "
+              "the drive from its end back to its start in the other lane, parked cars and vegetation changed, "
+              "traffic; truth in session 1's frame, its own odometry (from the identity), noise and drift, times "
+              "from 0. Give the other options as for session 1",
+              &o->session)
+      .option("--session-lane", "M",
+              "session 2: lateral offset to the right of its direction of travel [m] (default 3: the other lane; "
+              "with --narrow give 0, its paths are footpaths)",
+              &o->second.lane_offset)
+      .option("--session-changes", "F",
+              "session 2: how much parked cars and vegetation changed since session 1 (0-1, default 1)",
+              &o->second.changed)
       .option("--drift-trans", "F", "odometry translation error per metre travelled (default 0.01: 1 %)",
               &o->drift.translation_per_metre)
       .option("--drift-yaw-per-m", "D", "odometry heading error per metre travelled [deg/m] (default 0.003)",
@@ -168,6 +184,8 @@ std::string check(const Options& o) {
   if (o.bag_frames && !o.bag.shape.name.empty()) return "--stack sets the frames: no --sensor-frame or --odom-frame";
   if (o.tilt < 0.0) return "--tilt must be >= 0";
   if (o.changed_world < 0.0) return "--changed-world must be >= 0";
+  if (o.session != 1 && o.session != 2) return "--session must be 1 or 2";
+  if (o.second.changed < 0.0 || o.second.changed > 1.0) return "--session-changes must be in [0, 1]";
   return "";
 }
 
@@ -246,12 +264,6 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "scan_context_simulate: the trajectory has fewer than two frames\n");
     return 1;
   }
-  // A stack's bag has every scan; otherwise a keyframe every --keyframe-spacing metres.
-  const bool per_scan = std::isnan(o.spacing) && o.bag.shape.rate_hz > 0.0;
-  const double spacing = std::isnan(o.spacing) ? 2.0 : o.spacing;
-  const std::vector<std::size_t> keyframes = per_scan ? sim::framesEvery(source_times, 1.0 / o.bag.shape.rate_hz)
-                                                      : sim::keyframesEvery(path, spacing);
-
   const auto t0 = std::chrono::steady_clock::now();
   world_options.seed = o.seed;
   world_options.dynamic_car_fraction = o.dynamic_cars;
@@ -259,20 +271,45 @@ int main(int argc, char** argv) {
   world_options.changed_world = o.changed_world;
   world_options.repeat_templates = o.repeat_templates;
   for (double t : source_times) world_options.times.push_back(t - source_times.front());
-  const sim::World world = sim::generateWorld(path, world_options);
+  // The drive simulated: session 1's, or session 2's through the same world on another day. The world
+  // is always built along session 1's path.
+  sim::TimedPath drive{path, world_options.times};
+  double world_clock = 0.0;
+  sim::World world;
+  if (o.session == 2) {
+    drive = sim::secondSessionDrive(path, world_options.times, o.second);
+    const sim::LaterDrive later = sim::laterDrive(drive, world_options.duration, o.second);
+    world_clock = later.times.front();
+    world = sim::generateWorld(path, world_options, later);
+  } else {
+    world = sim::generateWorld(path, world_options);
+  }
+  // Session 2's sensor noise and odometry drift are drawn afresh.
+  const std::uint32_t run_seed = o.session == 1 ? o.seed : o.seed ^ 0x5E55102u;
 
+  // A stack's bag has every scan; otherwise a keyframe every --keyframe-spacing metres.
+  const bool per_scan = std::isnan(o.spacing) && o.bag.shape.rate_hz > 0.0;
+  const double spacing = std::isnan(o.spacing) ? 2.0 : o.spacing;
+  const std::vector<std::size_t> keyframes = per_scan ? sim::framesEvery(drive.times, 1.0 / o.bag.shape.rate_hz)
+                                                      : sim::keyframesEvery(drive.path, spacing);
   sim::SequenceData data;
+  data.world_clock = world_clock;
   sim::TiltOptions tilt;
   tilt.typical_deg = o.tilt;
-  tilt.seed = o.seed;
-  const std::vector<Eigen::Vector2d> roll_pitch = sim::platformTilt(path, tilt);
+  tilt.seed = run_seed;
+  const std::vector<Eigen::Vector2d> roll_pitch = sim::platformTilt(drive.path, tilt);
   for (std::size_t k : keyframes) {
-    data.truth.push_back(sim::sensorPose(world, path[k], sensor.mount_height));
+    data.truth.push_back(sim::sensorPose(world, drive.path[k], sensor.mount_height));
     if (o.tilt > 0) data.truth.back() = sim::tiltPose(data.truth.back(), roll_pitch[k]);
-    data.times.push_back(source_times[k] - source_times.front());
+    data.times.push_back(drive.times[k]);
   }
-  o.drift.seed = o.seed;
+  o.drift.seed = run_seed;
   data.odometry = sim::driftedOdometry(data.truth, o.drift);
+  if (o.session == 2) {
+    // A run of its own: its odometry starts at the identity, knowing nothing of session 1's frame.
+    const Eigen::Isometry3d origin = data.odometry.front().inverse();
+    for (Eigen::Isometry3d& pose : data.odometry) pose = origin * pose;
+  }
   const int threads = o.threads > 0 ? o.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   if (!scl::cli::makeDirectories(o.out, &error) ||
       (!o.bag.path.empty() && std::filesystem::path(o.bag.path).has_parent_path() &&
@@ -280,7 +317,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "scan_context_simulate: %s\n", error.c_str());
     return 1;
   }
-  const double mean_points = sim::writeSequence(o.out, world, sensor, data, o.voxel, o.seed, threads, &error);
+  const double mean_points = sim::writeSequence(o.out, world, sensor, data, o.voxel, run_seed, threads, &error);
   if (mean_points < 0) {
     std::fprintf(stderr, "scan_context_simulate: %s\n", error.c_str());
     return 1;
@@ -314,6 +351,11 @@ int main(int argc, char** argv) {
   if (o.tilt > 0) info << "tilt_deg: " << o.tilt << "\n";
   info << "changed_world: " << o.changed_world << "\nrepeat_templates: " << o.repeat_templates << "\n";
   if (!o.bag.shape.name.empty()) info << "stack: " << o.bag.shape.name << "\n";
+  info << "session: " << o.session << "\n";
+  if (o.session == 2) {
+    info << "session_lane_offset_m: " << o.second.lane_offset << "\nsession_changes: " << o.second.changed
+         << "\nsession_world_clock_s: " << world_clock << "\n";
+  }
 
   if (!o.bag.path.empty()) {
     if (!sim::writeBag(o.out, truth, data.odometry, data.times, o.bag, &error)) {

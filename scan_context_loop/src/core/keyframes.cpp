@@ -68,6 +68,13 @@ bool KeyframePipeline::selected(const KeyframeInfo& info) const {
   return moved || turned;
 }
 
+void KeyframePipeline::startSession() {
+  const Database& database = detector_.database();
+  if (database.size() == database.sessionStart()) return;
+  detector_.startSession();
+  forgetOdometry();
+}
+
 bool KeyframePipeline::jumpedBack(const KeyframeInfo& info) const {
   const Database& database = detector_.database();
   const double jump = config().new_session_jump;
@@ -105,10 +112,7 @@ Detection KeyframePipeline::process(const PointView& cloud, const KeyframeInfo& 
     return refused;
   }
   const bool new_session = jumpedBack(info);
-  if (new_session) {
-    detector_.startSession();
-    forgetOdometry();
-  }
+  if (new_session) startSession();
   if (accumulate) remember(cloud, info);
   if (!new_session && !selected(info)) {
     Detection skipped;

@@ -72,96 +72,202 @@ bool loadSequence(const std::string& dir, const SequenceOptions& options, Sequen
   return true;
 }
 
-Evaluation evaluate(const Sequence& s, const Config& config, double revisit_radius) {
-  Evaluation e;
-  KeyframePipeline pipeline(config);
-  std::vector<Eigen::Vector3d> positions;  // true positions of the accepted keyframes
-  std::vector<std::size_t> keyframe_of;    // detector index -> position in the sequence
-  std::vector<long> outcome_of;            // detector index -> position in e.outcomes, -1 for none
-  for (std::size_t k = 0; k < s.frames.size(); ++k) {
-    pcl::PointCloud<pcl::PointXYZI> cloud;
+namespace {
+
+/// Feeds keyframes through the pipeline and scores the query sequence's: the prior's (when given) come
+/// first, as session 0, and only build the map.
+class Run {
+ public:
+  Run(const Config& config, double revisit_radius, const Sequence* prior, Evaluation* e)
+      : pipeline_(config), radius_(revisit_radius), prior_(prior), e_(*e) {}
+
+  /// The prior's keyframes, then a new session.
+  void buildPriorMap() {
+    for (std::size_t k = 0; k < prior_->frames.size(); ++k) {
+      pcl::PointCloud<pcl::PointXYZI> cloud;
+      const Detection d = feed(*prior_, k, &cloud);
+      if (d.accepted) keyframes_.push_back({prior_, k});
+    }
+    prior_count_ = keyframes_.size();
+    pipeline_.startSession();
+  }
+
+  void score(const Sequence& s);
+  std::size_t priorKeyframes() const { return prior_count_; }
+
+ private:
+  struct Keyframe {
+    const Sequence* sequence;
+    std::size_t k;
+    const Eigen::Isometry3d& truth() const { return sequence->truth[k]; }
+    int frame() const { return sequence->frames[k]; }
+  };
+
+  /// Reads and processes keyframe k; a cloud that cannot be read, or that the detector refuses, counts
+  /// as rejected (Detection::accepted false).
+  Detection feed(const Sequence& s, std::size_t k, pcl::PointCloud<pcl::PointXYZI>* cloud) {
     std::string error;
-    if (!kitti::readScan(kitti::scanPath(s.dir, s.frames[k]), &cloud, &error)) {
-      e.errors.push_back(error);
-      ++e.rejected;
-      continue;
+    if (!kitti::readScan(kitti::scanPath(s.dir, s.frames[k]), cloud, &error)) {
+      e_.errors.push_back(error);
+      ++e_.rejected;
+      return Detection();
     }
     KeyframeInfo info;
     info.stamp = s.stamps[k];
     info.pose = s.odometry[k];
     info.tag = s.frames[k];
-    const Detection d = pipeline.process(viewOf(cloud), info);
-    if (!d.selected) continue;  // keyframe selection (keyframe_min_distance / keyframe_min_angle)
-    if (!d.accepted) {
-      e.errors.push_back("frame " + std::to_string(s.frames[k]) + ": " + d.error);
-      ++e.rejected;
-      continue;
+    Detection d = pipeline_.process(viewOf(*cloud), info);
+    if (d.selected && !d.accepted) {
+      e_.errors.push_back("frame " + std::to_string(s.frames[k]) + ": " + d.error);
+      ++e_.rejected;
     }
-    e.descriptor_ms.push_back(d.descriptor_seconds * 1e3);
-    e.query_ms.push_back(d.query_seconds * 1e3);
-    positions.push_back(s.truth[k].translation());
-    keyframe_of.push_back(k);
+    if (d.accepted) positions_.push_back(s.truth[k].translation());
+    return d;
+  }
+
+  bool inPrior(std::size_t index) const { return index < prior_count_; }
+  PriorOutcome priorOutcome(const Sequence& s, std::size_t k) const;
+  void scoreLoops(const Sequence& s, std::size_t k, const Detection& d);
+
+  KeyframePipeline pipeline_;
+  double radius_;
+  const Sequence* prior_;
+  Evaluation& e_;
+  std::vector<Eigen::Vector3d> positions_;  // true positions of the accepted keyframes
+  std::vector<Keyframe> keyframes_;         // detector index -> sequence and keyframe
+  std::size_t prior_count_ = 0;             // keyframes of the prior map
+  std::vector<long> outcome_of_, prior_outcome_of_;  // detector index -> outcome, -1 for none
+  std::vector<double> metres_;  // true distance along the query sequence to each keyframe
+};
+
+PriorOutcome Run::priorOutcome(const Sequence& s, std::size_t k) const {
+  PriorOutcome o;
+  o.query = s.frames[k];
+  o.seconds = s.stamps[k] - s.stamps.front();
+  o.metres = metres_[k];
+  double nearest = 1e300;
+  for (std::size_t i = 0; i < prior_count_; ++i) {
+    const double gap = (positions_[i] - s.truth[k].translation()).norm();
+    if (gap >= nearest) continue;
+    nearest = gap;
+    o.nearest = keyframes_[i].frame();
+    o.nearest_yaw = yawOf(s.truth[k].inverse() * keyframes_[i].truth());
+  }
+  o.nearest_gap = o.nearest >= 0 ? nearest : -1.0;
+  o.prior_place = o.nearest >= 0 && nearest < radius_;
+  return o;
+}
+
+void Run::scoreLoops(const Sequence& s, std::size_t k, const Detection& d) {
+  // Loops may be reported a few keyframes after their query (consistency check): score each one on
+  // its own query's outcome.
+  e_.loops_dropped += d.dropped.size();
+  e_.loops.insert(e_.loops.end(), d.loops.begin(), d.loops.end());
+  if (!d.verifications_enabled) return;
+  for (const Loop& loop : d.loops) {
+    if (loop.query >= outcome_of_.size() || outcome_of_[loop.query] < 0) continue;
+    QueryOutcome& q = e_.outcomes[outcome_of_[loop.query]];
+    const Keyframe& query = keyframes_[loop.query];
+    const Keyframe& match = keyframes_[loop.match];
+    const Eigen::Isometry3d truth = query.truth().inverse() * match.truth();
+    q.verified_match = match.frame();
+    q.verified_in_prior = inPrior(loop.match);
+    // A verified loop is a constraint: it is correct when its pose is (within 1 m and 2 deg of the
+    // truth), however far apart the keyframes are; one between places within the revisit radius with
+    // a wrong pose is a false constraint all the same.
+    const double pose_error = (loop.verification.relative.translation() - truth.translation()).norm();
+    const double rotation_error =
+        Eigen::AngleAxisd(truth.linear().transpose() * loop.verification.relative.linear()).angle();
+    q.verified_correct = pose_error <= kConstraintMetres && rotation_error <= kConstraintDegrees * M_PI / 180.0;
+    q.verified_beyond_radius = truth.translation().norm() >= radius_;
+    q.fitness = loop.verification.fitness;
+    q.inlier_ratio = loop.verification.inlier_ratio;
+    q.translation_error = pose_error;
+    q.yaw_error = std::fabs(wrapAngle(yawOf(loop.verification.relative) - yawOf(truth)));
+    q.reported_late = loop.query != d.index;
+    if (!q.verified_in_prior) continue;
+    PriorOutcome& r = e_.prior_outcomes[prior_outcome_of_[loop.query]];
+    r.match = q.verified_match;
+    r.correct = q.verified_correct;
+    r.translation_error = q.translation_error;
+    r.yaw_error = q.yaw_error;
+    r.reported_seconds = s.stamps[k] - s.stamps.front();
+    r.reported_metres = metres_[k];
+  }
+}
+
+void Run::score(const Sequence& s) {
+  metres_.assign(s.frames.size(), 0.0);
+  for (std::size_t k = 1; k < s.frames.size(); ++k) {
+    metres_[k] = metres_[k - 1] + (s.truth[k].translation() - s.truth[k - 1].translation()).norm();
+  }
+  for (std::size_t k = 0; k < s.frames.size(); ++k) {
+    pcl::PointCloud<pcl::PointXYZI> cloud;
+    const Detection d = feed(s, k, &cloud);
+    if (!d.accepted) continue;  // refused, or passed over by keyframe selection
+    e_.descriptor_ms.push_back(d.descriptor_seconds * 1e3);
+    e_.query_ms.push_back(d.query_seconds * 1e3);
+    keyframes_.push_back({&s, k});
+    outcome_of_.resize(d.index + 1, -1);
+    prior_outcome_of_.resize(d.index + 1, -1);
+    if (prior_ != nullptr) {
+      prior_outcome_of_[d.index] = static_cast<long>(e_.prior_outcomes.size());
+      e_.prior_outcomes.push_back(priorOutcome(s, k));
+    }
     if (d.index == 0) continue;  // the first keyframe has nothing to query
 
     QueryOutcome o;
     o.query = s.frames[k];
-    o.revisit = isRevisit(positions, d.index, d.query.eligible, revisit_radius);
+    o.revisit = isRevisit(positions_, d.index, d.query.eligible, radius_);
     if (const Candidate* best = d.query.best()) {
-      const std::size_t m = keyframe_of[best->index];
-      o.match = s.frames[m];
+      const Keyframe& m = keyframes_[best->index];
+      o.match = m.frame();
+      o.match_in_prior = inPrior(best->index);
       o.distance = best->alignment.distance;
       o.yaw = best->alignment.yaw;
-      o.match_gap = (s.truth[m].translation() - s.truth[k].translation()).norm();
-      o.correct = o.match_gap < revisit_radius;
-      o.true_yaw = yawOf(s.truth[k].inverse() * s.truth[m]);
+      o.match_gap = (m.truth().translation() - s.truth[k].translation()).norm();
+      o.correct = o.match_gap < radius_;
+      o.true_yaw = yawOf(s.truth[k].inverse() * m.truth());
     }
     if (d.verifications_enabled) {
-      e.verify_ms.push_back(d.verify_seconds * 1e3);
+      e_.verify_ms.push_back(d.verify_seconds * 1e3);
       o.candidates_verified = static_cast<int>(d.verifications.size());
       for (const VerifiedCandidate& v : d.verifications) {
-        const std::size_t mk = keyframe_of[v.index];
-        const Eigen::Isometry3d truth = s.truth[k].inverse() * s.truth[mk];
+        const Keyframe& m = keyframes_[v.index];
+        const Eigen::Isometry3d truth = s.truth[k].inverse() * m.truth();
         VerificationAttempt a;
         a.query = s.frames[k];
-        a.match = s.frames[mk];
+        a.match = m.frame();
         a.distance = v.alignment.distance;
         a.gap = truth.translation().norm();
         a.result = v.result;
         a.translation_error = (v.result.relative.translation() - truth.translation()).norm();
         a.yaw_error = std::fabs(wrapAngle(yawOf(v.result.relative) - yawOf(truth)));
-        e.attempts.push_back(a);
+        e_.attempts.push_back(a);
       }
     }
-    outcome_of.resize(d.index + 1, -1);
-    outcome_of[d.index] = static_cast<long>(e.outcomes.size());
-    e.outcomes.push_back(o);
-    // Loops may be reported a few keyframes after their query (consistency check): score each one on
-    // its own query's outcome.
-    e.loops_dropped += d.dropped.size();
-    e.loops.insert(e.loops.end(), d.loops.begin(), d.loops.end());
-    for (const Loop& loop : d.verifications_enabled ? d.loops : std::vector<Loop>()) {
-      if (loop.query >= outcome_of.size() || outcome_of[loop.query] < 0) continue;
-      QueryOutcome& q = e.outcomes[outcome_of[loop.query]];
-      const std::size_t qk = keyframe_of[loop.query], mk = keyframe_of[loop.match];
-      const Eigen::Isometry3d truth = s.truth[qk].inverse() * s.truth[mk];
-      q.verified_match = s.frames[mk];
-      // A verified loop is a constraint: it is correct when its pose is (within 1 m and 2 deg of the
-      // truth), however far apart the keyframes are; one between places within the revisit radius with
-      // a wrong pose is a false constraint all the same.
-      const double pose_error = (loop.verification.relative.translation() - truth.translation()).norm();
-      const double rotation_error = Eigen::AngleAxisd(truth.linear().transpose() * loop.verification.relative.linear()).angle();
-      q.verified_correct = pose_error <= kConstraintMetres && rotation_error <= kConstraintDegrees * M_PI / 180.0;
-      q.verified_beyond_radius = truth.translation().norm() >= revisit_radius;
-      q.fitness = loop.verification.fitness;
-      q.inlier_ratio = loop.verification.inlier_ratio;
-      q.translation_error = (loop.verification.relative.translation() - truth.translation()).norm();
-      q.yaw_error = std::fabs(wrapAngle(yawOf(loop.verification.relative) - yawOf(truth)));
-      q.reported_late = loop.query != d.index;
-    }
+    outcome_of_[d.index] = static_cast<long>(e_.outcomes.size());
+    e_.outcomes.push_back(o);
+    scoreLoops(s, k, d);
   }
+}
+
+}  // namespace
+
+Evaluation evaluate(const Sequence& s, const Config& config, double revisit_radius, const Sequence* prior) {
+  Evaluation e;
+  Run run(config, revisit_radius, prior, &e);
+  if (prior != nullptr) run.buildPriorMap();
+  run.score(s);
   e.metrics = computeMetrics(e.outcomes, config.distance_threshold);
   e.verification = config.verification.enabled;
   if (e.verification) e.verified = computeVerifiedMetrics(e.outcomes);
+  e.has_prior = prior != nullptr;
+  if (e.has_prior) {
+    e.prior_dir = prior->dir;
+    e.relocalization = computeRelocalizationMetrics(e.prior_outcomes);
+    e.relocalization.prior_keyframes = run.priorKeyframes();
+  }
   return e;
 }
 
@@ -176,6 +282,8 @@ bool writeResultsCsv(const std::string& path, const Evaluation& e, std::string* 
     out << ",verified,verified_match,verified_correct,candidates_verified,fitness,inlier_ratio,trans_err_m,"
            "yaw_err_rad";
   }
+  // With a prior map, match frame numbers may be the prior's: these say whose.
+  if (e.has_prior) out << ",match_in_prior" << (e.verification ? ",verified_in_prior" : "");
   out << '\n';
   out.precision(6);
   for (const auto& o : e.outcomes) {
@@ -185,6 +293,10 @@ bool writeResultsCsv(const std::string& path, const Evaluation& e, std::string* 
       out << ',' << int(o.verified_match >= 0) << ',' << o.verified_match << ',' << int(o.verified_correct) << ','
           << o.candidates_verified << ',' << o.fitness << ',' << o.inlier_ratio << ',' << o.translation_error << ','
           << o.yaw_error;
+    }
+    if (e.has_prior) {
+      out << ',' << int(o.match_in_prior);
+      if (e.verification) out << ',' << int(o.verified_in_prior);
     }
     out << '\n';
   }
@@ -240,6 +352,19 @@ bool writeMetricsJson(const std::string& path, const Evaluation& e, const Sequen
         << percentile(e.verify_ms, 0.5) << ", \"p99\": " << percentile(e.verify_ms, 0.99)
         << ", \"max\": " << percentile(e.verify_ms, 1.0) << "}}";
   }
+  if (e.has_prior) {
+    const RelocalizationMetrics& r = e.relocalization;
+    out << ",\n  \"relocalization\": {\"prior\": \"" << e.prior_dir << "\", \"prior_keyframes\": " << r.prior_keyframes
+        << ", \"queries\": " << r.queries << ", \"prior_places\": " << r.prior_places
+        << ", \"true_positives\": " << r.true_positives << ", \"false_positives\": " << r.false_positives
+        << ", \"precision\": " << r.precision << ", \"recall\": " << r.recall
+        << ", \"translation_error_m\": {\"median\": " << r.translation_error_median
+        << ", \"p90\": " << r.translation_error_p90 << "}, \"yaw_error_deg\": {\"median\": " << r.yaw_error_median
+        << ", \"p90\": " << r.yaw_error_p90 << "}, \"first_correct\": {\"query\": " << r.first_query
+        << ", \"seconds\": " << r.first_seconds << ", \"metres\": " << r.first_metres
+        << ", \"false_before\": " << r.false_before_first << "}, \"first_prior_place\": {\"seconds\": "
+        << r.first_place_seconds << ", \"metres\": " << r.first_place_metres << "}}";
+  }
   out << "\n}\n";
   return out.good();
 }
@@ -261,6 +386,23 @@ bool writeVerificationsCsv(const std::string& path, const Evaluation& e, std::st
         << r.overlap_query << ',' << r.overlap_match << ',' << r.violation << ',' << r.fitness << ','
         << r.constraint_ratio << ',' << r.coarse_score << ',' << r.hypotheses << ',' << a.translation_error << ','
         << a.yaw_error * 180.0 / M_PI << ',' << r.seconds * 1e3 << ',' << reason << '\n';
+  }
+  return out.good();
+}
+
+bool writeRelocalizationCsv(const std::string& path, const Evaluation& e, std::string* error) {
+  std::ofstream out(path);
+  if (!out) {
+    *error = "cannot create " + path;
+    return false;
+  }
+  out << "query,seconds,metres,nearest_prior,nearest_gap_m,nearest_yaw_deg,prior_place,match,correct,trans_err_m,"
+         "yaw_err_deg,reported_seconds\n";
+  out.precision(6);
+  for (const PriorOutcome& o : e.prior_outcomes) {
+    out << o.query << ',' << o.seconds << ',' << o.metres << ',' << o.nearest << ',' << o.nearest_gap << ','
+        << o.nearest_yaw * 180.0 / M_PI << ',' << int(o.prior_place) << ',' << o.match << ',' << int(o.correct) << ','
+        << o.translation_error << ',' << o.yaw_error * 180.0 / M_PI << ',' << o.reported_seconds << '\n';
   }
   return out.good();
 }

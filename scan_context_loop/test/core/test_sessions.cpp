@@ -58,6 +58,25 @@ TEST(Sessions, AJumpBackInTimeStartsASessionWhoseKeyframesFindTheEarlierOnes) {
   EXPECT_EQ(next.query.eligible, 5u) << "the new session's own keyframe is still recent";
 }
 
+TEST(Sessions, TheCallerCanStartASessionWhoseStampsGoOn) {
+  KeyframePipeline pipeline(descriptorOnly());
+  pipeline.startSession();  // nothing to close yet
+  firstSession(&pipeline, 5);
+  EXPECT_EQ(pipeline.detector().database().session(), 0u);
+  // Another run whose stamps carry on (another day's recording): without the new session the window
+  // and the odometry gate would hide the first five.
+  pipeline.startSession();
+  pipeline.startSession();  // the new session is still empty: no second one
+  const auto again = test::rotateTranslate(test::streetScene(102), 3.0 * M_PI / 180.0);
+  const Detection d = pipeline.process(viewOf(again), at(5000.0, 5000.0, -300.0));
+  ASSERT_TRUE(d.accepted) << d.error;
+  EXPECT_EQ(pipeline.detector().database().session(), 1u);
+  EXPECT_EQ(pipeline.detector().database().keyframe(5).session, 1u);
+  EXPECT_EQ(d.query.eligible, 5u);
+  ASSERT_EQ(d.loops.size(), 1u);
+  EXPECT_EQ(d.loops.front().match, 2u);
+}
+
 TEST(Sessions, ASmallStepBackIsRefusedAsOutOfOrder) {
   KeyframePipeline pipeline(descriptorOnly());
   firstSession(&pipeline, 3);

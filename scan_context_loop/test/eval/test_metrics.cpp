@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "scan_context_loop/eval/metrics.h"
+#include "scan_context_loop/eval/relocalization.h"
 
 namespace scan_context_loop {
 namespace eval {
@@ -137,6 +138,53 @@ TEST(VerifiedMetrics, HandComputed) {
   EXPECT_NEAR(v.yaw_error_p90, 3.0, 1e-9);
   EXPECT_DOUBLE_EQ(v.candidates_mean, 6.0 / 6.0);
   EXPECT_EQ(v.candidates_max, 2);
+}
+
+TEST(RelocalizationMetrics, HandComputed) {
+  std::vector<PriorOutcome> o(6);
+  for (std::size_t i = 0; i < o.size(); ++i) {
+    o[i].query = static_cast<int>(i);
+    o[i].seconds = o[i].reported_seconds = static_cast<double>(i);
+    o[i].metres = o[i].reported_metres = 10.0 * i;
+    o[i].prior_place = i >= 1;
+  }
+  o[1].match = 40;  // wrong, before the first true one
+  o[2].match = 41;  // true, reported late: after query 3's
+  o[2].correct = true;
+  o[2].translation_error = 0.05;
+  o[2].yaw_error = 0.1 * M_PI / 180.0;
+  o[2].reported_seconds = 3.5;
+  o[2].reported_metres = 35.0;
+  o[3].match = 42;  // the first true one reported
+  o[3].correct = true;
+  o[3].translation_error = 0.01;
+  o[3].yaw_error = 0.3 * M_PI / 180.0;
+  o[0].match = 43;  // true, but no prior place within the radius: precision only
+  o[0].correct = true;
+  o[0].translation_error = 0.02;
+  o[0].reported_seconds = 5.0;
+  const RelocalizationMetrics r = computeRelocalizationMetrics(o);
+  EXPECT_EQ(r.queries, 6u);
+  EXPECT_EQ(r.prior_places, 5u);
+  EXPECT_EQ(r.true_positives, 3u);
+  EXPECT_EQ(r.false_positives, 1u);
+  EXPECT_DOUBLE_EQ(r.precision, 3.0 / 4.0);
+  EXPECT_DOUBLE_EQ(r.recall, 2.0 / 5.0);
+  EXPECT_DOUBLE_EQ(r.translation_error_median, 0.02);
+  EXPECT_DOUBLE_EQ(r.translation_error_p90, 0.05);
+  EXPECT_NEAR(r.yaw_error_p90, 0.3, 1e-9);
+  EXPECT_EQ(r.first_query, 3);
+  EXPECT_DOUBLE_EQ(r.first_seconds, 3.0);
+  EXPECT_DOUBLE_EQ(r.first_metres, 30.0);
+  EXPECT_EQ(r.false_before_first, 1u);
+  EXPECT_DOUBLE_EQ(r.first_place_seconds, 1.0);
+  EXPECT_DOUBLE_EQ(r.first_place_metres, 10.0);
+
+  const RelocalizationMetrics none = computeRelocalizationMetrics({PriorOutcome()});
+  EXPECT_DOUBLE_EQ(none.precision, 1.0);
+  EXPECT_DOUBLE_EQ(none.recall, 0.0);
+  EXPECT_EQ(none.first_query, -1);
+  EXPECT_DOUBLE_EQ(none.first_seconds, -1.0);
 }
 
 }  // namespace

@@ -14,6 +14,7 @@ namespace sim {
 struct SequenceData {
   std::vector<Eigen::Isometry3d> truth, odometry;  ///< LiDAR poses, one per keyframe
   std::vector<double> times;                       ///< seconds from the first keyframe
+  double world_clock = 0.0;  ///< the world's clock at the first keyframe [s] (a later drive's start)
 };
 
 /// Writes dir/velodyne/%06d.bin (optionally voxel-downsampled), poses.txt, odom_poses.txt, times.txt

@@ -116,5 +116,18 @@ struct WorldOptions {
 /// path, including one that crosses or revisits itself, gets open streets.
 World generateWorld(const std::vector<PathPoint>& path, const WorldOptions& options);
 
+/// A later drive through the world that generateWorld(path, options) builds, on another day: the same
+/// streets, buildings and everything else built, as the first drive left them, with the street
+/// changed since (WorldOptions::changed_world's changes at strength `changed`, all made by the later
+/// drive's start, on things that had not changed yet), and traffic and people passing the later drive.
+struct LaterDrive {
+  std::vector<PathPoint> path;  ///< within the streets built along the first drive's path
+  std::vector<double> times;    ///< the world's clock at each path point [s], after the first drive's end
+  double changed = 1.0;         ///< 0 to 1
+};
+
+/// That world: generateWorld(path, options) has the same solids at the first drive's times.
+World generateWorld(const std::vector<PathPoint>& path, const WorldOptions& options, const LaterDrive& later);
+
 }  // namespace sim
 }  // namespace scan_context_loop

@@ -47,6 +47,11 @@ class KeyframePipeline {
   /// LoopDetector::locate: where a cloud is among the stored keyframes, without storing it.
   Detection locate(const PointView& cloud) { return detector_.locate(cloud); }
 
+  /// Keyframes from the next one on form a new session, as when a stamp jumps back
+  /// (Config::new_session_jump), for a caller that knows another run begins. Nothing changes while the
+  /// current session is empty.
+  void startSession();
+
   const LoopDetector& detector() const { return detector_; }
   const Config& config() const { return detector_.config(); }
 

@@ -9,6 +9,7 @@
 #include "scan_context_loop/core/config.h"
 #include "scan_context_loop/core/consistency.h"
 #include "scan_context_loop/eval/metrics.h"
+#include "scan_context_loop/eval/relocalization.h"
 #include "scan_context_loop/core/verification.h"
 
 namespace scan_context_loop {
@@ -56,16 +57,28 @@ struct Evaluation {
   std::vector<std::string> errors;
   /// Every loop reported, in order, as the node publishes them (keyframe numbers in arrival order).
   std::vector<Loop> loops;
+  /// Evaluated after a prior sequence: each query keyframe against the prior map, and their scores.
+  bool has_prior = false;
+  std::string prior_dir;
+  std::vector<PriorOutcome> prior_outcomes;
+  RelocalizationMetrics relocalization;
 };
 
 /// Feeds every keyframe in order through KeyframePipeline (keyframes.h), the node's own code, and
-/// scores each query with the ground-truth protocol (isRevisit with `revisit_radius`).
-Evaluation evaluate(const Sequence& sequence, const Config& config, double revisit_radius);
+/// scores each query with the ground-truth protocol (isRevisit with `revisit_radius`). With a `prior`
+/// sequence, its keyframes go through the pipeline first (session 0, the prior map, not scored), then the
+/// sequence's as a new session; its queries are scored against every earlier keyframe, the prior's
+/// included, and against the prior map alone (Evaluation::relocalization). Both sequences' true poses
+/// must be in one world frame.
+Evaluation evaluate(const Sequence& sequence, const Config& config, double revisit_radius,
+                    const Sequence* prior = nullptr);
 
 bool writeResultsCsv(const std::string& path, const Evaluation& evaluation, std::string* error);
 bool writeMetricsJson(const std::string& path, const Evaluation& evaluation, const Sequence& sequence,
                       const Config& config, double revisit_radius, std::string* error);
 bool writeVerificationsCsv(const std::string& path, const Evaluation& evaluation, std::string* error);
+/// One row per query keyframe against the prior map (Evaluation::prior_outcomes).
+bool writeRelocalizationCsv(const std::string& path, const Evaluation& evaluation, std::string* error);
 bool writeTrajectoryCsv(const std::string& path, const Sequence& sequence, std::string* error);
 
 }  // namespace eval

@@ -19,9 +19,11 @@ struct QueryOutcome {
   bool correct = false;     ///< the best candidate lies within the revisit radius
   double match_gap = -1.0;  ///< true distance between query and match [m], -1 without a match
   double true_yaw = 0.0;    ///< yaw of the match in the query frame from the true poses [rad]
+  bool match_in_prior = false;  ///< the best candidate is a keyframe of the prior map (evaluate's prior)
 
   // With verification (Config::verify):
   int verified_match = -1;       ///< frame index of the accepted candidate, -1 when none was accepted
+  bool verified_in_prior = false;  ///< the accepted candidate is a keyframe of the prior map
   /// The accepted loop's registered pose is within 1 m and 2 deg of the truth: a correct constraint,
   /// even between keyframes farther apart than the revisit radius (then verified_beyond_radius).
   bool verified_correct = false;

@@ -1,0 +1,114 @@
+// Relocalization in a prior map: a simulated second session evaluated against the first.
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+#include <gtest/gtest.h>
+
+#include "scan_context_loop/eval/evaluation.h"
+#include "scan_context_sim/sequence_writer.h"
+#include "scan_context_sim/trajectory.h"
+#include "../common/sim_drive.h"
+
+namespace scan_context_loop {
+namespace eval {
+namespace {
+
+std::string temp(const std::string& name) { return testing::TempDir() + "/scl_reloc_" + name; }
+
+/// Writes a drive in the KITTI layout with an odometry of its own that starts at the identity (as a run
+/// of its own does), and loads it back. `stamp_offset` is added to its times.
+Sequence written(const test::Drive& drive, const std::string& name, std::uint32_t seed, double stamp_offset) {
+  sim::SequenceData data;
+  data.truth = drive.truth;
+  for (double t : drive.times) data.times.push_back(t + stamp_offset);
+  data.world_clock = drive.world_clock - stamp_offset;
+  sim::DriftOptions drift;
+  drift.seed = seed;
+  data.odometry = sim::driftedOdometry(data.truth, drift);
+  const Eigen::Isometry3d origin = data.odometry.front().inverse();
+  for (Eigen::Isometry3d& pose : data.odometry) pose = origin * pose;
+  std::string error;
+  EXPECT_GT(sim::writeSequence(temp(name), drive.world, drive.sensor, data, 0.0, seed, 2, &error), 1000.0) << error;
+  Sequence sequence;
+  EXPECT_TRUE(loadSequence(temp(name), SequenceOptions(), &sequence, &error)) << error;
+  return sequence;
+}
+
+const test::Sessions& sessions() {
+  static const test::Sessions s = test::blockSessions(3);
+  return s;
+}
+
+const Sequence& prior() {
+  static const Sequence s = written(sessions().first, "prior", 11, 0.0);
+  return s;
+}
+
+TEST(Relocalization, TheSecondSessionRelocalizesInTheFirstsMap) {
+  const Sequence& query = written(sessions().second, "query", 12, 0.0);
+  ASSERT_FALSE(prior().frames.empty());
+  ASSERT_FALSE(query.frames.empty());
+  const Config config;  // the defaults, verification on
+  const Evaluation e = evaluate(query, config, 5.0, &prior());
+  ASSERT_TRUE(e.has_prior);
+  EXPECT_EQ(e.rejected, 0u);
+  const RelocalizationMetrics& r = e.relocalization;
+  EXPECT_EQ(r.prior_keyframes, prior().frames.size());
+  // Every query keyframe is scored, its first too (the prior map is there to query).
+  ASSERT_EQ(e.prior_outcomes.size(), query.frames.size());
+  EXPECT_EQ(e.outcomes.size(), query.frames.size());
+  // The lap driven back one lane over: every place is within 5 m of the prior, facing the other way.
+  EXPECT_EQ(r.prior_places, r.queries);
+  int facing_back = 0;
+  for (const PriorOutcome& o : e.prior_outcomes) facing_back += std::fabs(o.nearest_yaw) > 150.0 * M_PI / 180.0;
+  EXPECT_GT(facing_back, 0.8 * r.queries);
+  // Cars and plants changed, the other lane, the other way: most places relocalize, none wrongly.
+  EXPECT_EQ(r.false_positives, 0u);
+  EXPECT_GE(r.recall, 0.5);
+  EXPECT_LT(r.translation_error_median, 0.2);
+  EXPECT_LT(r.yaw_error_median, 0.5);
+  ASSERT_GE(r.first_query, 0);
+  EXPECT_LT(r.first_metres, 40.0);
+  EXPECT_GE(r.first_seconds, r.first_place_seconds);
+  // The usual metrics count the query's loops into the prior as well, and say whose frames they name.
+  std::size_t into_prior = 0;
+  for (const QueryOutcome& o : e.outcomes) into_prior += o.verified_match >= 0 && o.verified_in_prior;
+  EXPECT_EQ(into_prior, r.true_positives + r.false_positives);
+  EXPECT_GE(e.verified.true_positives, r.true_positives);
+
+  std::string error;
+  ASSERT_TRUE(writeMetricsJson(temp("metrics.json"), e, query, config, 5.0, &error)) << error;
+  std::stringstream json;
+  json << std::ifstream(temp("metrics.json")).rdbuf();
+  EXPECT_NE(json.str().find("\"relocalization\": {\"prior\": \"" + prior().dir + "\""), std::string::npos);
+  ASSERT_TRUE(writeRelocalizationCsv(temp("relocalization.csv"), e, &error)) << error;
+  std::ifstream csv(temp("relocalization.csv"));
+  std::string line;
+  std::size_t rows = 0;
+  for (std::getline(csv, line); std::getline(csv, line);) ++rows;
+  EXPECT_EQ(rows, query.frames.size());
+}
+
+TEST(Relocalization, TheQueryIsANewSessionEvenWhenItsStampsGoOn) {
+  // The same drive recorded with stamps after the prior's: no jump back in time starts the session.
+  // Within the prior's session the recent-keyframe window would hide the prior's last 50 keyframes,
+  // where the query starts, and the odometry gate would compare unrelated odometry frames.
+  const Sequence& query = written(sessions().second, "query_later", 12, 1e5);
+  const Evaluation e = evaluate(query, Config(), 5.0, &prior());
+  EXPECT_EQ(e.rejected, 0u);
+  EXPECT_EQ(e.relocalization.false_positives, 0u);
+  EXPECT_GE(e.relocalization.recall, 0.5);
+  EXPECT_LT(e.relocalization.first_metres, 40.0);
+}
+
+TEST(Relocalization, WithoutAPriorNothingIsScoredAgainstOne) {
+  const Evaluation e = evaluate(prior(), Config(), 5.0);
+  EXPECT_FALSE(e.has_prior);
+  EXPECT_TRUE(e.prior_outcomes.empty());
+  for (const QueryOutcome& o : e.outcomes) EXPECT_FALSE(o.match_in_prior || o.verified_in_prior);
+}
+
+}  // namespace
+}  // namespace eval
+}  // namespace scan_context_loop
