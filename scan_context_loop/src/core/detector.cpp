@@ -86,28 +86,14 @@ Detection LoopDetector::process(const PointView& raw, const KeyframeInfo& info) 
   Detection detection;
   const Config& config = database_.config();
   if (!database_.acceptable(info, &detection.error)) return detection;
-  const auto t0 = Clock::now();
-  // Levelled keyframes are described and registered in their gravity-aligned frame.
-  const Eigen::Matrix3f level = levellingOf(raw, info, &detection);
-  pcl::PointCloud<pcl::PointXYZ> levelled;
-  PointView points = raw;
-  if (!level.isIdentity()) {
-    levelled = rotatedCloud(raw, level);
-    points = viewOf(levelled);
-  }
-  const HeightGrid grid = makeHeightGrid(points, config);
-  detection.points_used = grid.points_used;
-  detection.points_skipped = grid.points_skipped;
-  Descriptor descriptor = makeDescriptor(grid, config);
-  detection.descriptor_seconds = secondsSince(t0);
-  const auto t1 = Clock::now();
   // Query (from every viewpoint) before adding, so the keyframe never finds itself.
-  detection.query = database_.query(descriptor, info);
-  detection.query_seconds = secondsSince(t1);
-  if (!descriptor.empty()) queryViewpoints(points, info, &detection);
+  Described described;
+  describeAndQuery(raw, info, &described, &detection);
+  const Eigen::Matrix3f level = described.level;
+  const PointView& points = described.points;
   const auto t2 = Clock::now();
   detection.index = database_.size();
-  detection.accepted = database_.add(info, std::move(descriptor), &detection.error);
+  detection.accepted = database_.add(info, std::move(described.descriptor), &detection.error);
   detection.query_seconds += secondsSince(t2);
   if (!detection.accepted) return detection;
   levelling_.push_back(level);
@@ -122,31 +108,38 @@ Detection LoopDetector::process(const PointView& raw, const KeyframeInfo& info) 
   return detection;
 }
 
+void LoopDetector::describeAndQuery(const PointView& raw, const KeyframeInfo& info, Described* out,
+                                    Detection* detection) {
+  const Config& config = database_.config();
+  const auto t0 = Clock::now();
+  // Levelled keyframes are described and registered in their gravity-aligned frame.
+  out->level = levellingOf(raw, info, detection);
+  out->points = raw;
+  if (!out->level.isIdentity()) {
+    out->levelled = rotatedCloud(raw, out->level);
+    out->points = viewOf(out->levelled);
+  }
+  const HeightGrid grid = makeHeightGrid(out->points, config);
+  detection->points_used = grid.points_used;
+  detection->points_skipped = grid.points_skipped;
+  out->descriptor = makeDescriptor(grid, config);
+  detection->descriptor_seconds = secondsSince(t0);
+  const auto t1 = Clock::now();
+  detection->query = database_.query(out->descriptor, info);
+  detection->query_seconds = secondsSince(t1);
+  if (!out->descriptor.empty()) queryViewpoints(out->points, info, detection);
+}
+
 Detection LoopDetector::locate(const PointView& raw) {
   Detection detection;
-  const Config& config = database_.config();
   detection.index = database_.size();
   const KeyframeInfo info;  // no stamp or pose: only the windows of the earlier sessions apply
-  const auto t0 = Clock::now();
-  const Eigen::Matrix3f level = levellingOf(raw, info, &detection);
-  pcl::PointCloud<pcl::PointXYZ> levelled;
-  PointView points = raw;
-  if (!level.isIdentity()) {
-    levelled = rotatedCloud(raw, level);
-    points = viewOf(levelled);
-  }
-  const HeightGrid grid = makeHeightGrid(points, config);
-  detection.points_used = grid.points_used;
-  detection.points_skipped = grid.points_skipped;
-  const Descriptor descriptor = makeDescriptor(grid, config);
-  detection.descriptor_seconds = secondsSince(t0);
-  const auto t1 = Clock::now();
-  detection.query = database_.query(descriptor, info);
-  detection.query_seconds = secondsSince(t1);
-  if (descriptor.empty() || !config.verification.enabled) return detection;
-  queryViewpoints(points, info, &detection);
+  Described described;
+  describeAndQuery(raw, info, &described, &detection);
+  if (described.descriptor.empty() || !database_.config().verification.enabled) return detection;
   const auto t2 = Clock::now();
-  verifyCandidates(prepareCloud(points, verification_), descriptor, level, false, &detection);
+  verifyCandidates(prepareCloud(described.points, verification_), described.descriptor, described.level, false,
+                   &detection);
   detection.verify_seconds = secondsSince(t2);
   return detection;
 }

@@ -123,6 +123,17 @@ std::vector<scan_context_loop::LoopClosure> Harness::loops() const {
   return loops_;
 }
 
+bool Harness::waitForKeyframes(std::size_t count, double seconds) const {
+  const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(seconds);
+  while (ros::ok() && ros::WallTime::now() < end) {
+    std::size_t shown = 0;
+    for (const auto& m : shownMarkers().markers) shown += m.ns == "keyframes" ? m.points.size() : 0;
+    if (shown >= count) return true;
+    ros::WallDuration(0.1).sleep();
+  }
+  return false;
+}
+
 std::vector<geometry_msgs::PoseWithCovarianceStamped> Harness::loopPairs() const {
   std::lock_guard<std::mutex> lock(mutex_);
   return pairs_;

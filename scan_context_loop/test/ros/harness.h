@@ -34,6 +34,9 @@ class Harness {
   void publish(const Drive& drive, std::size_t first, std::size_t last, double rate);
   /// The same with poses as tf (odom -> velodyne) and clouds registered in odom.
   void publishTfAndWorldClouds(const Drive& drive, double rate);
+  /// Waits until the markers show `count` keyframes (the worker has processed them); false after
+  /// `seconds`.
+  bool waitForKeyframes(std::size_t count, double seconds) const;
   /// Spins until no loop arrived for `quiet` seconds (at most `limit`).
   void settle(double quiet, double limit);
 

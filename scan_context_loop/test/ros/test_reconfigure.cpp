@@ -26,20 +26,6 @@ std::map<std::string, double> setNumber(const std::string& key, double value) {
   return in_force;
 }
 
-/// Waits until the markers show `count` keyframes: the worker has processed them all.
-bool waitForKeyframes(const Harness& harness, std::size_t count, double seconds) {
-  const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(seconds);
-  while (ros::ok() && ros::WallTime::now() < end) {
-    std::size_t shown = 0;
-    for (const auto& m : harness.shownMarkers().markers) {
-      if (m.ns == "keyframes") shown += m.points.size();
-    }
-    if (shown >= count) return true;
-    ros::WallDuration(0.1).sleep();
-  }
-  return false;
-}
-
 TEST(Reconfigure, ThresholdsChangeWhileRunningAndTheDatabaseStays) {
   ros::NodeHandle nh;
   Harness harness(nh);
@@ -57,7 +43,7 @@ TEST(Reconfigure, ThresholdsChangeWhileRunningAndTheDatabaseStays) {
 
   const Drive drive = blockDrive(true, 7);  // lap 2 drives lap 1 in reverse
   harness.publish(drive, 0, drive.truth.size(), 15.0);
-  ASSERT_TRUE(waitForKeyframes(harness, drive.truth.size(), 60.0));
+  ASSERT_TRUE(harness.waitForKeyframes(drive.truth.size(), 60.0));
   for (const auto& loop : harness.loops()) ADD_FAILURE() << "a loop at distance " << loop.distance << " under 1e-5";
 
   // The default again: the same drive a second time (later stamps) closes loops against both passes.

@@ -20,18 +20,6 @@ namespace scan_context_loop {
 namespace test {
 namespace {
 
-/// Spins until the markers of `harness` show `count` keyframes (the worker has processed them).
-bool waitForKeyframes(const Harness& harness, std::size_t count, double seconds) {
-  const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(seconds);
-  while (ros::ok() && ros::WallTime::now() < end) {
-    std::size_t shown = 0;
-    for (const auto& m : harness.shownMarkers().markers) shown += m.ns == "keyframes" ? m.points.size() : 0;
-    if (shown >= count) return true;
-    ros::WallDuration(0.1).sleep();
-  }
-  return false;
-}
-
 /// Expects `pose` (T_map<-sensor) to be keyframe k's true pose within 0.3 m and 1 deg.
 void expectAt(const Drive& drive, int k, const geometry_msgs::Pose& pose) {
   ASSERT_GE(k, 0);
@@ -58,7 +46,7 @@ TEST(Relocalization, SaveResetLoadThenRelocalizeASecondRunInTheSavedMap) {
   const Drive drive = blockDrive(true, 7);
   const std::size_t n = drive.truth.size();
   a.publish(drive, 0, n, 15.0);
-  ASSERT_TRUE(waitForKeyframes(a, n, 60.0));
+  ASSERT_TRUE(a.waitForKeyframes(n, 60.0));
 
   const std::string path = "/tmp/scan_context_loop_relocalization_" + std::to_string(getpid()) + ".scdb";
   SaveDatabase save;
@@ -92,7 +80,7 @@ TEST(Relocalization, SaveResetLoadThenRelocalizeASecondRunInTheSavedMap) {
   const std::size_t before = a.loops().size();
   a.base += ros::Duration(drive.times.back() + 10.0);
   a.publish(drive, 0, n / 2, 15.0);
-  ASSERT_TRUE(waitForKeyframes(a, n + n / 2, 60.0));
+  ASSERT_TRUE(a.waitForKeyframes(n + n / 2, 60.0));
   a.settle(3.0, 20.0);
   std::size_t into_loaded = 0;
   const auto loops = a.loops();
@@ -111,7 +99,7 @@ TEST(Relocalization, SaveResetLoadThenRelocalizeASecondRunInTheSavedMap) {
     b.odom_pub.publish(odom);
     rate.sleep();
   }
-  ASSERT_TRUE(waitForKeyframes(b, n + n / 2, 60.0));
+  ASSERT_TRUE(b.waitForKeyframes(n + n / 2, 60.0));
   b.settle(3.0, 20.0);
   {
     std::lock_guard<std::mutex> lock(mutex);

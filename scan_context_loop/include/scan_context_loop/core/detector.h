@@ -6,6 +6,9 @@
 #include <string>
 #include <vector>
 
+#include <pcl/point_cloud.h>
+#include <pcl/point_types.h>
+
 #include "scan_context_loop/core/consistency.h"
 #include "scan_context_loop/core/database.h"
 #include "scan_context_loop/core/descriptor.h"
@@ -98,6 +101,16 @@ class LoopDetector {
   const ConsistencyFilter& consistency() const { return consistency_; }
 
  private:
+  /// A cloud levelled (`levelled` holds the rotated points `points` views, when it was turned) and
+  /// described.
+  struct Described {
+    Eigen::Matrix3f level = Eigen::Matrix3f::Identity();
+    pcl::PointCloud<pcl::PointXYZ> levelled;
+    PointView points;
+    Descriptor descriptor;
+  };
+  /// Levels and describes `raw`, then queries the database from every viewpoint into detection->query.
+  void describeAndQuery(const PointView& raw, const KeyframeInfo& info, Described* out, Detection* detection);
   /// Searches from the virtual viewpoints too and merges their candidates into detection->query.
   void queryViewpoints(const PointView& points, const KeyframeInfo& info, Detection* detection);
   /// Registers detection->query's candidates onto `cloud` (levelled by `level`; `query` its descriptor)
