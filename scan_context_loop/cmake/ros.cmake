@@ -106,6 +106,18 @@ if(CATKIN_ENABLE_TESTING)
     add_rostest(${PROJECT_BINARY_DIR}/test/ros/${stack}.test
       DEPENDENCIES test_ros_stacks scan_context_loop_${stack}_bag loop_closure_node scan_context_loop_nodelet)
   endforeach()
+  # One bag played again and again (rosbag play -l): each pass a session that closes loops into the first.
+  file(GENERATE OUTPUT ${PROJECT_BINARY_DIR}/test/ros/fast_lio_replayed.test CONTENT
+"<launch>
+  <include file=\"$(find scan_context_loop)/test/ros/stack_bag.test\">
+    <arg name=\"stack\" value=\"fast_lio\"/>
+    <arg name=\"bag\" value=\"${bags}/fast_lio.bag\"/>
+    <arg name=\"replay\" value=\"true\"/>
+  </include>
+</launch>
+")
+  add_rostest(${PROJECT_BINARY_DIR}/test/ros/fast_lio_replayed.test
+    DEPENDENCIES test_ros_stacks scan_context_loop_fast_lio_bag loop_closure_node scan_context_loop_nodelet)
 endif()
 
 if(CATKIN_ENABLE_TESTING)
