@@ -13,6 +13,7 @@ add_library(scan_context_loop_core
   src/core/pcl_refinement.cpp
   src/core/verification.cpp
   src/core/consistency.cpp
+  src/core/loop_tracking.cpp
   src/core/levelling.cpp
   src/core/crc32.cpp
   src/core/file_io.cpp
@@ -45,6 +46,7 @@ if(CATKIN_ENABLE_TESTING)
     test/core/test_verification.cpp
     test/core/test_free_space.cpp
     test/core/test_consistency.cpp
+    test/core/test_loop_tracking.cpp
     test/core/test_viewpoints.cpp
     test/core/test_levelling.cpp
     test/core/test_keyframes.cpp

@@ -52,11 +52,15 @@ void ConsistencyFilter::confirm(Entry* entry, const Database& database, std::vec
   entry->loop.verified = true;
   entry->loop.verification.accepted = true;
   confirmed->push_back(entry->loop);
-  if (entry->loop.verification.needs_support) return;
+  confirmWeak(*entry, database, confirmed);
+}
+
+void ConsistencyFilter::confirmWeak(const Entry& entry, const Database& database, std::vector<Loop>* confirmed) {
+  if (entry.loop.verification.needs_support) return;
   // A confirmed loop that passed in full confirms the waiting loops that need support and agree with it.
   for (Entry& other : recent_) {
-    if (other.confirmed || !other.loop.verification.needs_support || !near(other, *entry)) continue;
-    if (!loopsAgree(other.loop, entry->loop, database, nullptr, nullptr, true)) continue;
+    if (other.confirmed || !other.loop.verification.needs_support || !near(other, entry)) continue;
+    if (!loopsAgree(other.loop, entry.loop, database, nullptr, nullptr, true)) continue;
     ++other.loop.support;
     other.confirmed = true;
     other.loop.verified = true;
@@ -95,6 +99,22 @@ void ConsistencyFilter::offer(const Loop& loop, const Database& database, std::v
   if (!weak && !added.confirmed && added.loop.support >= config_.consistency_min_support) {
     confirm(&added, database, confirmed);
   }
+}
+
+void ConsistencyFilter::add(const Loop& loop, const Database& database, std::vector<Loop>* confirmed) {
+  Entry entry;
+  entry.loop = loop;
+  entry.confirmed = true;
+  recent_.push_back(entry);
+  const Entry& added = recent_.back();
+  if (added.loop.verification.needs_support) return;  // it supports nothing
+  for (std::size_t i = 0; i + 1 < recent_.size(); ++i) {
+    Entry& other = recent_[i];
+    if (other.confirmed || other.loop.verification.needs_support || !near(other, added)) continue;
+    if (!loopsAgree(added.loop, other.loop, database)) continue;
+    if (++other.loop.support >= config_.consistency_min_support) confirm(&other, database, confirmed);
+  }
+  confirmWeak(added, database, confirmed);
 }
 
 std::size_t ConsistencyFilter::waiting() const {

@@ -19,6 +19,7 @@ Loop VerifiedCandidate::toLoop(std::size_t query) const {
   loop.query = query;
   loop.match = index;
   loop.viewpoint = viewpoint;
+  loop.tracked = tracked;
   loop.alignment = alignment;
   loop.verified = result.accepted;
   loop.verification = result;
@@ -100,7 +101,9 @@ Detection LoopDetector::process(const PointView& raw, const KeyframeInfo& info) 
   if (config.verification.enabled) {
     const auto start = Clock::now();
     VoxelCloud cloud = prepareCloud(points, verification_);
-    verifyCandidates(cloud, database_.keyframe(detection.index).descriptor, level, true, &detection);
+    const std::optional<TrackedCandidate> tracked = tracker_.predict(database_, detection.index, detection.query.eligible);
+    verifyCandidates(cloud, database_.keyframe(detection.index).descriptor, level, true,
+                     tracked ? &*tracked : nullptr, &detection);
     store_.add(detection.index, std::move(cloud));
     detection.verify_seconds = secondsSince(start);
   }
@@ -139,7 +142,7 @@ Detection LoopDetector::locate(const PointView& raw) {
   if (described.descriptor.empty() || !database_.config().verification.enabled) return detection;
   const auto t2 = Clock::now();
   verifyCandidates(prepareCloud(described.points, verification_), described.descriptor, described.level, false,
-                   &detection);
+                   nullptr, &detection);
   detection.verify_seconds = secondsSince(t2);
   return detection;
 }
@@ -214,36 +217,52 @@ std::vector<Eigen::Isometry3d> LoopDetector::hypotheses(const Candidate& c, cons
 }
 
 void LoopDetector::verifyCandidates(const VoxelCloud& cloud, const Descriptor& query, const Eigen::Matrix3f& level,
-                                    bool query_stored, Detection* detection) {
+                                    bool query_stored, const TrackedCandidate* tracked, Detection* detection) {
   const Config& config = database_.config();
   detection->verifications_enabled = true;
   verifier_.setQuery(cloud);
+  if (tracked != nullptr) {
+    Candidate c;
+    c.index = tracked->index;
+    c.alignment = align(query, database_.keyframe(c.index).descriptor, config);
+    // The guess in the levelled frames the registration data are in.
+    const Eigen::Matrix3d lq = level.cast<double>(), lm = levelling_[c.index].cast<double>();
+    Eigen::Isometry3d guess = Eigen::Isometry3d::Identity();
+    guess.linear() = lq * tracked->guess.linear() * lm.transpose();
+    guess.translation() = lq * tracked->guess.translation();
+    if (verifyOne(c, true, {guess}, level, query_stored, detection)) return;
+  }
   int tried = 0;
   for (const Candidate& c : detection->query.candidates) {
     if (tried >= config.verification.max_candidates || !(c.alignment.distance < config.verification.threshold)) break;
+    if (tracked != nullptr && c.index == tracked->index) continue;  // registered from a better guess already
     ++tried;
-    VerifiedCandidate v;
-    v.index = c.index;
-    v.alignment = c.alignment;
-    v.viewpoint = c.viewpoint;
-    const VoxelCloud* stored = store_.get(c.index);
-    if (stored == nullptr) {
-      v.result.reason = "unverifiable: the candidate's cloud was dropped to stay within verify_max_bytes";
-    } else if (config.verification.submap > 0) {
-      v.result = verifier_.verify(submapOf(c.index, detection->index), hypotheses(c, query));
-    } else {
-      v.result = verifier_.verify(*stored, hypotheses(c, query));
-    }
-    toSensorFrames(level, c.index, &v.result);
-    if (query_stored && (v.result.accepted || v.result.needs_support)) {
-      checkOdometryRotation(detection->index, c.index, &v.result);
-    }
-    detection->verifications.push_back(v);
-    if (v.result.accepted) {
-      detection->verified = true;
-      break;
-    }
+    if (verifyOne(c, false, hypotheses(c, query), level, query_stored, detection)) return;
   }
+}
+
+bool LoopDetector::verifyOne(const Candidate& c, bool tracked, const std::vector<Eigen::Isometry3d>& guesses,
+                             const Eigen::Matrix3f& level, bool query_stored, Detection* detection) {
+  VerifiedCandidate v;
+  v.index = c.index;
+  v.alignment = c.alignment;
+  v.viewpoint = c.viewpoint;
+  v.tracked = tracked;
+  const VoxelCloud* stored = store_.get(c.index);
+  if (stored == nullptr) {
+    v.result.reason = "unverifiable: the candidate's cloud was dropped to stay within verify_max_bytes";
+  } else if (database_.config().verification.submap > 0) {
+    v.result = verifier_.verify(submapOf(c.index, detection->index), guesses);
+  } else {
+    v.result = verifier_.verify(*stored, guesses);
+  }
+  toSensorFrames(level, c.index, &v.result);
+  if (query_stored && (v.result.accepted || v.result.needs_support)) {
+    checkOdometryRotation(detection->index, c.index, &v.result);
+  }
+  detection->verifications.push_back(v);
+  detection->verified = v.result.accepted;
+  return v.result.accepted;
 }
 
 VoxelCloud LoopDetector::submapOf(std::size_t index, std::size_t query) const {
@@ -330,12 +349,21 @@ void LoopDetector::decide(Detection* detection) {
     }
   }
   if (chosen == nullptr) return;
-  const Loop loop = chosen->toLoop(detection->index);
-  if (check) {
-    consistency_.offer(loop, database_, &detection->loops);
-  } else {
+  Loop loop = chosen->toLoop(detection->index);
+  if (!check) {
     detection->loops.push_back(loop);
+  } else if (tracker_.agrees(loop, database_, loop.verification.needs_support)) {
+    // It lands where the revisit's last confirmed loop and the odometry put it (strictly, for one that
+    // needs support): that loop is its support. A tracked loop that lands elsewhere waits like any other.
+    loop.verified = true;
+    loop.verification.accepted = true;
+    loop.support = 1;
+    detection->loops.push_back(loop);
+    consistency_.add(loop, database_, &detection->loops);
+  } else {
+    consistency_.offer(loop, database_, &detection->loops);
   }
+  for (const Loop& reported : detection->loops) tracker_.anchor(reported);
 }
 
 }  // namespace scan_context_loop

@@ -261,6 +261,9 @@ std::vector<Setting<Config>> makeConfigSettings() {
                          "cycle translation tolerance [m]")),
       live(doubleSetting<Cfg>("consistency_rotation", C(consistency_rotation), positive(), "cycle rotation tolerance [deg]")),
       live(doubleSetting<Cfg>("consistency_drift", C(consistency_drift), atLeast(0), "tolerance per metre of path")),
+      // tracking
+      live(doubleSetting<Cfg>("track_distance", C(track_distance), atLeast(0),
+                              "odometry path a confirmed loop predicts the next keyframes' matches over [m] (0: off)")),
   };
 }
 

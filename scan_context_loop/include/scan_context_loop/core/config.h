@@ -250,6 +250,14 @@ struct Config {
   double consistency_rotation = 2.0;
   double consistency_drift = 0.05;
 
+  // ---- loop tracking (loop_tracking.h) ----------------------------------------------------------
+  /// With verify: after a confirmed loop, each following keyframe within this much odometry path [m]
+  /// of that loop's query also tries the keyframe (of the loop's match session) nearest to where the
+  /// loop and the odometry put it, registered from that pose guess, before the descriptor's candidates.
+  /// Such a loop is reported when it agrees with the confirmed one (loopsAgree) and then carries the
+  /// track on; 0 disables tracking. Chosen in the README, "Loop tracking".
+  double track_distance = 30.0;
+
   /// Human-readable problems, empty when the configuration is usable.
   std::vector<std::string> validate() const;
 

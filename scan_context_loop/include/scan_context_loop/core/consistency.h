@@ -27,6 +27,9 @@ struct Loop {
   VerificationResult verification;
   /// Other loops that agreed with it (consistency check), when it was reported.
   int support = 0;
+  /// Found by loop tracking (loop_tracking.h): the match is where the last confirmed loop and the
+  /// odometry put the query, registered from that guess, not a descriptor candidate.
+  bool tracked = false;
 
   /// T_query<-match: the registered pose when verified, else the descriptor prior
   /// (priorPose(alignment.yaw, viewpoint)).
@@ -60,6 +63,11 @@ class ConsistencyFilter {
   /// waiting ones first and then possibly itself, are appended to `confirmed`.
   void offer(const Loop& loop, const Database& database, std::vector<Loop>* confirmed);
 
+  /// Takes a loop the caller has confirmed and reported already (one that agrees with the last confirmed
+  /// loop of a revisit, LoopTracker): like a confirmed loop it supports the waiting ones (unless it
+  /// needed support itself); those it confirms are appended to `confirmed`.
+  void add(const Loop& loop, const Database& database, std::vector<Loop>* confirmed);
+
   /// Ends the wait of the loops too old for keyframe `query` to support; the unconfirmed ones are
   /// appended to `dropped`. Call once per keyframe, before offer().
   void advance(std::size_t query, std::vector<Loop>* dropped);
@@ -80,6 +88,9 @@ class ConsistencyFilter {
   /// Reports `entry` as confirmed; a loop that passed verification in full then confirms the waiting
   /// loops that need support (VerificationResult::needs_support) and agree with it.
   void confirm(Entry* entry, const Database& database, std::vector<Loop>* confirmed);
+  /// The waiting loops that need support and agree strictly with `entry`, a confirmed loop that passed
+  /// in full, are confirmed.
+  void confirmWeak(const Entry& entry, const Database& database, std::vector<Loop>* confirmed);
   Config config_;
   std::deque<Entry> recent_;  // loops whose query is within the window, oldest first
 };

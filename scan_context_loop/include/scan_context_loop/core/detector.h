@@ -12,6 +12,7 @@
 #include "scan_context_loop/core/consistency.h"
 #include "scan_context_loop/core/database.h"
 #include "scan_context_loop/core/descriptor.h"
+#include "scan_context_loop/core/loop_tracking.h"
 #include "scan_context_loop/core/prior_sessions.h"
 #include "scan_context_loop/core/verification.h"
 
@@ -22,6 +23,7 @@ struct VerifiedCandidate {
   std::size_t index = 0;  ///< candidate keyframe number
   Alignment alignment;    ///< its descriptor alignment (distance, yaw prior)
   Eigen::Vector2d viewpoint = Eigen::Vector2d::Zero();  ///< the viewpoint it was found from
+  bool tracked = false;   ///< proposed by loop tracking (Loop::tracked), not by the descriptor
   VerificationResult result;
 
   /// The loop it makes with query keyframe `query` (verified when the registration accepted it).
@@ -113,11 +115,16 @@ class LoopDetector {
   void describeAndQuery(const PointView& raw, const KeyframeInfo& info, Described* out, Detection* detection);
   /// Searches from the virtual viewpoints too and merges their candidates into detection->query.
   void queryViewpoints(const PointView& points, const KeyframeInfo& info, Detection* detection);
-  /// Registers detection->query's candidates onto `cloud` (levelled by `level`; `query` its descriptor)
-  /// until one is accepted. detection->index is the query's keyframe number; `query_stored` says whether
-  /// the query is in the database (then the odometry rotation check runs).
+  /// Registers the `tracked` candidate (loop tracking; may be null), then detection->query's candidates
+  /// onto `cloud` (levelled by `level`; `query` its descriptor) until one is accepted. detection->index is
+  /// the query's keyframe number; `query_stored` says whether the query is in the database (then the
+  /// odometry rotation check runs).
   void verifyCandidates(const VoxelCloud& cloud, const Descriptor& query, const Eigen::Matrix3f& level,
-                        bool query_stored, Detection* detection);
+                        bool query_stored, const TrackedCandidate* tracked, Detection* detection);
+  /// Registers candidate `c` from `guesses` (T_query<-match in the levelled frames) and appends the
+  /// outcome to detection->verifications; returns whether it was accepted.
+  bool verifyOne(const Candidate& c, bool tracked, const std::vector<Eigen::Isometry3d>& guesses,
+                 const Eigen::Matrix3f& level, bool query_stored, Detection* detection);
   /// Registration guesses for a candidate (T_query<-match): its alignment, then other yaw hypotheses.
   std::vector<Eigen::Isometry3d> hypotheses(const Candidate& candidate, const Descriptor& query) const;
   static constexpr int kYawHypotheses = 3;
@@ -137,6 +144,7 @@ class LoopDetector {
   Verifier verifier_;
   std::vector<Eigen::Matrix3f> levelling_;  // L_R_sensor per keyframe
   ConsistencyFilter consistency_;
+  LoopTracker tracker_;
 };
 
 /// The virtual viewpoints of Config::lateral_offset_step / lateral_offset_count along the sensor's y
