@@ -2,13 +2,21 @@
 # scan_context_common); its tool is in tools.cmake.
 find_package(yaml-cpp REQUIRED)
 add_library(scan_context_loop_eval src/eval/metrics.cpp src/eval/relocalization.cpp src/eval/config_file.cpp
-  src/eval/evaluation.cpp)
+  src/eval/sequence.cpp src/eval/prior_map.cpp src/eval/evaluation.cpp)
 target_include_directories(scan_context_loop_eval PUBLIC include ${YAML_CPP_INCLUDE_DIR})
 target_link_libraries(scan_context_loop_eval PUBLIC scan_context_loop_core ${scan_context_common_LIBRARIES} yaml-cpp)
 
 if(CATKIN_ENABLE_TESTING)
+  # Simulated drives written as KITTI-format sequences, for the evaluator's tests.
+  add_library(scan_context_loop_eval_sequences STATIC test/common/sim_drive.cpp test/common/written_sequence.cpp)
+  target_include_directories(scan_context_loop_eval_sequences PRIVATE ${GTEST_INCLUDE_DIRS})
+  target_link_libraries(scan_context_loop_eval_sequences scan_context_loop_eval ${scan_context_sim_LIBRARIES})
+
   catkin_add_gtest(test_eval test/test_main.cpp test/eval/test_metrics.cpp test/eval/test_evaluation.cpp
-    test/eval/test_relocalization.cpp test/common/sim_drive.cpp)
-  target_link_libraries(test_eval scan_context_loop_eval ${scan_context_sim_LIBRARIES})
+    test/eval/test_relocalization.cpp)
+  target_link_libraries(test_eval scan_context_loop_eval_sequences)
   target_compile_definitions(test_eval PRIVATE SCL_SHARED_DATA="${SCL_SHARED_DATA}" SCL_PACKAGE_DIR="${SCL_PACKAGE_DIR}")
+  # A prior map given as a saved database: its own binary, a few seconds.
+  catkin_add_gtest(test_eval_database_prior test/test_main.cpp test/eval/test_database_prior.cpp)
+  target_link_libraries(test_eval_database_prior scan_context_loop_eval_sequences)
 endif()

@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "scan_context_loop/eval/config_file.h"
+#include "scan_context_loop/eval/prior_map.h"
 #include "scan_context_loop/eval/evaluation.h"
 #include "scan_context_common/cli.h"
 
@@ -16,14 +17,15 @@ int main(int argc, char** argv) {
   eval::SequenceOptions options;
   double radius = 5.0;
   std::vector<std::string> overrides;
-  std::string config_file, prior_dir;
+  std::string config_file, prior_path, prior_truth, save_database;
+  bool save_clouds = false;
   scl::cli::Parser cli("scan_context_evaluate",
                        "Runs the Scan Context detector frame by frame over a KITTI-format sequence (velodyne/*.bin, "
                        "poses.txt, calib.txt, optional times.txt and odom_poses.txt) through the node's own code "
                        "(KeyframePipeline), and writes OUT_DIR/results.csv, metrics.json and trajectory.csv (scripts/evaluate adds pr.png and "
                        "map.png); with verification also verifications.csv, one row per candidate registered, scored "
-                       "against the truth; with --prior also relocalization.csv. Prints a summary, and last the line "
-                       "`output: OUT_DIR`.");
+                       "against the truth; with --prior also relocalization.csv; with --save-database the run's "
+                       "database. Prints a summary, and last the line `output: OUT_DIR`.");
   cli.positional("SEQUENCE_DIR", "the KITTI-format sequence", &sequence_dir)
       .positional("OUT_DIR", "where the results go (created with its parents when missing)", &out_dir)
       .option("--config", "FILE",
@@ -38,14 +40,25 @@ int main(int argc, char** argv) {
       .option("--revisit-radius", "R", "ground-truth revisit radius [m] (default 5)", &radius)
       .flag("--truth-odometry", "feed the true poses even when odom_poses.txt exists",
             [&options] { options.use_odometry_file = false; })
-      .option("--prior", "DIR",
+      .option("--prior", "DIR|FILE",
               "relocalization in a prior map: run DIR's keyframes (all its frames, the same keyframe spacing and "
-              "odometry source) first as session 0, then SEQUENCE_DIR's as a new session, and score "
-              "SEQUENCE_DIR's loops into DIR's keyframes too (metrics.json \"relocalization\", "
-              "relocalization.csv). Both poses.txt must be in one world frame, as scripts/simulate --session 2 "
-              "writes them",
-              &prior_dir);
+              "odometry source) first as session 0, or load the database FILE (needs --prior-truth), then "
+              "SEQUENCE_DIR's as a new session, and score SEQUENCE_DIR's loops into the prior's keyframes too "
+              "(metrics.json \"relocalization\", relocalization.csv). Both poses.txt must be in one world frame, "
+              "as scripts/simulate --session 2 writes them",
+              &prior_path)
+      .option("--prior-truth", "DIR",
+              "with a database --prior: the sequence it was built from; each keyframe's tag (its frame index, "
+              "as --save-database writes it) picks its true pose from DIR's poses.txt and calib.txt",
+              &prior_truth)
+      .option("--save-database", "FILE",
+              "after the run, save the pipeline's database (the prior's keyframes too) to FILE, the node's "
+              "format (~load_database, database_load reads it); tags are frame indices",
+              &save_database)
+      .flag("--save-clouds", "with --save-database: include the registration data, so that loaded keyframes "
+            "can be verified", &save_clouds);
   if (const int status = cli.parse(argc, argv); status >= 0) return status;
+  if (save_clouds && save_database.empty()) return cli.fail("--save-clouds goes with --save-database FILE");
   if (!config_file.empty() && !eval::loadConfigFile(config_file, &config, &error)) {
     std::fprintf(stderr, "scan_context_evaluate: %s\n", error.c_str());
     return 2;
@@ -68,17 +81,22 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "scan_context_evaluate: %s\n", error.c_str());
     return 1;
   }
-  eval::Sequence prior;
-  if (!prior_dir.empty()) {
-    eval::SequenceOptions whole = options;
-    whole.first = 0;
-    whole.last = -1;
-    if (!eval::loadSequence(prior_dir, whole, &prior, &error)) {
-      std::fprintf(stderr, "scan_context_evaluate: --prior %s\n", error.c_str());
-      return 1;
-    }
+  eval::EvaluationOptions run;
+  run.revisit_radius = radius;
+  run.save_database = save_database;
+  run.save_clouds = save_clouds;
+  eval::PriorMap prior;
+  if (!eval::loadPriorMap(prior_path, prior_truth, options, config, &prior, &error)) {
+    std::fprintf(stderr, "scan_context_evaluate: %s\n", error.c_str());
+    return 1;
   }
-  const eval::Evaluation result = eval::evaluate(sequence, config, radius, prior_dir.empty() ? nullptr : &prior);
+  if (prior.kind == eval::PriorMap::Kind::kSequence) run.prior = &prior.sequence;
+  if (prior.kind == eval::PriorMap::Kind::kDatabase) run.prior_database = &prior.database;
+  eval::Evaluation result;
+  if (!eval::evaluate(sequence, config, run, &result, &error)) {
+    std::fprintf(stderr, "scan_context_evaluate: %s\n", error.c_str());
+    return 1;
+  }
   for (std::size_t i = 0; i < result.errors.size() && i < 5; ++i) {
     std::fprintf(stderr, "scan_context_evaluate: skipped %s\n", result.errors[i].c_str());
   }
@@ -122,7 +140,7 @@ int main(int argc, char** argv) {
     const eval::RelocalizationMetrics& r = result.relocalization;
     std::printf("relocalization in %s (%zu keyframes): %zu of %zu query keyframes at a prior place (R = %.1f m); "
                 "loops into the prior: precision %.3f, recall %.3f (%zu TP, %zu FP)\n",
-                prior_dir.c_str(), r.prior_keyframes, r.prior_places, r.queries, radius, r.precision, r.recall,
+                result.prior_source.c_str(), r.prior_keyframes, r.prior_places, r.queries, radius, r.precision, r.recall,
                 r.true_positives, r.false_positives);
     std::printf("relocalization pose error of true ones: translation %.3f m median / %.3f p90, yaw %.3f deg median "
                 "/ %.3f p90\n",
@@ -135,6 +153,9 @@ int main(int argc, char** argv) {
     } else {
       std::printf("no correct relocalization\n");
     }
+  }
+  if (!save_database.empty()) {
+    std::printf("database: %s (%s registration data)\n", save_database.c_str(), save_clouds ? "with" : "without");
   }
   std::printf("output: %s\n", out_dir.c_str());
   return 0;

@@ -2,11 +2,12 @@
 
 #include <cmath>
 #include <fstream>
-#include <sys/stat.h>
 
 #include "scan_context_loop/core/pcl_adapters.h"
 #include "scan_context_loop/core/alignment.h"
+#include "scan_context_loop/core/database_file.h"
 #include "scan_context_loop/core/keyframes.h"
+#include "scan_context_loop/eval/prior_map.h"
 #include "scan_context_common/kitti_io.h"
 
 namespace scan_context_loop {
@@ -14,86 +15,47 @@ namespace eval {
 
 namespace {
 
-bool exists(const std::string& path) {
-  struct stat st;
-  return stat(path.c_str(), &st) == 0;
-}
-
 double yawOf(const Eigen::Isometry3d& t) { return std::atan2(t(1, 0), t(0, 0)); }
 
 constexpr double kConstraintMetres = 1.0, kConstraintDegrees = 2.0;
 
-}  // namespace
-
-bool loadSequence(const std::string& dir, const SequenceOptions& options, Sequence* s, std::string* error) {
-  s->dir = dir;
-  std::vector<Eigen::Isometry3d> camera, odom_camera;
-  Eigen::Isometry3d tr;
-  if (!kitti::readPoses(dir + "/poses.txt", &camera, error)) return false;
-  if (!kitti::readCalibTr(dir + "/calib.txt", &tr, error)) return false;
-  std::vector<double> times;
-  if (exists(dir + "/times.txt") && !kitti::readTimes(dir + "/times.txt", &times, error)) return false;
-  const auto truth = kitti::lidarPoses(camera, tr);
-  std::vector<Eigen::Isometry3d> odom = truth;
-  s->odometry_from_file = false;
-  if (options.use_odometry_file && exists(dir + "/odom_poses.txt")) {
-    if (!kitti::readPoses(dir + "/odom_poses.txt", &odom_camera, error)) return false;
-    if (odom_camera.size() != camera.size()) {
-      *error = dir + "/odom_poses.txt has " + std::to_string(odom_camera.size()) + " poses, poses.txt " +
-               std::to_string(camera.size());
-      return false;
-    }
-    odom = kitti::lidarPoses(odom_camera, tr);
-    s->odometry_from_file = true;
-  }
-  const int n = static_cast<int>(truth.size());
-  const int first = std::max(0, options.first);
-  const int last = options.last < 0 ? n - 1 : std::min(options.last, n - 1);
-  double travelled = 0.0;
-  int previous = -1;
-  for (int f = first; f <= last; ++f) {
-    if (f > first) travelled += (truth[f].translation() - truth[f - 1].translation()).norm();
-    if (previous >= 0 && travelled < options.keyframe_spacing) continue;
-    if (!exists(kitti::scanPath(dir, f))) {
-      ++s->missing_scans;
-      continue;
-    }
-    s->frames.push_back(f);
-    s->truth.push_back(truth[f]);
-    s->odometry.push_back(odom[f]);
-    s->stamps.push_back(f < static_cast<int>(times.size()) ? times[f] : 0.1 * f);
-    travelled = 0.0;
-    previous = f;
-  }
-  if (s->frames.empty()) {
-    *error = dir + ": no scan found in velodyne/ for the selected frames";
-    return false;
-  }
-  return true;
-}
-
-namespace {
-
-/// Feeds keyframes through the pipeline and scores the query sequence's: the prior's (when given) come
-/// first, as session 0, and only build the map.
+/// Feeds keyframes through the pipeline and scores the query sequence's. A prior map (when given) comes
+/// first, as session 0: a prior sequence's keyframes fed through the pipeline, or a saved database's
+/// joining it; it is not scored.
 class Run {
  public:
-  Run(const Config& config, double revisit_radius, const Sequence* prior, Evaluation* e)
-      : pipeline_(config), radius_(revisit_radius), prior_(prior), e_(*e) {}
+  Run(const Config& config, double revisit_radius, Evaluation* e)
+      : pipeline_(config), radius_(revisit_radius), e_(*e) {}
 
   /// The prior's keyframes, then a new session.
-  void buildPriorMap() {
-    for (std::size_t k = 0; k < prior_->frames.size(); ++k) {
+  void buildPriorMap(const Sequence& prior) {
+    for (std::size_t k = 0; k < prior.frames.size(); ++k) {
       pcl::PointCloud<pcl::PointXYZI> cloud;
-      const Detection d = feed(*prior_, k, &cloud);
-      if (d.accepted) keyframes_.push_back({prior_, k});
+      const Detection d = feed(prior, k, &cloud);
+      if (d.accepted) keyframes_.push_back({&prior, k});
     }
-    prior_count_ = keyframes_.size();
+    priorMapBuilt();
     pipeline_.startSession();
+  }
+
+  /// The database's keyframes, as saved (the next keyframe begins a new session).
+  bool loadPriorMap(DatabasePrior* prior, std::string* error) {
+    if (!pipeline_.appendSessions(std::move(prior->sessions), error)) {
+      *error = prior->path + ": " + *error;
+      return false;
+    }
+    const Sequence& s = prior->keyframes;
+    for (std::size_t k = 0; k < s.frames.size(); ++k) {
+      keyframes_.push_back({&s, k});
+      positions_.push_back(s.truth[k].translation());
+    }
+    priorMapBuilt();
+    return true;
   }
 
   void score(const Sequence& s);
   std::size_t priorKeyframes() const { return prior_count_; }
+  const KeyframePipeline& pipeline() const { return pipeline_; }
 
  private:
   struct Keyframe {
@@ -125,13 +87,17 @@ class Run {
     return d;
   }
 
+  void priorMapBuilt() {
+    prior_count_ = keyframes_.size();
+    has_prior_ = true;
+  }
   bool inPrior(std::size_t index) const { return index < prior_count_; }
   PriorOutcome priorOutcome(const Sequence& s, std::size_t k) const;
   void scoreLoops(const Sequence& s, std::size_t k, const Detection& d);
 
   KeyframePipeline pipeline_;
   double radius_;
-  const Sequence* prior_;
+  bool has_prior_ = false;
   Evaluation& e_;
   std::vector<Eigen::Vector3d> positions_;  // true positions of the accepted keyframes
   std::vector<Keyframe> keyframes_;         // detector index -> sequence and keyframe
@@ -210,7 +176,7 @@ void Run::score(const Sequence& s) {
     keyframes_.push_back({&s, k});
     outcome_of_.resize(d.index + 1, -1);
     prior_outcome_of_.resize(d.index + 1, -1);
-    if (prior_ != nullptr) {
+    if (has_prior_) {
       prior_outcome_of_[d.index] = static_cast<long>(e_.prior_outcomes.size());
       e_.prior_outcomes.push_back(priorOutcome(s, k));
     }
@@ -254,20 +220,47 @@ void Run::score(const Sequence& s) {
 
 }  // namespace
 
-Evaluation evaluate(const Sequence& s, const Config& config, double revisit_radius, const Sequence* prior) {
+bool evaluate(const Sequence& s, const Config& config, const EvaluationOptions& options, Evaluation* out,
+              std::string* error) {
+  if (options.prior != nullptr && options.prior_database != nullptr) {
+    *error = "a prior sequence and a prior database at once";
+    return false;
+  }
   Evaluation e;
-  Run run(config, revisit_radius, prior, &e);
-  if (prior != nullptr) run.buildPriorMap();
+  Run run(config, options.revisit_radius, &e);
+  if (options.prior != nullptr) {
+    run.buildPriorMap(*options.prior);
+    e.prior_source = options.prior->dir;
+  } else if (options.prior_database != nullptr) {
+    if (!run.loadPriorMap(options.prior_database, error)) return false;
+    e.prior_source = options.prior_database->path;
+    e.prior_truth = options.prior_database->truth_dir;
+  }
   run.score(s);
+  if (!options.save_database.empty()) {
+    SaveOptions save;
+    save.include_clouds = options.save_clouds;
+    if (!saveDatabase(run.pipeline().detector(), options.save_database, save, error)) return false;
+  }
   e.metrics = computeMetrics(e.outcomes, config.distance_threshold);
   e.verification = config.verification.enabled;
   if (e.verification) e.verified = computeVerifiedMetrics(e.outcomes);
-  e.has_prior = prior != nullptr;
+  e.has_prior = options.prior != nullptr || options.prior_database != nullptr;
   if (e.has_prior) {
-    e.prior_dir = prior->dir;
     e.relocalization = computeRelocalizationMetrics(e.prior_outcomes);
     e.relocalization.prior_keyframes = run.priorKeyframes();
   }
+  *out = std::move(e);
+  return true;
+}
+
+Evaluation evaluate(const Sequence& s, const Config& config, double revisit_radius, const Sequence* prior) {
+  EvaluationOptions options;
+  options.revisit_radius = revisit_radius;
+  options.prior = prior;
+  Evaluation e;
+  std::string error;
+  evaluate(s, config, options, &e, &error);  // cannot fail without a database to load or save
   return e;
 }
 
@@ -354,7 +347,9 @@ bool writeMetricsJson(const std::string& path, const Evaluation& e, const Sequen
   }
   if (e.has_prior) {
     const RelocalizationMetrics& r = e.relocalization;
-    out << ",\n  \"relocalization\": {\"prior\": \"" << e.prior_dir << "\", \"prior_keyframes\": " << r.prior_keyframes
+    out << ",\n  \"relocalization\": {\"prior\": \"" << e.prior_source << "\", ";
+    if (!e.prior_truth.empty()) out << "\"prior_truth\": \"" << e.prior_truth << "\", ";
+    out << "\"prior_keyframes\": " << r.prior_keyframes
         << ", \"queries\": " << r.queries << ", \"prior_places\": " << r.prior_places
         << ", \"true_positives\": " << r.true_positives << ", \"false_positives\": " << r.false_positives
         << ", \"precision\": " << r.precision << ", \"recall\": " << r.recall

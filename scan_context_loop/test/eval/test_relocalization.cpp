@@ -6,9 +6,8 @@
 #include <gtest/gtest.h>
 
 #include "scan_context_loop/eval/evaluation.h"
-#include "scan_context_sim/sequence_writer.h"
-#include "scan_context_sim/trajectory.h"
 #include "../common/sim_drive.h"
+#include "../common/written_sequence.h"
 
 namespace scan_context_loop {
 namespace eval {
@@ -16,23 +15,8 @@ namespace {
 
 std::string temp(const std::string& name) { return testing::TempDir() + "/scl_reloc_" + name; }
 
-/// Writes a drive in the KITTI layout with an odometry of its own that starts at the identity (as a run
-/// of its own does), and loads it back. `stamp_offset` is added to its times.
 Sequence written(const test::Drive& drive, const std::string& name, std::uint32_t seed, double stamp_offset) {
-  sim::SequenceData data;
-  data.truth = drive.truth;
-  for (double t : drive.times) data.times.push_back(t + stamp_offset);
-  data.world_clock = drive.world_clock - stamp_offset;
-  sim::DriftOptions drift;
-  drift.seed = seed;
-  data.odometry = sim::driftedOdometry(data.truth, drift);
-  const Eigen::Isometry3d origin = data.odometry.front().inverse();
-  for (Eigen::Isometry3d& pose : data.odometry) pose = origin * pose;
-  std::string error;
-  EXPECT_GT(sim::writeSequence(temp(name), drive.world, drive.sensor, data, 0.0, seed, 2, &error), 1000.0) << error;
-  Sequence sequence;
-  EXPECT_TRUE(loadSequence(temp(name), SequenceOptions(), &sequence, &error)) << error;
-  return sequence;
+  return test::writtenSequence(drive, temp(name), seed, stamp_offset);
 }
 
 const test::Sessions& sessions() {

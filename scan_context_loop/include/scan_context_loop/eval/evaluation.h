@@ -10,30 +10,11 @@
 #include "scan_context_loop/core/consistency.h"
 #include "scan_context_loop/eval/metrics.h"
 #include "scan_context_loop/eval/relocalization.h"
+#include "scan_context_loop/eval/sequence.h"
 #include "scan_context_loop/core/verification.h"
 
 namespace scan_context_loop {
 namespace eval {
-
-struct SequenceOptions {
-  double keyframe_spacing = 0.0;  ///< metres of true travel between keyframes; 0 = every frame
-  int first = 0, last = -1;       ///< frame window (last < 0: to the end)
-  bool use_odometry_file = true;  ///< feed odom_poses.txt to the detector when the sequence has one
-};
-
-/// The keyframes of a sequence: frame numbers, true and odometry LiDAR poses, stamps.
-struct Sequence {
-  std::string dir;
-  std::vector<int> frames;
-  std::vector<Eigen::Isometry3d> truth, odometry;
-  std::vector<double> stamps;
-  std::size_t missing_scans = 0;  ///< frames of the window skipped because their .bin is absent
-  bool odometry_from_file = false;
-};
-
-/// Reads poses.txt, calib.txt, times.txt (optional) and odom_poses.txt (optional), then selects the
-/// keyframes among the frames whose scan exists.
-bool loadSequence(const std::string& dir, const SequenceOptions& options, Sequence* sequence, std::string* error);
 
 /// One candidate that went through verification, scored against the truth (verifications.csv): what
 /// the acceptance thresholds are chosen on.
@@ -57,19 +38,39 @@ struct Evaluation {
   std::vector<std::string> errors;
   /// Every loop reported, in order, as the node publishes them (keyframe numbers in arrival order).
   std::vector<Loop> loops;
-  /// Evaluated after a prior sequence: each query keyframe against the prior map, and their scores.
+  /// Evaluated in a prior map: each query keyframe against the prior map, and their scores.
   bool has_prior = false;
-  std::string prior_dir;
+  std::string prior_source;  ///< the prior sequence's directory or the prior database's file
+  std::string prior_truth;   ///< with a database prior: the sequence whose poses.txt its tags index
   std::vector<PriorOutcome> prior_outcomes;
   RelocalizationMetrics relocalization;
 };
 
+struct DatabasePrior;  // prior_map.h
+
+struct EvaluationOptions {
+  double revisit_radius = 5.0;  ///< the ground-truth revisit radius [m] (isRevisit)
+  /// The prior map, at most one of the two: a sequence whose keyframes go through the pipeline first
+  /// (session 0, not scored), or a saved database (loadDatabasePrior) whose keyframes join it as they
+  /// were saved; its sessions are moved into the pipeline. Both truths must be in the query's world frame.
+  const Sequence* prior = nullptr;
+  DatabasePrior* prior_database = nullptr;
+  /// After the run, the pipeline's database is saved here (saveDatabase; empty: not saved), with the
+  /// registration data when `save_clouds`, so a mapping run can be kept and evaluated against later.
+  std::string save_database;
+  bool save_clouds = false;
+};
+
 /// Feeds every keyframe in order through KeyframePipeline (keyframes.h), the node's own code, and
-/// scores each query with the ground-truth protocol (isRevisit with `revisit_radius`). With a `prior`
-/// sequence, its keyframes go through the pipeline first (session 0, the prior map, not scored), then the
-/// sequence's as a new session; its queries are scored against every earlier keyframe, the prior's
-/// included, and against the prior map alone (Evaluation::relocalization). Both sequences' true poses
-/// must be in one world frame.
+/// scores each query with the ground-truth protocol (isRevisit with the revisit radius). In a prior map,
+/// the sequence's keyframes form a new session after the prior's; its queries are scored against every
+/// earlier keyframe, the prior's included, and against the prior map alone (Evaluation::relocalization).
+/// Returns false, `error` saying why, when the prior database does not join the pipeline or the
+/// database cannot be saved.
+bool evaluate(const Sequence& sequence, const Config& config, const EvaluationOptions& options,
+              Evaluation* evaluation, std::string* error);
+
+/// evaluate() without a database: with a `prior` sequence or none.
 Evaluation evaluate(const Sequence& sequence, const Config& config, double revisit_radius,
                     const Sequence* prior = nullptr);
 
