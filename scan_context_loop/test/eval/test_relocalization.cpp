@@ -86,6 +86,30 @@ TEST(Relocalization, TheQueryIsANewSessionEvenWhenItsStampsGoOn) {
   EXPECT_LT(e.relocalization.first_metres, 40.0);
 }
 
+TEST(Relocalization, LoopTrackingCarriesTheRevisitWhereTheDescriptorMisses) {
+  // The map searched alone (the node's mode relocalize). Without tracking, the keyframes whose descriptor
+  // the changed street spoiled go without a relocalization; with it, the confirmed loops before them
+  // and the odometry lead registration to their place.
+  const Sequence& query = written(sessions().second, "query", 12, 0.0);
+  Config config;
+  config.prior_sessions_only = true;
+  config.track_distance = 0.0;
+  const Evaluation plain = evaluate(query, config, 5.0, &prior());
+  config.track_distance = 30.0;
+  const Evaluation tracked = evaluate(query, config, 5.0, &prior());
+  EXPECT_EQ(plain.relocalization.false_positives, 0u);
+  EXPECT_EQ(tracked.relocalization.false_positives, 0u);
+  EXPECT_GT(tracked.relocalization.true_positives, plain.relocalization.true_positives);
+  EXPECT_GE(tracked.relocalization.recall, 0.9);
+  EXPECT_LT(tracked.relocalization.translation_error_median, 0.2);
+  EXPECT_LT(tracked.relocalization.yaw_error_median, 0.5);
+  // Every query keyframe that relocalized without tracking still does.
+  ASSERT_EQ(plain.prior_outcomes.size(), tracked.prior_outcomes.size());
+  for (std::size_t i = 0; i < plain.prior_outcomes.size(); ++i) {
+    if (plain.prior_outcomes[i].correct) EXPECT_TRUE(tracked.prior_outcomes[i].correct) << "query " << i;
+  }
+}
+
 TEST(Relocalization, WithoutAPriorNothingIsScoredAgainstOne) {
   const Evaluation e = evaluate(prior(), Config(), 5.0);
   EXPECT_FALSE(e.has_prior);

@@ -256,7 +256,7 @@ struct Config {
   /// loop and the odometry put it, registered from that pose guess, before the descriptor's candidates.
   /// Such a loop is reported when it agrees with the confirmed one (loopsAgree) and then carries the
   /// track on; 0 disables tracking. Chosen in the README, "Loop tracking".
-  double track_distance = 30.0;
+  double track_distance = 100.0;
 
   /// Human-readable problems, empty when the configuration is usable.
   std::vector<std::string> validate() const;
