@@ -17,6 +17,7 @@ add_library(scan_context_loop_core
   src/core/levelling.cpp
   src/core/crc32.cpp
   src/core/file_io.cpp
+  src/core/block_arena.cpp
   src/core/database_file.cpp
 )
 target_include_directories(scan_context_loop_core PUBLIC
@@ -58,6 +59,7 @@ if(CATKIN_ENABLE_TESTING)
     test/core/test_hard_revisits.cpp
     test/core/test_database_file.cpp
     test/core/test_file_io.cpp
+    test/core/test_block_arena.cpp
   )
   # The real-data tests read KITTI scans (scan_context_common/kitti_io.h); the simulated-data tests cast
   # scans with the simulator.

@@ -13,6 +13,8 @@
 #include <string>
 #include <vector>
 
+#include <sys/resource.h>
+
 #include <Eigen/Geometry>
 
 #include "bench_data.h"
@@ -107,33 +109,70 @@ bool measure(const char* what, std::size_t count, const std::vector<scl::HeightG
   return true;
 }
 
-/// Loads `path` once into a fresh detector and prints the seconds it took (--load, in a new process:
-/// nothing allocated before, as when a node starts).
+/// Minor page faults of this process so far (the first touch of each page of new memory).
+long minorFaults() {
+  rusage usage{};
+  ::getrusage(RUSAGE_SELF, &usage);
+  return usage.ru_minflt;
+}
+
+/// One load into a fresh detector: readDatabaseFile (read, check, decode) and appendSessions (join and
+/// kd-tree), each with its seconds and minor page faults.
+struct LoadTimes {
+  double read = 0.0, join = 0.0;
+  long read_faults = 0, join_faults = 0;
+  double total() const { return read + join; }
+};
+
+/// Loads `path` once into a fresh detector and prints its LoadTimes as four numbers (--load, run in a
+/// new process: nothing allocated before, as when a node starts).
 int loadOnce(const std::string& path, const scl::Config& config) {
   scl::LoopDetector detector(config);
+  scl::PriorSessions sessions;
   std::string error;
+  const long f0 = minorFaults();
   const auto t0 = Clock::now();
-  if (!scl::loadDatabase(path, &detector, &error)) {
+  bool ok = scl::readDatabaseFile(path, config, &sessions, &error);
+  const auto t1 = Clock::now();
+  const long f1 = minorFaults();
+  ok = ok && detector.appendSessions(std::move(sessions), &error);
+  const double join = secondsSince(t1);
+  if (!ok) {
     std::fprintf(stderr, "%s\n", error.c_str());
     return 1;
   }
-  std::printf("%.3f\n", secondsSince(t0));
+  std::printf("%.6f %.6f %ld %ld\n", std::chrono::duration<double>(t1 - t0).count(), join, f1 - f0,
+              minorFaults() - f1);
   return 0;
 }
 
-/// Runs this program with --load `path` (after `environment`, e.g. "NAME=value") and returns what it
-/// printed.
-std::string loadInNewProcess(const std::string& path, const std::string& environment = "") {
-  const std::string command =
-      environment + " '" + fs::read_symlink("/proc/self/exe").string() + "' --load '" + path + "'";
-  std::string out;
-  if (FILE* pipe = ::popen(command.c_str(), "r")) {
-    char line[64];
-    while (std::fgets(line, sizeof(line), pipe)) out += line;
-    ::pclose(pipe);
+/// Runs this program with --load `path` in a new process `runs` times; prints the best and worst total
+/// and their splits. False when a run fails.
+bool loadInNewProcesses(const char* what, const std::string& path, int runs) {
+  const std::string command = "'" + fs::read_symlink("/proc/self/exe").string() + "' --load '" + path + "'";
+  std::vector<LoadTimes> times;
+  for (int run = 0; run < runs; ++run) {
+    LoadTimes t;
+    FILE* pipe = ::popen(command.c_str(), "r");
+    const bool read = pipe && std::fscanf(pipe, "%lf %lf %ld %ld", &t.read, &t.join, &t.read_faults, &t.join_faults) == 4;
+    if (pipe == nullptr || ::pclose(pipe) != 0 || !read) {
+      std::fprintf(stderr, "loading %s in a new process failed\n", path.c_str());
+      return false;
+    }
+    times.push_back(t);
   }
-  while (!out.empty() && out.back() == '\n') out.pop_back();
-  return out.empty() ? "failed" : out + " s";
+  const auto by_total = [](const LoadTimes& a, const LoadTimes& b) { return a.total() < b.total(); };
+  const LoadTimes best = *std::min_element(times.begin(), times.end(), by_total);
+  const LoadTimes worst = *std::max_element(times.begin(), times.end(), by_total);
+  const auto split = [](const LoadTimes& t) {
+    char text[128];
+    std::snprintf(text, sizeof(text), "%.3f s (%ld page faults) + %.3f s (%ld page faults)", t.read, t.read_faults,
+                  t.join, t.join_faults);
+    return std::string(text);
+  };
+  std::printf("| %s | %.3f s | %.3f s | %s | %s |\n", what, best.total(), worst.total(), split(best).c_str(),
+              split(worst).c_str());
+  return true;
 }
 
 bool positiveCount(const std::string& v, std::size_t* out, std::string* error) {
@@ -168,7 +207,7 @@ int main(int argc, char** argv) {
                   false)
       .option("--dir", "DIR", "where the files are written (and removed afterwards; default the temporary directory)",
               &directory)
-      .option("--load", "FILE", "only load FILE once and print the seconds it took", &load);
+      .option("--load", "FILE", "only load FILE once and print the seconds reading and joining took and their page faults", &load);
   if (const int status = cli.parse(argc, argv); status >= 0) return status;
 
   const scl::Config config;
@@ -185,20 +224,20 @@ int main(int argc, char** argv) {
   const std::string with_clouds = (fs::path(directory) / "scan_context_bench_database_clouds.scl").string();
   std::printf("| file | keyframes | size | bytes / keyframe | save | load, first run | load, best of 3: read and check "
               "+ join and index |\n|---|---|---|---|---|---|---|\n");
-  const bool ok = measure("descriptors, stamps, poses", keyframes, grids, {}, config, plain) &&
+  bool ok = measure("descriptors, stamps, poses", keyframes, grids, {}, config, plain) &&
                   measure("with registration data (LZ4)", cloud_keyframes, grids, clouds, config, with_clouds);
+  // A new process touches every page of the keyframes' memory for the first time.
+  constexpr int kFreshRuns = 3;
   if (ok) {
-    // A new process touches every page of the keyframes' memory for the first time; malloc on
-    // transparent huge pages (glibc 2.35+) takes far fewer page faults for that.
-    const std::string huge = "GLIBC_TUNABLES=glibc.malloc.hugetlb=1";
-    std::printf("\nload in a new process (nothing allocated before): %s without registration data, %s with\n",
-                loadInNewProcess(plain).c_str(), loadInNewProcess(with_clouds).c_str());
-    std::printf("the same with %s: %s without, %s with\n", huge.c_str(), loadInNewProcess(plain, huge).c_str(),
-                loadInNewProcess(with_clouds, huge).c_str());
+    std::printf("\nload in a new process (nothing allocated before), %d runs:\n\n| file | best | worst | best run: read "
+                "and check + join and index | worst run |\n|---|---|---|---|---|\n",
+                kFreshRuns);
   }
+  ok = ok && loadInNewProcesses("descriptors, stamps, poses", plain, kFreshRuns) &&
+       loadInNewProcesses("with registration data (LZ4)", with_clouds, kFreshRuns);
   std::size_t voxels = 0;
   for (const auto& c : clouds) voxels += c.size();
-  std::printf("registration data of the real scans: %zu voxels, %zu bytes in memory per keyframe on average\n",
+  std::printf("\nregistration data of the real scans: %zu voxels, %zu bytes in memory per keyframe on average\n",
               voxels / clouds.size(), voxels * (sizeof(Eigen::Vector3f) + 4) / clouds.size());
   std::error_code ignored;
   fs::remove(plain, ignored);

@@ -18,7 +18,7 @@ Descriptor descriptorWithKey(const std::vector<float>& key, const Config& config
   Descriptor d;
   d.num_rings = config.num_rings;
   d.num_sectors = config.num_sectors;
-  d.ring_key = key;
+  d.ring_key.assign(key.begin(), key.end());
   d.sector_key.assign(config.num_sectors, 1.0f);
   d.column_occupied.assign(config.num_sectors, 1);
   d.occupied_columns = config.num_sectors;

@@ -11,6 +11,7 @@
 #include <fstream>
 #include <limits>
 #include <memory>
+#include <memory_resource>
 
 #include "scan_context_loop/core/crc32.h"
 #include "scan_context_loop/core/database_file.h"
@@ -184,6 +185,10 @@ TEST(DatabaseFile, ALoadedDatabaseHoldsTheSameKeyframesAndAnswersEveryQueryExact
     EXPECT_EQ(x.descriptor.sector_key, y.descriptor.sector_key);
     EXPECT_EQ(x.descriptor.occupied_columns, y.descriptor.occupied_columns);
   }
+  // The loaded descriptors stayed in the arena they were decoded into (one per file, not the heap).
+  const std::pmr::memory_resource* memory = b.keyframe(0).descriptor.unit_columns.get_allocator().resource();
+  EXPECT_NE(memory, std::pmr::get_default_resource());
+  EXPECT_EQ(b.keyframe(a.size() - 1).descriptor.sector_key.get_allocator().resource(), memory);
   EXPECT_EQ(a.keyframe(17).session, 1u);
   // Into an empty database the sessions keep their numbers, and the next keyframe starts session 2.
   EXPECT_EQ(b.session(), 2u);

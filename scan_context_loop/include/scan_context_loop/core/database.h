@@ -12,6 +12,7 @@
 #include <Eigen/Geometry>
 
 #include "scan_context_loop/core/alignment.h"
+#include "scan_context_loop/core/block_arena.h"
 #include "scan_context_loop/core/config.h"
 #include "scan_context_loop/core/descriptor.h"
 
@@ -122,7 +123,10 @@ class Database {
   void indexUpTo(std::size_t count);
 
   Config config_;
-  std::deque<Keyframe> keyframes_;  // deque: ring-key storage never moves, FLANN keeps raw pointers
+  // The keyframe records (their descriptors' arrays live elsewhere) in large blocks on huge pages: a new
+  // process joining 100,000 loaded keyframes takes a few page faults for them instead of thousands.
+  BlockArena::Handle records_ = BlockArena::create(std::size_t(32) << 20);
+  std::pmr::deque<Keyframe> keyframes_{records_.get()};  // deque: a Keyframe never moves
   std::size_t indexed_ = 0;
   std::uint32_t session_ = 0;
   std::size_t session_start_ = 0;  // index of the current session's first keyframe

@@ -4,6 +4,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <memory_resource>
 #include <vector>
 
 #include <Eigen/Core>
@@ -44,23 +45,31 @@ struct HeightGrid {
 HeightGrid makeHeightGrid(const PointView& points, const Config& config,
                           const Eigen::Vector2f& viewpoint = Eigen::Vector2f::Zero());
 
-/// What the distance and the database need, in float, about 5 KB at 20 x 60.
+/// What the distance and the database need, in float, about 5 KB at 20 x 60. Its arrays are on the
+/// heap unless the descriptor was made with another memory resource (a loaded database's keyframes
+/// share a BlockArena); a copy is always on the heap, and so is whatever is moved *assigned* into a
+/// descriptor of another resource (std::pmr copies then), so make descriptors in place or move-construct
+/// them to keep them where they are.
 struct Descriptor {
+  Descriptor() = default;
+  explicit Descriptor(std::pmr::memory_resource* memory)
+      : unit_columns(memory), column_occupied(memory), ring_key(memory), sector_key(memory) {}
+
   int num_rings = 0;
   int num_sectors = 0;
   /// num_sectors columns of num_rings floats each (column-major), every column scaled to unit length;
   /// an empty column, or one whose heights are all exactly 0, is all zeros.
-  std::vector<float> unit_columns;
+  std::pmr::vector<float> unit_columns;
   /// 1 where the column holds at least one point.
-  std::vector<std::uint8_t> column_occupied;
+  std::pmr::vector<std::uint8_t> column_occupied;
   /// Rotation-invariant key per ring (Config::ring_key), the kd-tree coordinates.
-  std::vector<float> ring_key;
+  std::pmr::vector<float> ring_key;
   /// Mean max height per sector (empty bins as 0): drives the coarse yaw alignment.
-  std::vector<float> sector_key;
+  std::pmr::vector<float> sector_key;
   int occupied_columns = 0;
 
   bool empty() const { return occupied_columns == 0; }
-  /// Heap bytes held by this descriptor.
+  /// Bytes its arrays hold, on the heap or in its memory resource.
   std::size_t bytes() const;
 };
 
