@@ -255,7 +255,8 @@ struct Config {
   /// of that loop's query also tries the keyframe (of the loop's match session) nearest to where the
   /// loop and the odometry put it, registered from that pose guess, before the descriptor's candidates.
   /// Such a loop is reported when it agrees with the confirmed one (loopsAgree) and then carries the
-  /// track on; 0 disables tracking. Chosen in the README, "Loop tracking".
+  /// track on; 0 disables tracking. 100 m by measurement (README, "Loop tracking"): the changed city
+  /// gains up to there (recall 0.93 -> 0.985 over 30 m), and 10-1000 m gave no false loop at 1% and 3% drift.
   double track_distance = 100.0;
 
   /// Human-readable problems, empty when the configuration is usable.
