@@ -16,6 +16,13 @@ bool fail(std::string* error, const std::string& text) {
   return false;
 }
 
+/// True when nothing but white space is left in `in`.
+bool onlySpaceLeft(std::istream& in) {
+  in >> std::ws;
+  return in.eof();
+}
+
+/// Exactly 12 finite numbers, the 3 x 4 matrix row by row.
 bool parseMatrix34(const std::string& line, Eigen::Isometry3d* out) {
   std::istringstream in(line);
   Eigen::Matrix4d m = Eigen::Matrix4d::Identity();
@@ -24,7 +31,7 @@ bool parseMatrix34(const std::string& line, Eigen::Isometry3d* out) {
       if (!(in >> m(r, c))) return false;
     }
   }
-  if (!m.allFinite()) return false;
+  if (!m.allFinite() || !onlySpaceLeft(in)) return false;
   out->matrix() = m;
   return true;
 }
@@ -82,7 +89,7 @@ bool readPoses(const std::string& path, std::vector<Eigen::Isometry3d>* poses, s
     if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
     Eigen::Isometry3d pose;
     if (!parseMatrix34(line, &pose)) {
-      return fail(error, path + ":" + std::to_string(number) + ": expected 12 finite numbers");
+      return fail(error, path + ":" + std::to_string(number) + ": expected exactly 12 finite numbers");
     }
     poses->push_back(pose);
   }
@@ -125,8 +132,8 @@ bool readTimes(const std::string& path, std::vector<double>* times, std::string*
     if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
     std::istringstream field(line);
     double t;
-    if (!(field >> t) || !std::isfinite(t)) {
-      return fail(error, path + ":" + std::to_string(number) + ": expected a finite number");
+    if (!(field >> t) || !std::isfinite(t) || !onlySpaceLeft(field)) {
+      return fail(error, path + ":" + std::to_string(number) + ": expected one finite number");
     }
     times->push_back(t);
   }

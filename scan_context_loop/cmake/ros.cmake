@@ -5,6 +5,8 @@ add_library(scan_context_loop_nodelet
   src/ros/markers.cpp
   src/ros/live_settings.cpp
   src/ros/loop_pair.cpp
+  src/ros/pose_input.cpp
+  src/ros/exception_barrier.cpp
   src/ros/database_services.cpp
   src/ros/loop_closure_ros.cpp
   src/ros/loop_closure_nodelet.cpp
@@ -121,8 +123,10 @@ if(CATKIN_ENABLE_TESTING)
 endif()
 
 if(CATKIN_ENABLE_TESTING)
-  # The dynamic_reconfigure description and the standard-type loops: no ROS master needed.
-  catkin_add_gtest(test_ros_units test/ros/test_live_settings.cpp)
+  # The dynamic_reconfigure description, the standard-type loops, pose input and the worker's exception
+  # barrier: no ROS master needed.
+  catkin_add_gtest(test_ros_units test/ros/test_live_settings.cpp test/ros/test_pose_input.cpp
+    test/ros/test_exception_barrier.cpp)
   target_link_libraries(test_ros_units scan_context_loop_nodelet ${catkin_LIBRARIES})
 endif()
 

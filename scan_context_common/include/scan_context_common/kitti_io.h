@@ -17,15 +17,16 @@ bool readScan(const std::string& path, pcl::PointCloud<pcl::PointXYZI>* cloud, s
 bool writeScan(const std::string& path, const pcl::PointCloud<pcl::PointXYZI>& cloud,
                std::string* error);
 
-/// Reads 3x4 row-major pose rows, one per line. Returns false on a malformed line.
+/// Reads 3x4 row-major pose rows, one per line. Returns false, naming the file and line, on a line that
+/// is not exactly 12 finite numbers (blank lines are skipped).
 bool readPoses(const std::string& path, std::vector<Eigen::Isometry3d>* poses, std::string* error);
 bool writePoses(const std::string& path, const std::vector<Eigen::Isometry3d>& poses,
                 std::string* error);
 
-/// Reads the `Tr:` line (camera <- velodyne) of calib.txt.
+/// Reads the `Tr:` line (camera <- velodyne) of calib.txt: exactly 12 finite numbers.
 bool readCalibTr(const std::string& path, Eigen::Isometry3d* tr, std::string* error);
 
-/// Reads one timestamp per line.
+/// Reads one timestamp per line (one finite number; blank lines are skipped).
 bool readTimes(const std::string& path, std::vector<double>* times, std::string* error);
 
 /// Camera-frame poses to LiDAR poses in a LiDAR-centred world: inv(Tr) * T_cam * Tr.

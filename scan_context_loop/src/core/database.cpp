@@ -72,6 +72,16 @@ Database::~Database() = default;
 
 namespace {
 
+/// How far R^T R of a pose's rotation may stray from the identity (largest entry): poses read from
+/// text with 7 digits or through float stay far below it; a scaled matrix (an unnormalised
+/// quaternion's) does not.
+constexpr double kRotationTolerance = 1e-3;
+
+bool isRotation(const Eigen::Matrix3d& r) {
+  const double stray = (r.transpose() * r - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff();
+  return stray <= kRotationTolerance && r.determinant() > 0.0;
+}
+
 /// Why a keyframe with `info` cannot follow `previous` (its session's last keyframe, or null) in a
 /// session; empty when it can.
 std::string infoProblem(const KeyframeInfo& info, const KeyframeInfo* previous) {
@@ -83,6 +93,8 @@ std::string infoProblem(const KeyframeInfo& info, const KeyframeInfo* previous) 
     why << "keyframe stamp " << info.stamp << " is earlier than the previous keyframe's " << previous->stamp;
   } else if (info.pose && !info.pose->matrix().allFinite()) {
     why << "keyframe pose is not finite";
+  } else if (info.pose && !isRotation(info.pose->linear())) {
+    why << "keyframe pose's rotation is not a rotation (not orthonormal, or a mirror)";
   }
   return why.str();
 }
@@ -95,7 +107,19 @@ bool fitsGrid(const Descriptor& d, const Config& config) {
          d.ring_key.size() == rings && d.sector_key.size() == sectors;
 }
 
-constexpr const char* kGridMismatch = "descriptor grid size differs from the database configuration";
+bool allFinite(const std::vector<float>& values) {
+  return std::all_of(values.begin(), values.end(), [](float v) { return std::isfinite(v); });
+}
+
+/// Why `d` can be neither stored nor queried: its grid differs from the configuration, or a value is
+/// not finite (an infinite ring key would stay in the kd-tree for good); empty when it can.
+std::string descriptorProblem(const Descriptor& d, const Config& config) {
+  if (!fitsGrid(d, config)) return "descriptor grid size differs from the database configuration";
+  if (!allFinite(d.ring_key) || !allFinite(d.sector_key) || !allFinite(d.unit_columns)) {
+    return "descriptor values are not finite";
+  }
+  return "";
+}
 
 }  // namespace
 
@@ -107,8 +131,9 @@ bool Database::acceptable(const KeyframeInfo& info, std::string* error) const {
 
 bool Database::add(const KeyframeInfo& info, Descriptor descriptor, std::string* error) {
   if (!acceptable(info, error)) return false;
-  if (!fitsGrid(descriptor, config_)) {
-    if (error) *error = kGridMismatch;
+  const std::string problem = descriptorProblem(descriptor, config_);
+  if (!problem.empty()) {
+    if (error) *error = problem;
     return false;
   }
   Keyframe keyframe;
@@ -131,12 +156,11 @@ bool Database::appendSessions(std::vector<Keyframe> keyframes, std::string* erro
     } else if (previous && !continues && k.session != previous->session + 1) {
       problem = "session " + std::to_string(k.session) + " follows session " + std::to_string(previous->session) +
                 " (sessions are numbered 0, 1, ... in order)";
-    } else if (!fitsGrid(k.descriptor, config_)) {
-      problem = kGridMismatch;
     } else if (!(std::isfinite(k.path_length) && k.path_length >= 0.0)) {
       problem = "path length is not a finite non-negative number";
     } else {
-      problem = infoProblem(k.info, continues ? &previous->info : nullptr);
+      problem = descriptorProblem(k.descriptor, config_);
+      if (problem.empty()) problem = infoProblem(k.info, continues ? &previous->info : nullptr);
     }
     if (!problem.empty()) {
       if (error) *error = "keyframe " + std::to_string(i) + ": " + problem;
@@ -215,10 +239,7 @@ void Database::indexUpTo(std::size_t count) {
 
 QueryResult Database::query(const Descriptor& descriptor, const KeyframeInfo& info) {
   QueryResult result;
-  if (descriptor.empty() || descriptor.num_rings != config_.num_rings ||
-      descriptor.num_sectors != config_.num_sectors) {
-    return result;
-  }
+  if (descriptor.empty() || !descriptorProblem(descriptor, config_).empty()) return result;
   const std::size_t eligible = eligibleCount(info);
   result.eligible = eligible;
   if (eligible == 0) return result;

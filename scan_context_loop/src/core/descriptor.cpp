@@ -90,8 +90,8 @@ SCL_CLONES std::size_t binPoints(const PointView& points, const Binning& b, floa
     for (std::size_t i = 0; i < n; ++i) {
       const float x = xs[i], y = ys[i], z = zs[i];
       const float r2 = x * x + y * y;
-      // NaN compares false and Inf exceeds max2, so both fall out here; z - z is 0 only when finite.
-      const bool keep = (r2 >= min2) & (r2 <= max2) & ((z - z) == 0.0f);
+      // NaN compares false and Inf exceeds max2 or the height bound, so both fall out here.
+      const bool keep = (r2 >= min2) & (r2 <= max2) & (std::fabs(z) <= kMaxPointHeight);
       const float r = std::sqrt(keep ? r2 : 0.0f);
       int ring = static_cast<int>(r * ring_scale);
       ring = ring < rings - 1 ? ring : rings - 1;

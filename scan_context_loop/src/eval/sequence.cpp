@@ -26,6 +26,13 @@ bool readLidarPoses(const std::string& dir, const std::string& file, std::vector
   return true;
 }
 
+/// "<dir>/<file> has <count> <what>, poses.txt <poses> poses".
+std::string countMismatch(const std::string& dir, const std::string& file, std::size_t count, const std::string& what,
+                          std::size_t poses) {
+  return dir + "/" + file + " has " + std::to_string(count) + " " + what + ", poses.txt " + std::to_string(poses) +
+         " poses";
+}
+
 }  // namespace
 
 bool readTruePoses(const std::string& dir, std::vector<Eigen::Isometry3d>* truth, std::string* error) {
@@ -37,14 +44,20 @@ bool loadSequence(const std::string& dir, const SequenceOptions& options, Sequen
   std::vector<Eigen::Isometry3d> truth;
   if (!readTruePoses(dir, &truth, error)) return false;
   std::vector<double> times;
-  if (exists(dir + "/times.txt") && !kitti::readTimes(dir + "/times.txt", &times, error)) return false;
+  if (exists(dir + "/times.txt")) {
+    if (!kitti::readTimes(dir + "/times.txt", &times, error)) return false;
+    // A stamp for every pose: made-up stamps for the rest would go backwards and reject their frames.
+    if (times.size() < truth.size()) {
+      *error = countMismatch(dir, "times.txt", times.size(), "stamps", truth.size());
+      return false;
+    }
+  }
   std::vector<Eigen::Isometry3d> odom = truth;
   s->odometry_from_file = false;
   if (options.use_odometry_file && exists(dir + "/odom_poses.txt")) {
     if (!readLidarPoses(dir, "odom_poses.txt", &odom, error)) return false;
     if (odom.size() != truth.size()) {
-      *error = dir + "/odom_poses.txt has " + std::to_string(odom.size()) + " poses, poses.txt " +
-               std::to_string(truth.size());
+      *error = countMismatch(dir, "odom_poses.txt", odom.size(), "poses", truth.size());
       return false;
     }
     s->odometry_from_file = true;
@@ -64,7 +77,7 @@ bool loadSequence(const std::string& dir, const SequenceOptions& options, Sequen
     s->frames.push_back(f);
     s->truth.push_back(truth[f]);
     s->odometry.push_back(odom[f]);
-    s->stamps.push_back(f < static_cast<int>(times.size()) ? times[f] : 0.1 * f);
+    s->stamps.push_back(times.empty() ? 0.1 * f : times[f]);
     travelled = 0.0;
     previous = f;
   }

@@ -22,32 +22,31 @@ void LoopClosureRos::advertiseSessionServices() {
   }
 }
 
-bool LoopClosureRos::runOnWorker(std::function<void()> task) {
-  auto done = std::make_shared<std::promise<void>>();
-  std::future<void> finished = done->get_future();
+std::string LoopClosureRos::runOnWorker(std::function<void()> task) {
+  auto done = std::make_shared<std::promise<std::string>>();
+  std::future<std::string> finished = done->get_future();
   {
     std::lock_guard<std::mutex> lock(queue_mutex_);
-    if (stop_) return false;
-    tasks_.push_back([task, done] {
-      task();
-      done->set_value();
+    if (stop_) return "the node is stopping";
+    tasks_.push_back([this, task, done] {
+      std::string what;
+      done->set_value(runGuarded("a service call", task, &what) ? "" : "failed: " + what);
     });
   }
   queue_cv_.notify_all();
-  finished.wait();
-  return true;
+  return finished.get();
 }
 
 std::string LoopClosureRos::loadFile(const std::string& path) {
   std::string error;
   if (!loadDatabase(path, pipeline_.get(), &error)) return error;
-  adoptLoadedKeyframes();
+  adoptDatabaseKeyframes();
   ROS_INFO_NAMED(name_, "loaded %s: the database now holds %zu keyframes in %u sessions", path.c_str(),
                  pipeline_->detector().database().size(), pipeline_->detector().database().session() + 1);
   return "";
 }
 
-void LoopClosureRos::adoptLoadedKeyframes() {
+void LoopClosureRos::adoptDatabaseKeyframes() {
   const Database& database = pipeline_->detector().database();
   for (std::size_t k = positions_.size(); k < database.size(); ++k) {
     const Keyframe& keyframe = database.keyframe(k);
@@ -65,7 +64,7 @@ void LoopClosureRos::adoptLoadedKeyframes() {
 
 bool LoopClosureRos::onSave(scan_context_loop::SaveDatabase::Request& request,
                             scan_context_loop::SaveDatabase::Response& response) {
-  const bool ran = runOnWorker([&] {
+  const std::string failure = runOnWorker([&] {
     SaveOptions save;
     save.include_clouds = request.include_clouds;
     std::string error;
@@ -73,27 +72,27 @@ bool LoopClosureRos::onSave(scan_context_loop::SaveDatabase::Request& request,
     response.keyframes = static_cast<std::uint32_t>(pipeline_->detector().database().size());
     response.message = response.success ? "saved " + std::to_string(response.keyframes) + " keyframes" : error;
   });
-  if (!ran) response.message = "the node is stopping";
+  if (!failure.empty()) response.message = failure;
   if (!response.success) ROS_ERROR_NAMED(name_, "save_database %s: %s", request.path.c_str(), response.message.c_str());
   return true;
 }
 
 bool LoopClosureRos::onLoad(scan_context_loop::LoadDatabase::Request& request,
                             scan_context_loop::LoadDatabase::Response& response) {
-  const bool ran = runOnWorker([&] {
+  const std::string failure = runOnWorker([&] {
     const std::string error = loadFile(request.path);
     response.success = error.empty();
     response.message = response.success ? "loaded" : error;
     response.keyframes = static_cast<std::uint32_t>(pipeline_->detector().database().size());
     response.sessions = pipeline_->detector().database().session() + 1;
   });
-  if (!ran) response.message = "the node is stopping";
+  if (!failure.empty()) response.message = failure;
   if (!response.success) ROS_ERROR_NAMED(name_, "load_database %s: %s", request.path.c_str(), response.message.c_str());
   return true;
 }
 
 bool LoopClosureRos::onReset(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& response) {
-  const bool ran = runOnWorker([&] {
+  const std::string failure = runOnWorker([&] {
     pipeline_.reset(new KeyframePipeline(config_));
     positions_.clear();
     poses_.clear();
@@ -120,14 +119,17 @@ bool LoopClosureRos::onReset(std_srvs::Trigger::Request&, std_srvs::Trigger::Res
       response.message = error.empty() ? "database cleared, map reloaded" : "map not reloaded: " + error;
     }
   });
-  if (!ran) response.message = "the node is stopping";
+  if (!failure.empty()) {
+    response.success = false;
+    response.message = failure;
+  }
   ROS_INFO_NAMED(name_, "reset: %s", response.message.c_str());
   return true;
 }
 
 bool LoopClosureRos::onRelocalize(scan_context_loop::Relocalize::Request& request,
                                   scan_context_loop::Relocalize::Response& response) {
-  const bool ran = runOnWorker([&] {
+  const std::string failure = runOnWorker([&] {
     PointView view;
     std::string why;
     if (!viewCloud(request.cloud, &view, &why)) {
@@ -155,7 +157,7 @@ bool LoopClosureRos::onRelocalize(scan_context_loop::Relocalize::Request& reques
     response.match_session = sessions_[place.index];
     response.message = "verified (fitness " + std::to_string(place.result.fitness) + ")";
   });
-  if (!ran) response.message = "the node is stopping";
+  if (!failure.empty()) response.message = failure;
   return true;
 }
 

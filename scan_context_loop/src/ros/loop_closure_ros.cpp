@@ -1,6 +1,7 @@
 #include "scan_context_loop/ros/loop_closure_ros.h"
 
 #include <chrono>
+#include <cstdio>
 #include <cmath>
 
 #include <std_msgs/Float64MultiArray.h>
@@ -10,9 +11,11 @@
 #include "scan_context_loop/core/database_file.h"
 #include "scan_context_loop/core/settings.h"
 #include "scan_context_loop/ros/cloud_input.h"
+#include "scan_context_loop/ros/exception_barrier.h"
 #include "scan_context_loop/ros/live_settings.h"
 #include "scan_context_loop/ros/loop_pair.h"
 #include "scan_context_loop/ros/markers.h"
+#include "scan_context_loop/ros/pose_input.h"
 
 namespace scan_context_loop {
 
@@ -145,9 +148,15 @@ void LoopClosureRos::onCloudAndOdom(const sensor_msgs::PointCloud2ConstPtr& clou
   last_pair_wall_ = wallNow();
   first_unpaired_wall_ = 0.0;
   Item item;
+  std::string why;
+  if (!poseFromMsg(odom->pose.pose, &item.pose, &why)) {
+    ++rejected_;
+    ROS_ERROR_THROTTLE_NAMED(5.0, name_, "keyframe at %.3f skipped: its odometry pose is unusable: %s",
+                             cloud->header.stamp.toSec(), why.c_str());
+    return;
+  }
   item.cloud = cloud;
   item.has_pose = true;
-  tf2::fromMsg(odom->pose.pose, item.pose);
   item.pose_frame = odom->header.frame_id;
   item.child_frame = odom->child_frame_id;
   enqueue(std::move(item));
@@ -262,8 +271,23 @@ void LoopClosureRos::work() {
       markers_shown_ = MarkerState();
       publishMarkers(marker_frame_);
     }
-    if (have_item) process(std::move(item));
+    if (have_item) {
+      char context[64];
+      std::snprintf(context, sizeof context, "keyframe at %.3f", item.cloud->header.stamp.toSec());
+      runGuarded(context, [&] { process(std::move(item)); });
+    }
   }
+}
+
+bool LoopClosureRos::runGuarded(const std::string& context, const std::function<void()>& work, std::string* what) {
+  std::string why;
+  if (runCatching(work, &why)) return true;
+  ++failures_;
+  ROS_ERROR_THROTTLE_NAMED(5.0, name_, "%s dropped: it threw: %s (the database is kept; %zu failures so far)",
+                           context.c_str(), why.c_str(), failures_.load());
+  adoptDatabaseKeyframes();
+  if (what) *what = why;
+  return false;
 }
 
 bool LoopClosureRos::lookUpPose(Item* item) {
@@ -272,7 +296,14 @@ bool LoopClosureRos::lookUpPose(Item* item) {
   try {
     const auto t = tf_buffer_->lookupTransform(options_.fixed_frame, sensor, item->cloud->header.stamp,
                                                ros::Duration(options_.tf_timeout));
-    item->pose = tf2::transformToEigen(t);
+    std::string why;
+    if (!poseFromMsg(t.transform, &item->pose, &why)) {
+      ++rejected_;
+      ROS_ERROR_THROTTLE_NAMED(5.0, name_, "keyframe at %.3f skipped: the transform %s <- %s is unusable: %s",
+                               item->cloud->header.stamp.toSec(), options_.fixed_frame.c_str(), sensor.c_str(),
+                               why.c_str());
+      return false;
+    }
     item->has_pose = true;
     return true;
   } catch (const tf2::TransformException& e) {
@@ -293,11 +324,18 @@ void LoopClosureRos::applyExtrinsic(Item* item) {
       extrinsic_known_ = true;  // the odometry is the sensor's own
     } else {
       try {
-        extrinsic_ = tf2::transformToEigen(tf_buffer_->lookupTransform(item->child_frame, sensor, ros::Time(0),
-                                                                       ros::Duration(options_.tf_timeout)));
-        extrinsic_known_ = true;
-        ROS_INFO_NAMED(name_, "odometry of %s, clouds in %s: poses are moved to the sensor with the tf extrinsic",
-                       item->child_frame.c_str(), sensor.c_str());
+        const auto t = tf_buffer_->lookupTransform(item->child_frame, sensor, ros::Time(0),
+                                                   ros::Duration(options_.tf_timeout));
+        std::string why;
+        extrinsic_known_ = poseFromMsg(t.transform, &extrinsic_, &why);
+        if (extrinsic_known_) {
+          ROS_INFO_NAMED(name_, "odometry of %s, clouds in %s: poses are moved to the sensor with the tf extrinsic",
+                         item->child_frame.c_str(), sensor.c_str());
+        } else {
+          ROS_ERROR_THROTTLE_NAMED(10.0, name_, "the tf extrinsic %s <- %s is unusable (%s): poses are used as the "
+                                   "sensor's until tf has a good one", item->child_frame.c_str(), sensor.c_str(),
+                                   why.c_str());
+        }
       } catch (const tf2::TransformException& e) {
         ROS_WARN_THROTTLE_NAMED(10.0, name_,
                                 "the odometry's child frame %s is not the clouds' frame %s and tf has no "
@@ -464,8 +502,11 @@ void LoopClosureRos::publishMarkers(const std::string& frame) {
 }
 
 void LoopClosureRos::diagnose(diagnostic_updater::DiagnosticStatusWrapper& status) {
-  const std::size_t dropped = dropped_.load();
-  if (dropped > 0) {
+  const std::size_t dropped = dropped_.load(), failures = failures_.load();
+  if (failures > 0) {
+    status.summaryf(diagnostic_msgs::DiagnosticStatus::WARN,
+                    "%zu keyframes or service calls failed with an exception (see the log)", failures);
+  } else if (dropped > 0) {
     status.summaryf(diagnostic_msgs::DiagnosticStatus::WARN, "%zu keyframes dropped (queue full)", dropped);
   } else {
     status.summary(diagnostic_msgs::DiagnosticStatus::OK, "running");
@@ -478,6 +519,7 @@ void LoopClosureRos::diagnose(diagnostic_updater::DiagnosticStatusWrapper& statu
   status.add("verified loops waiting for support", loops_waiting_.load());
   status.add("keyframes dropped", dropped);
   status.add("keyframes rejected", rejected_.load());
+  status.add("keyframes and service calls failed (exception)", failures);
   if (options_.lio_sam_output) status.add("loops not sent to LIO-SAM (not verified, repeated or too soon)", lio_skipped_.load());
 }
 

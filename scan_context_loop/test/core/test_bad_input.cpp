@@ -36,6 +36,35 @@ TEST(BadInput, NonFiniteAndOutOfRangePointsAreSkipped) {
   EXPECT_TRUE(grid.heights.allFinite());
 }
 
+TEST(BadInput, AbsurdHeightsAreSkippedAndNeverOverflowTheKeys) {
+  Config config;
+  config.exclude_recent_frames = 0;
+  // A ring of points 1e38 m high (finite, but their sum overflows float) and one at 2e4 m, around a
+  // street.
+  auto scene = test::streetScene(3);
+  const std::size_t good = scene.size();
+  for (int s = 0; s < config.num_sectors; ++s) {
+    const float a = (s + 0.5f) * 2.0f * static_cast<float>(M_PI) / config.num_sectors;
+    scene.push_back(pcl::PointXYZ(30.0f * std::cos(a), 30.0f * std::sin(a), 1e38f));
+  }
+  scene.push_back(pcl::PointXYZ(20.0f, 5.0f, -2e4f));
+  const HeightGrid grid = makeHeightGrid(scene, config);
+  EXPECT_EQ(grid.points_skipped, makeHeightGrid(test::streetScene(3), config).points_skipped + scene.size() - good);
+  const Descriptor d = makeDescriptor(grid, config);
+  for (const auto* values : {&d.ring_key, &d.sector_key, &d.unit_columns}) {
+    for (float v : *values) ASSERT_TRUE(std::isfinite(v));
+  }
+  // The keyframe is stored and the clean street still finds it.
+  LoopDetector detector(config);
+  KeyframeInfo info;
+  info.stamp = 1.0;
+  ASSERT_TRUE(detector.process(viewOf(scene), info).accepted);
+  info.stamp = 2.0;
+  const Detection again = detector.process(viewOf(test::streetScene(3)), info);
+  ASSERT_TRUE(again.query.matched);
+  EXPECT_EQ(again.query.best()->index, 0u);
+}
+
 TEST(BadInput, PointAtTheSensorOriginIsBinnedWithoutNaN) {
   Config config;  // min_range 0: r = 0 is in range
   pcl::PointCloud<pcl::PointXYZ> cloud;

@@ -1,5 +1,6 @@
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <random>
 #include <set>
 
@@ -199,6 +200,51 @@ TEST(Database, RejectsBadKeyframesAndKeepsItsContents) {
   EXPECT_EQ(db.size(), 1u);
   EXPECT_TRUE(db.add(at(10.0), d)) << "equal stamps are allowed";
   EXPECT_EQ(db.size(), 2u);
+}
+
+TEST(Database, RefusesAPoseWhoseRotationIsNotARotation) {
+  Config config;
+  Database db(config);
+  const Descriptor d = descriptorWithKey(std::vector<float>(20, 0.5f), config);
+  ASSERT_TRUE(db.add(at(1.0), d));
+  const Eigen::Matrix3d yaw = Eigen::AngleAxisd(0.4, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  // An unnormalised quaternion's matrix, an all-zero quaternion's, a mirror: none is a rotation.
+  for (const Eigen::Matrix3d& linear :
+       {Eigen::Matrix3d(1.1 * yaw), Eigen::Matrix3d(Eigen::Matrix3d::Zero()),
+        Eigen::Matrix3d(yaw * Eigen::Vector3d(1.0, 1.0, -1.0).asDiagonal())}) {
+    KeyframeInfo bad = at(2.0, 1.0);
+    bad.pose->linear() = linear;
+    std::string error;
+    EXPECT_FALSE(db.add(bad, d, &error)) << linear;
+    EXPECT_NE(error.find("not a rotation"), std::string::npos) << error;
+  }
+  EXPECT_EQ(db.size(), 1u);
+  KeyframeInfo rounded = at(2.0, 1.0);  // a rotation as a text file with 7 digits carries it
+  rounded.pose->linear() = yaw + Eigen::Matrix3d::Constant(1e-7);
+  std::string error;
+  EXPECT_TRUE(db.add(rounded, d, &error)) << error;
+}
+
+TEST(Database, NeverIndexesANonFiniteDescriptor) {
+  Config config;
+  config.exclude_recent_frames = 0;
+  Database db(config);
+  const std::vector<float> key(20, 0.5f);
+  ASSERT_TRUE(db.add(at(1.0), descriptorWithKey(key, config)));
+  std::vector<float> overflowed = key;
+  overflowed[3] = std::numeric_limits<float>::infinity();
+  std::string error;
+  EXPECT_FALSE(db.add(at(2.0), descriptorWithKey(overflowed, config), &error));
+  EXPECT_NE(error.find("not finite"), std::string::npos) << error;
+  Descriptor nan_column = descriptorWithKey(key, config);
+  nan_column.unit_columns[7] = NAN;
+  EXPECT_FALSE(db.add(at(2.0), nan_column, &error));
+  EXPECT_EQ(db.size(), 1u);
+  // Nor is one a query: it finds nothing, and a good query still finds keyframe 0.
+  EXPECT_TRUE(db.query(descriptorWithKey(overflowed, config), at(3.0)).candidates.empty());
+  const QueryResult good = db.query(descriptorWithKey(key, config), at(3.0));
+  ASSERT_FALSE(good.candidates.empty());
+  EXPECT_EQ(good.best()->index, 0u);
 }
 
 TEST(Database, EmptyDescriptorNeverMatchesAndMemoryStaysInBudget) {

@@ -69,6 +69,22 @@ TEST(KittiIo, PosesCalibAndTimes) {
   EXPECT_FALSE(kitti::readTimes(tempPath("bad_times.txt"), &times, &error));
 }
 
+TEST(KittiIo, APoseLineHoldsExactlyTwelveNumbers) {
+  std::string error;
+  std::vector<Eigen::Isometry3d> back;
+  std::ofstream(tempPath("long_poses.txt")) << "1 0 0 0 0 1 0 0 0 0 1 0\n1 0 0 0 0 1 0 0 0 0 1 0 7\n";
+  EXPECT_FALSE(kitti::readPoses(tempPath("long_poses.txt"), &back, &error));
+  EXPECT_NE(error.find(tempPath("long_poses.txt") + ":2:"), std::string::npos) << error;
+  EXPECT_NE(error.find("12"), std::string::npos) << error;
+  std::ofstream(tempPath("junk_poses.txt")) << "1 0 0 0 0 1 0 0 0 0 1 0 x\n";
+  EXPECT_FALSE(kitti::readPoses(tempPath("junk_poses.txt"), &back, &error));
+  std::ofstream(tempPath("spaced_poses.txt")) << "1 0 0 0 0 1 0 0 0 0 1 0 \t\r\n";
+  EXPECT_TRUE(kitti::readPoses(tempPath("spaced_poses.txt"), &back, &error)) << error;
+  Eigen::Isometry3d tr;
+  std::ofstream(tempPath("long_calib.txt")) << "Tr: 0 -1 0 0.1 0 0 -1 0.2 1 0 0 0.3 4\n";
+  EXPECT_FALSE(kitti::readCalibTr(tempPath("long_calib.txt"), &tr, &error));
+}
+
 TEST(KittiIo, RealSequenceLidarPosesMatchTheReadme) {
   const std::string dir = test::sharedData() + "/kitti/08";
   std::vector<Eigen::Isometry3d> poses;

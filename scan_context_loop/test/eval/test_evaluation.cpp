@@ -1,4 +1,5 @@
 #include <algorithm>
+#include <cstdlib>
 #include <fstream>
 #include <sstream>
 
@@ -7,6 +8,7 @@
 
 #include "scan_context_loop/eval/config_file.h"
 #include "scan_context_loop/eval/evaluation.h"
+#include "scan_context_common/kitti_io.h"
 #include "scan_context_loop/core/settings.h"
 #include "scan_context_sim/sequence_writer.h"
 #include "scan_context_sim/trajectory.h"
@@ -106,6 +108,29 @@ TEST(ConfigFile, SensorPresetsHoldOnlyKeysThatDifferFromTheDefaultsEachWithAComm
       EXPECT_EQ(previous.rfind("#", 0), 0u) << name << ": " << key << " has no comment saying why";
     }
   }
+}
+
+TEST(Sequence, TimesShorterThanPosesIsALoadError) {
+  const std::string dir = temp("short_times");
+  ASSERT_EQ(std::system(("mkdir -p " + dir + "/velodyne").c_str()), 0);
+  std::ofstream poses(dir + "/poses.txt");
+  for (int f = 0; f < 4; ++f) {
+    poses << "1 0 0 " << f << " 0 1 0 0 0 0 1 0\n";
+    std::ofstream(kitti::scanPath(dir, f), std::ios::binary);
+  }
+  poses.close();
+  std::ofstream(dir + "/calib.txt") << "Tr: 1 0 0 0 0 1 0 0 0 0 1 0\n";
+  std::ofstream(dir + "/times.txt") << "0.0\n0.1\n0.2\n";
+  Sequence sequence;
+  std::string error;
+  EXPECT_FALSE(loadSequence(dir, SequenceOptions(), &sequence, &error));
+  EXPECT_NE(error.find(dir + "/times.txt"), std::string::npos) << error;
+  EXPECT_NE(error.find("3 stamps"), std::string::npos) << error;
+  EXPECT_NE(error.find("4 poses"), std::string::npos) << error;
+  std::ofstream(dir + "/times.txt", std::ios::app) << "0.3\n";
+  Sequence complete;
+  EXPECT_TRUE(loadSequence(dir, SequenceOptions(), &complete, &error)) << error;
+  EXPECT_EQ(complete.frames.size(), 4u);
 }
 
 /// Twice around a block, the second lap in reverse: every keyframe of lap 2 revisits lap 1. Written

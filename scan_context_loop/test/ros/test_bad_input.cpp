@@ -1,4 +1,4 @@
-// rostest: malformed clouds, broken poses, stamps going backwards and unpaired clouds among good
+// rostest: malformed clouds, broken poses (NaN, unusable quaternions), stamps going backwards and unpaired clouds among good
 // keyframes; the node must keep running and still find the loops that follow.
 #include <cmath>
 #include <cstring>
@@ -11,6 +11,9 @@
 namespace scan_context_loop {
 namespace test {
 namespace {
+
+/// The number of bad variants publishBad knows.
+constexpr int kBadKinds = 9;
 
 /// Publishes bad variant `kind` at `stamp`.
 void publishBad(Harness* h, const Drive& drive, std::size_t k, int kind, const ros::Time& stamp) {
@@ -46,6 +49,15 @@ void publishBad(Harness* h, const Drive& drive, std::size_t k, int kind, const r
     case 6:  // a cloud nobody pairs with a pose
       send_odom = false;
       break;
+    case 7:  // an all-zero orientation quaternion
+      odom.pose.pose.orientation = geometry_msgs::Quaternion();
+      break;
+    case 8:  // an orientation quaternion of norm 2
+      odom.pose.pose.orientation.x *= 2.0;
+      odom.pose.pose.orientation.y *= 2.0;
+      odom.pose.pose.orientation.z *= 2.0;
+      odom.pose.pose.orientation.w *= 2.0;
+      break;
   }
   h->cloud_pub.publish(cloud);
   if (send_odom) h->odom_pub.publish(odom);
@@ -64,7 +76,7 @@ TEST(LoopClosureNode, SurvivesBadInputAndStillFindsTheLoopsThatFollow) {
     harness.odom_pub.publish(harness.odom(drive, k));
     rate.sleep();
     if (k % 5 == 4) {
-      publishBad(&harness, drive, k, kind % 7, harness.base + ros::Duration(drive.times[k] + 0.05));
+      publishBad(&harness, drive, k, kind % kBadKinds, harness.base + ros::Duration(drive.times[k] + 0.05));
       ++kind;
       rate.sleep();
     }

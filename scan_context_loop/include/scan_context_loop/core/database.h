@@ -69,12 +69,14 @@ class Database {
   Database& operator=(const Database&) = delete;
 
   /// Appends a keyframe to the current session. Returns false and leaves the database unchanged when the
-  /// stamp is earlier than the session's last keyframe's, the stamp or pose is not finite, or the
-  /// descriptor's grid size differs from the configuration; `error` then says why.
+  /// stamp is earlier than the session's last keyframe's, the stamp or pose is not finite, the pose's
+  /// rotation is not one (R^T R off the identity by more than 1e-3, or a mirror), or the descriptor's
+  /// grid size differs from the configuration or it holds a non-finite value; `error` then says why.
   bool add(const KeyframeInfo& info, Descriptor descriptor, std::string* error = nullptr);
 
   /// Scores the nearest ring keys among the eligible keyframes for a query that has not been added yet
-  /// (its stamp and pose decide the time and distance windows). An empty descriptor never matches.
+  /// (its stamp and pose decide the time and distance windows). An empty descriptor, or one add() would
+  /// refuse, never matches.
   QueryResult query(const Descriptor& descriptor, const KeyframeInfo& info);
 
   /// Checks a new keyframe's info against the last one without changing anything.
@@ -93,7 +95,7 @@ class Database {
   /// session they are candidates at once, never gated by odometry; they enter the kd-tree now. Returns
   /// false and changes nothing when a descriptor does not fit the configuration, the session numbers
   /// are not as above, or a keyframe breaks what add() checks within its session (finite stamps and
-  /// poses, stamps that never decrease); `error` then names the keyframe and the problem.
+  /// poses that are rotations, stamps that never decrease, finite descriptors); `error` then names the keyframe and the problem.
   bool appendSessions(std::vector<Keyframe> keyframes, std::string* error = nullptr);
   /// The current session's number, and its first keyframe.
   std::uint32_t session() const { return session_; }

@@ -24,6 +24,10 @@ struct PointView {
   std::size_t offset_z = 8;
 };
 
+/// Points whose height z + lidar_height exceeds this in magnitude [m] are skipped like NaN/Inf: no
+/// sensor sees them, and heights near float's limit would overflow the keys' sums to infinity.
+constexpr float kMaxPointHeight = 1e4f;
+
 /// The raw polar grid. heights(r, s) is the maximum of z + lidar_height over the points in ring r,
 /// sector s, or 0 when the bin holds no point; occupied(r, s) says whether it holds any, so a bin whose
 /// maximum height is zero or negative is never mistaken for an empty one.
@@ -36,7 +40,7 @@ struct HeightGrid {
   Eigen::MatrixXf heights;
   Eigen::Matrix<std::uint8_t, Eigen::Dynamic, Eigen::Dynamic> occupied;
   std::size_t points_used = 0;     ///< points that fell into a bin
-  std::size_t points_skipped = 0;  ///< NaN/Inf or out of [min_range, max_radius]
+  std::size_t points_skipped = 0;  ///< NaN/Inf, beyond kMaxPointHeight or out of [min_range, max_radius]
 };
 
 /// `viewpoint` moves the grid's centre to (x, y) in the cloud's frame, axes unchanged: the scene as a

@@ -26,8 +26,10 @@ struct Sequence {
   bool odometry_from_file = false;
 };
 
-/// Reads poses.txt, calib.txt, times.txt (optional) and odom_poses.txt (optional), then selects the
-/// keyframes among the frames whose scan exists.
+/// Reads poses.txt, calib.txt, times.txt (optional; without it frame f is at 0.1 f s) and odom_poses.txt
+/// (optional), then selects the keyframes among the frames whose scan exists. Returns false with the
+/// reason on a malformed line, or when times.txt has fewer stamps or odom_poses.txt another number of
+/// poses than poses.txt.
 bool loadSequence(const std::string& dir, const SequenceOptions& options, Sequence* sequence, std::string* error);
 
 

@@ -66,6 +66,10 @@ class LoopClosureRos {
   void onAnyCloud(const sensor_msgs::PointCloud2ConstPtr& cloud);
   void enqueue(Item item);
   void work();
+  /// Runs `work` (one keyframe, one service task) on the worker behind the exception barrier: what it
+  /// throws is logged with `context`, counted, and the per-keyframe lists catch up with the database,
+  /// which is kept. Returns false, with the exception's what() in `what`, when it threw.
+  bool runGuarded(const std::string& context, const std::function<void()>& work, std::string* what = nullptr);
   void process(Item item);
   bool lookUpPose(Item* item);
   void publishLoops(const Detection& detection, const std::string& frame);
@@ -85,12 +89,14 @@ class LoopClosureRos {
   bool onLoad(scan_context_loop::LoadDatabase::Request& request, scan_context_loop::LoadDatabase::Response& response);
   bool onReset(std_srvs::Trigger::Request& request, std_srvs::Trigger::Response& response);
   bool onRelocalize(scan_context_loop::Relocalize::Request& request, scan_context_loop::Relocalize::Response& response);
-  /// Runs `task` on the worker between keyframes and waits for it; false when the node is stopping.
-  bool runOnWorker(std::function<void()> task);
+  /// Runs `task` on the worker between keyframes and waits for it; "" when it ran, else why not (the
+  /// node is stopping, or it threw).
+  std::string runOnWorker(std::function<void()> task);
   /// Loads a database file into the pipeline (worker, or start() before the worker runs); "" or why not.
   std::string loadFile(const std::string& path);
-  /// The per-keyframe lists (positions, poses, stamps, sessions) for keyframes a load added.
-  void adoptLoadedKeyframes();
+  /// The per-keyframe lists (positions, poses, stamps, sessions) for the keyframes the database holds
+  /// beyond them: those a load added, or one whose processing threw after it entered the database.
+  void adoptDatabaseKeyframes();
   /// mode relocalize: a loop into the map as T_map<-sensor on `relocalization`.
   void publishRelocalization(const scan_context_loop::LoopClosure& loop);
   void advertiseSessionServices();
@@ -141,7 +147,7 @@ class LoopClosureRos {
 
   // Counters read by diagnostics and the synchronisation check; written by callbacks and the worker.
   std::atomic<std::size_t> dropped_{0}, rejected_{0}, loops_found_{0}, database_size_{0}, queue_length_{0},
-      loops_waiting_{0}, lio_skipped_{0}, sessions_count_{1};
+      loops_waiting_{0}, lio_skipped_{0}, sessions_count_{1}, failures_{0};
   std::atomic<double> last_query_ms_{0.0};
   std::atomic<double> last_cloud_wall_{0.0}, last_pair_wall_{0.0}, first_unpaired_wall_{0.0};
 
