@@ -107,7 +107,7 @@ bool fitsGrid(const Descriptor& d, const Config& config) {
          d.ring_key.size() == rings && d.sector_key.size() == sectors;
 }
 
-bool allFinite(const std::vector<float>& values) {
+bool allFinite(const std::pmr::vector<float>& values) {
   return std::all_of(values.begin(), values.end(), [](float v) { return std::isfinite(v); });
 }
 
