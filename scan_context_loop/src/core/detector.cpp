@@ -101,7 +101,8 @@ Detection LoopDetector::process(const PointView& raw, const KeyframeInfo& info) 
   if (config.verification.enabled) {
     const auto start = Clock::now();
     VoxelCloud cloud = prepareCloud(points, verification_);
-    const std::optional<TrackedCandidate> tracked = tracker_.predict(database_, detection.index, detection.query.eligible);
+    const std::optional<TrackedCandidate> tracked = tracker_.predict(
+        database_, detection.index, detection.query.eligible, [this](std::size_t i) { return store_.get(i) != nullptr; });
     verifyCandidates(cloud, database_.keyframe(detection.index).descriptor, level, true,
                      tracked ? &*tracked : nullptr, &detection);
     store_.add(detection.index, std::move(cloud));
@@ -236,7 +237,9 @@ void LoopDetector::verifyCandidates(const VoxelCloud& cloud, const Descriptor& q
   for (const Candidate& c : detection->query.candidates) {
     if (tried >= config.verification.max_candidates || !(c.alignment.distance < config.verification.threshold)) break;
     if (tracked != nullptr && c.index == tracked->index) continue;  // registered from a better guess already
-    ++tried;
+    // A candidate whose data the store dropped (CloudStore, long runs) is listed as unverifiable but
+    // does not use up a registration: the next candidates, kept ones among them, get their turn.
+    if (store_.get(c.index) != nullptr) ++tried;
     if (verifyOne(c, false, hypotheses(c, query), level, query_stored, detection)) return;
   }
 }

@@ -21,7 +21,8 @@ bool LoopTracker::reaches(const Database& database, std::size_t query) const {
 }
 
 std::optional<TrackedCandidate> LoopTracker::predict(const Database& database, std::size_t query,
-                                                     std::size_t eligible) const {
+                                                     std::size_t eligible,
+                                                     const std::function<bool(std::size_t)>& usable) const {
   if (!reaches(database, query)) return std::nullopt;
   const Keyframe& q = database.keyframe(query);
   const Keyframe& a = database.keyframe(anchor_->query);
@@ -38,7 +39,7 @@ std::optional<TrackedCandidate> LoopTracker::predict(const Database& database, s
   for (std::size_t i = begin; i < end; ++i) {
     const Keyframe& k = database.keyframe(i);
     if (k.session != m.session) break;
-    if (!k.info.pose || !nearAnchorMatch(database, query, i)) continue;
+    if (!k.info.pose || !nearAnchorMatch(database, query, i) || (usable && !usable(i))) continue;
     const double gap = (k.info.pose->translation() - predicted.translation()).norm();
     if (gap > best_gap) continue;
     best_gap = gap;

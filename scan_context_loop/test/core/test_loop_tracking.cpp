@@ -74,6 +74,19 @@ TEST(LoopTracking, AConfirmedLoopPredictsTheNextKeyframesMatchAndPose) {
   }
 }
 
+TEST(LoopTracking, OnlyAUsableKeyframeIsChosen) {
+  // The cloud store may have dropped the nearest keyframe's registration data on a long run: the
+  // nearest one that still has them is tried instead.
+  TwoSessions s{Config()};
+  LoopTracker tracker;
+  tracker.anchor(s.loop(5, 40));
+  const auto kept = tracker.predict(s.database, s.second(8), s.database.sessionStart(),
+                                    [](std::size_t i) { return i % 4 == 0; });
+  ASSERT_TRUE(kept);
+  EXPECT_EQ(kept->index, 36u);  // 37 is nearest (3 m), 36 next (about 3.6 m)
+  EXPECT_FALSE(tracker.predict(s.database, s.second(8), s.database.sessionStart(), [](std::size_t) { return false; }));
+}
+
 TEST(LoopTracking, OnlyLoopsVerifiedInFullAnchorAndTheLatestWins) {
   TwoSessions s{Config()};
   LoopTracker tracker;

@@ -6,6 +6,8 @@
 #include <gtest/gtest.h>
 #include <yaml-cpp/yaml.h>
 
+#include "scan_context_loop/core/pcl_adapters.h"
+#include "scan_context_loop/core/verification.h"
 #include "scan_context_loop/eval/config_file.h"
 #include "scan_context_loop/eval/evaluation.h"
 #include "scan_context_common/kitti_io.h"
@@ -207,6 +209,33 @@ TEST(Evaluation, VerifiedLoopsAreScoredOnTheirOwnQueriesWhenReportedLate) {
   json << std::ifstream(temp("verified.json")).rdbuf();
   EXPECT_NE(json.str().find("\"reported_late\""), std::string::npos);
   EXPECT_NE(json.str().find("\"dropped_by_consistency\""), std::string::npos);
+}
+
+TEST(Evaluation, CandidatesWhoseDataWasDroppedLeaveTheirTurnToKeptOnes) {
+  // On a long run the cloud store keeps one keyframe's registration data in two, four, ... With one
+  // registration per keyframe (verify_max_candidates 1), a best candidate without data must not take
+  // the turn of the next one with data, or verified recall fades as the store thins.
+  const Sequence& sequence = simulatedLoop();
+  ASSERT_FALSE(sequence.frames.empty());
+  Config config;
+  config.exclude_recent_frames = 30;
+  config.track_distance = 0.0;  // the descriptor's candidates alone
+  config.verification.max_candidates = 1;
+  const Evaluation full = evaluate(sequence, config, 5.0);
+  pcl::PointCloud<pcl::PointXYZI> scan;
+  std::string error;
+  ASSERT_TRUE(kitti::readScan(kitti::scanPath(sequence.dir, sequence.frames.front()), &scan, &error)) << error;
+  const double bytes = static_cast<double>(prepareCloud(viewOf(scan), config.verification).bytes());
+  config.verification.max_bytes = std::max(1e6, bytes * static_cast<double>(sequence.frames.size()) / 3.0);
+  const Evaluation thinned = evaluate(sequence, config, 5.0);
+  std::size_t unverifiable = 0;
+  for (const VerificationAttempt& a : thinned.attempts) {
+    unverifiable += a.result.reason.find("unverifiable") != std::string::npos;
+  }
+  EXPECT_GT(unverifiable, 10u);  // the store did thin, and the best candidates were often dropped ones
+  EXPECT_EQ(thinned.verified.false_positives, 0u);
+  EXPECT_GE(full.verified.recall, 0.5);
+  EXPECT_GE(thinned.verified.recall, 0.8 * full.verified.recall);
 }
 
 TEST(Evaluation, RealKittiFramesThatExist) {
