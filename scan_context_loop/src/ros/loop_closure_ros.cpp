@@ -13,6 +13,7 @@
 #include "scan_context_loop/ros/live_settings.h"
 #include "scan_context_loop/ros/loop_pair.h"
 #include "scan_context_loop/ros/markers.h"
+#include "scan_context_loop/ros/odometry_input.h"
 
 namespace scan_context_loop {
 
@@ -147,7 +148,7 @@ void LoopClosureRos::onCloudAndOdom(const sensor_msgs::PointCloud2ConstPtr& clou
   Item item;
   item.cloud = cloud;
   item.has_pose = true;
-  tf2::fromMsg(odom->pose.pose, item.pose);
+  poseFromOdometry(*odom, &item.pose, &item.pose_problem);
   item.pose_frame = odom->header.frame_id;
   item.child_frame = odom->child_frame_id;
   enqueue(std::move(item));
@@ -314,9 +315,11 @@ void LoopClosureRos::process(Item item) {
   const sensor_msgs::PointCloud2& msg = *item.cloud;
   if (!item.has_pose && !lookUpPose(&item)) return;
   applyExtrinsic(&item);
-  if (!item.pose.matrix().allFinite()) {
+  if (item.pose_problem.empty() && !item.pose.matrix().allFinite()) item.pose_problem = "its pose is not finite";
+  if (!item.pose_problem.empty()) {
     ++rejected_;
-    ROS_ERROR_THROTTLE_NAMED(5.0, name_, "keyframe at %.3f skipped: its pose is not finite", msg.header.stamp.toSec());
+    ROS_ERROR_THROTTLE_NAMED(5.0, name_, "keyframe at %.3f skipped: %s", msg.header.stamp.toSec(),
+                             item.pose_problem.c_str());
     return;
   }
   PointView view;

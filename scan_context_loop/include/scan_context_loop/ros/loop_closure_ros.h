@@ -57,6 +57,7 @@ class LoopClosureRos {
     Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
     std::string pose_frame;
     std::string child_frame;  ///< the odometry's child_frame_id (odom mode)
+    std::string pose_problem;  ///< why the odometry's pose cannot be used (poseFromOdometry), or ""
   };
   using ApproxPolicy = message_filters::sync_policies::ApproximateTime<sensor_msgs::PointCloud2, nav_msgs::Odometry>;
   using ExactPolicy = message_filters::sync_policies::ExactTime<sensor_msgs::PointCloud2, nav_msgs::Odometry>;
