@@ -147,3 +147,12 @@ if(CATKIN_ENABLE_TESTING)
   target_link_libraries(test_ros_relocalization scan_context_loop_ros_harness)
   add_dependencies(test_ros_relocalization scan_context_loop_nodelet)
 endif()
+
+if(CATKIN_ENABLE_TESTING)
+  # The fuzz targets' kept inputs (test/fuzz_regressions/), replayed through the targets' own code built
+  # without libFuzzer; the odometry check and the in-memory database parser. No ROS master needed.
+  catkin_add_gtest(test_fuzz_inputs test/test_main.cpp test/fuzz/test_fuzz_inputs.cpp test/fuzz/fuzz_input.cpp
+    test/fuzz/fuzz_cloud.cpp test/fuzz/fuzz_odometry.cpp test/fuzz/fuzz_database.cpp)
+  target_link_libraries(test_fuzz_inputs scan_context_loop_nodelet ${catkin_LIBRARIES})
+  target_compile_definitions(test_fuzz_inputs PRIVATE SCL_PACKAGE_DIR="${SCL_PACKAGE_DIR}")
+endif()

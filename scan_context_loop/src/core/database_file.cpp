@@ -207,7 +207,7 @@ std::size_t descriptorMemory(std::size_t rings, std::size_t sectors) {
 /// The payload as it is read: every piece taken goes into its checksum.
 class PayloadReader {
  public:
-  PayloadReader(FileReader* file, std::uint64_t size) : file_(file), left_(size) {}
+  PayloadReader(ByteSource* file, std::uint64_t size) : file_(file), left_(size) {}
   /// *out reads the next `n` bytes; false when the payload or the file ends before them.
   bool take(std::size_t n, ByteReader* out) {
     const std::uint8_t* p = n <= left_ ? file_->take(n) : nullptr;
@@ -229,7 +229,7 @@ class PayloadReader {
   std::uint32_t crc() const { return crc_; }
 
  private:
-  FileReader* file_;
+  ByteSource* file_;
   std::uint64_t left_;
   std::uint32_t crc_ = 0;
 };
@@ -424,12 +424,17 @@ bool saveDatabase(const LoopDetector& detector, const std::string& path, const S
 }
 
 bool readDatabaseFile(const std::string& path, const Config& config, PriorSessions* sessions, std::string* error) {
+  FileReader file;
+  return file.open(path, error) && readDatabase(&file, path, config, sessions, error);
+}
+
+bool readDatabase(ByteSource* source, const std::string& name, const Config& config, PriorSessions* sessions,
+                  std::string* error) {
   const auto fail = [&](const std::string& why) {
-    if (error) *error = path + ": " + why;
+    if (error) *error = name + ": " + why;
     return false;
   };
-  FileReader file;
-  if (!file.open(path, error)) return false;
+  ByteSource& file = *source;
   if (file.size() == 0) return fail("the file is empty");
   const std::size_t head_bytes = static_cast<std::size_t>(std::min<std::uint64_t>(file.size(), kHeaderBytes));
   const std::uint8_t* head = file.take(head_bytes);

@@ -9,6 +9,10 @@ namespace {
 
 bool isometryOf(const Eigen::Vector3d& position, const Eigen::Quaterniond& orientation, Eigen::Isometry3d* pose,
                 std::string* why) {
+  if (!position.allFinite()) {
+    if (why) *why = "position is not finite";
+    return false;
+  }
   const double norm = orientation.norm();
   if (!(std::abs(norm - 1.0) <= kQuaternionNormTolerance)) {  // NaN fails too
     std::ostringstream text;

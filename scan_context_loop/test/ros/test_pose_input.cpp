@@ -54,6 +54,18 @@ TEST(PoseInput, AZeroNaNOrBadlyScaledQuaternionIsRefused) {
   }
 }
 
+TEST(PoseInput, ANonFinitePositionIsRefused) {
+  for (const double bad : {std::numeric_limits<double>::quiet_NaN(), HUGE_VAL, -HUGE_VAL}) {
+    geometry_msgs::Pose msg = poseWith(0.0, 0.0, 0.0, 1.0);
+    msg.position.y = bad;
+    Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+    std::string why;
+    EXPECT_FALSE(poseFromMsg(msg, &pose, &why));
+    EXPECT_NE(why.find("position"), std::string::npos) << why;
+    EXPECT_TRUE(pose.isApprox(Eigen::Isometry3d::Identity())) << "left alone";
+  }
+}
+
 TEST(PoseInput, TfTransformsAreCheckedAlike) {
   geometry_msgs::Transform msg;
   msg.translation.x = 3.0;

@@ -8,6 +8,7 @@
 
 #include "scan_context_loop/core/config.h"
 #include "scan_context_loop/core/detector.h"
+#include "scan_context_loop/core/file_io.h"
 #include "scan_context_loop/core/keyframes.h"
 #include "scan_context_loop/core/prior_sessions.h"
 
@@ -35,6 +36,11 @@ bool saveDatabase(const LoopDetector& detector, const std::string& path, const S
 /// data, the verification voxel settings) against `config`'s, counts and sizes, finite values. Fills
 /// *sessions, or returns false with `error` naming the path and the problem.
 bool readDatabaseFile(const std::string& path, const Config& config, PriorSessions* sessions, std::string* error);
+
+/// readDatabaseFile's parser and checks over any ByteSource (a file's bytes in memory: MemoryReader);
+/// `name` stands for the path in errors.
+bool readDatabase(ByteSource* source, const std::string& name, const Config& config, PriorSessions* sessions,
+                  std::string* error);
 
 /// readDatabaseFile, then appendSessions: the saved keyframes join after the current ones as earlier
 /// sessions, and keyframes from now on form a new session. On any error nothing changes.

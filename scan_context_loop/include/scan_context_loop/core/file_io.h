@@ -1,4 +1,5 @@
-// Whole-file reading and atomic replacement of a file, with errors that name the path and the cause.
+// Whole-file reading (from a file or from memory) and atomic replacement of a file, with errors that
+// name the path and the cause.
 #pragma once
 
 #include <cstddef>
@@ -6,14 +7,44 @@
 #include <string>
 #include <vector>
 
+#include "scan_context_loop/core/byte_stream.h"
+
 namespace scan_context_loop {
+
+/// Bytes read front to back, from a file (FileReader) or from memory (MemoryReader), so that a parser
+/// reads both the same way.
+class ByteSource {
+ public:
+  virtual ~ByteSource() = default;
+  /// How many bytes there are in all.
+  virtual std::uint64_t size() const = 0;
+  /// The next `n` bytes, contiguous and valid until the next call; nullptr when the source ends before
+  /// them or a read fails (readError() then says why).
+  virtual const std::uint8_t* take(std::size_t n) = 0;
+  /// Why the last take failed, or "" when the source simply ended.
+  virtual const std::string& readError() const = 0;
+};
+
+/// A byte range in memory, which must outlive the reader.
+class MemoryReader : public ByteSource {
+ public:
+  MemoryReader(const std::uint8_t* data, std::size_t size) : bytes_(data, size), size_(size) {}
+  std::uint64_t size() const override { return size_; }
+  const std::uint8_t* take(std::size_t n) override { return bytes_.take(n); }
+  const std::string& readError() const override { return no_error_; }
+
+ private:
+  ByteReader bytes_;
+  std::size_t size_;
+  std::string no_error_;
+};
 
 /// Reads a regular file front to back through a buffer of about a megabyte, so that a large file is
 /// never held in memory whole. Not copyable.
-class FileReader {
+class FileReader : public ByteSource {
  public:
   FileReader() = default;
-  ~FileReader();
+  ~FileReader() override;
   FileReader(const FileReader&) = delete;
   FileReader& operator=(const FileReader&) = delete;
 
@@ -21,11 +52,9 @@ class FileReader {
   /// be read.
   bool open(const std::string& path, std::string* error);
   /// The file's size when it was opened.
-  std::uint64_t size() const { return size_; }
-  /// The next `n` bytes, contiguous and valid until the next call; nullptr when the file ends before
-  /// them or a read fails (readError() then says why).
-  const std::uint8_t* take(std::size_t n);
-  const std::string& readError() const { return read_error_; }
+  std::uint64_t size() const override { return size_; }
+  const std::uint8_t* take(std::size_t n) override;
+  const std::string& readError() const override { return read_error_; }
 
  private:
   int fd_ = -1;

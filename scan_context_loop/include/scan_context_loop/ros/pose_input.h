@@ -14,7 +14,7 @@ namespace scan_context_loop {
 constexpr double kQuaternionNormTolerance = 1e-3;
 
 /// The pose as T_frame<-child. Returns false with a reason, leaving `pose` alone, when the orientation
-/// is not a unit quaternion within kQuaternionNormTolerance.
+/// is not a unit quaternion within kQuaternionNormTolerance or the position is not finite.
 bool poseFromMsg(const geometry_msgs::Pose& msg, Eigen::Isometry3d* pose, std::string* why);
 bool poseFromMsg(const geometry_msgs::Transform& msg, Eigen::Isometry3d* pose, std::string* why);
 

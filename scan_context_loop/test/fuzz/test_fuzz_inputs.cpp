@@ -1,0 +1,100 @@
+// The inputs the fuzz targets (scripts/fuzz) once crashed on, kept under test/fuzz_regressions/<target>/
+// and replayed through the same target functions; the in-memory database parser the
+// targets reach. No ROS master needed.
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "fuzz_input.h"
+#include "scan_context_loop/core/database_file.h"
+
+namespace scan_context_loop {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::vector<std::uint8_t> readBytes(const fs::path& path) {
+  std::ifstream file(path, std::ios::binary);
+  return std::vector<std::uint8_t>(std::istreambuf_iterator<char>(file), std::istreambuf_iterator<char>());
+}
+
+TEST(FuzzRegressions, EveryKeptInputRunsThroughItsTarget) {
+  const std::pair<const char*, int (*)(const std::uint8_t*, std::size_t)> targets[] = {
+      {"cloudInput", fuzz::cloudInput}, {"odometryInput", fuzz::odometryInput}, {"databaseFile", fuzz::databaseFile}};
+  const fs::path root = fs::path(SCL_PACKAGE_DIR) / "test" / "fuzz_regressions";
+  for (const auto& [name, run] : targets) {
+    if (!fs::is_directory(root / name)) continue;
+    for (const auto& entry : fs::directory_iterator(root / name)) {
+      SCOPED_TRACE(entry.path().string());
+      const std::vector<std::uint8_t> bytes = readBytes(entry.path());
+      EXPECT_EQ(run(bytes.data(), bytes.size()), 0);
+    }
+  }
+}
+
+/// A database file of three keyframes of the fixed cloud, with registration data, as bytes.
+std::vector<std::uint8_t> savedDatabase(const Config& config) {
+  LoopDetector detector(config);
+  for (int i = 0; i < 3; ++i) {
+    KeyframeInfo info;
+    info.stamp = i;
+    info.pose = Eigen::Isometry3d(Eigen::Translation3d(0.2 * i, 0.0, 0.0));
+    detector.process(fuzz::fixedCloud(), info);
+  }
+  const std::string path = (fs::temp_directory_path() / "scl_test_fuzz_inputs.db").string();
+  SaveOptions options;
+  options.include_clouds = true;
+  std::string error;
+  EXPECT_TRUE(saveDatabase(detector, path, options, &error)) << error;
+  std::vector<std::uint8_t> bytes = readBytes(path);
+  fs::remove(path);
+  return bytes;
+}
+
+TEST(DatabaseBytes, AFileInMemoryIsReadWholeAndItsDamageRefusedWithTheName) {
+  const Config config = fuzz::smallConfig(fuzz::kDatabaseChoice);
+  std::vector<std::uint8_t> bytes = savedDatabase(config);
+  std::string error;
+  PriorSessions from_memory;
+  MemoryReader reader(bytes.data(), bytes.size());
+  ASSERT_TRUE(readDatabase(&reader, "memory", config, &from_memory, &error)) << error;
+  EXPECT_EQ(from_memory.keyframes.size(), 3u);
+  ASSERT_EQ(from_memory.clouds.size(), 3u);
+  EXPECT_TRUE(from_memory.clouds[2] != nullptr);
+
+  bytes.back() ^= 1;  // the payload's last byte
+  MemoryReader damaged(bytes.data(), bytes.size());
+  PriorSessions ignored;
+  EXPECT_FALSE(readDatabase(&damaged, "memory", config, &ignored, &error));
+  EXPECT_EQ(error, "memory: payload checksum mismatch: the file is corrupt");
+  MemoryReader truncated(bytes.data(), 40);
+  EXPECT_FALSE(readDatabase(&truncated, "memory", config, &ignored, &error));
+  EXPECT_NE(error.find("truncated"), std::string::npos) << error;
+}
+
+TEST(DatabaseBytes, LoadedVoxelMeansFarOutsideTheGridAreIgnoredByVerification) {
+  // The loader asks only that a file's voxel means be finite: means far outside the registration grid
+  // (out of int's range once divided by the voxel size) must neither break verification nor match.
+  const Config config = fuzz::smallConfig(fuzz::kDatabaseChoice);
+  const std::vector<std::uint8_t> bytes = savedDatabase(config);
+  MemoryReader reader(bytes.data(), bytes.size());
+  PriorSessions sessions;
+  std::string error;
+  ASSERT_TRUE(readDatabase(&reader, "memory", config, &sessions, &error)) << error;
+  for (auto& cloud : sessions.clouds) {
+    ASSERT_TRUE(cloud != nullptr);
+    for (auto& mean : cloud->means) mean = Eigen::Vector3f(1e30f, -1e30f, 1e30f);
+  }
+  LoopDetector loaded(config);
+  ASSERT_TRUE(loaded.appendSessions(std::move(sessions), &error)) << error;
+  const Detection found = loaded.locate(fuzz::fixedCloud());
+  EXPECT_FALSE(found.verifications.empty());  // the candidates were registered against the far voxels
+  EXPECT_FALSE(found.verified);
+}
+
+}  // namespace
+}  // namespace scan_context_loop
