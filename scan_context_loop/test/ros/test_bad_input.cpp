@@ -3,7 +3,11 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <map>
+#include <mutex>
+#include <string>
 
+#include <diagnostic_msgs/DiagnosticArray.h>
 #include <gtest/gtest.h>
 
 #include "harness.h"
@@ -63,32 +67,94 @@ void publishBad(Harness* h, const Drive& drive, std::size_t k, int kind, const r
   if (send_odom) h->odom_pub.publish(odom);
 }
 
+/// What bad variant `kind` must do: refused with an error (counted as rejected), or taken as a keyframe
+/// (the cloud without a usable point), or neither (the unpaired cloud never reaches the worker).
+enum class Outcome { kRejected, kKept, kIgnored };
+Outcome expectedOutcome(int kind) {
+  if (kind == 3 || kind == 4) return Outcome::kKept;
+  if (kind == 6) return Outcome::kIgnored;
+  return Outcome::kRejected;
+}
+
+/// The latest values of the node's "loop closure" diagnostics status, by key.
+class DiagnosticsWatch {
+ public:
+  explicit DiagnosticsWatch(ros::NodeHandle nh)
+      : sub_(nh.subscribe("/diagnostics", 10, &DiagnosticsWatch::onDiagnostics, this)) {}
+  /// The value of `key` from a status published after `after`; -1 if none arrived within `seconds`.
+  long value(const std::string& key, const ros::WallTime& after, double seconds) const {
+    const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(seconds);
+    while (ros::ok() && ros::WallTime::now() < end) {
+      {
+        std::lock_guard<std::mutex> lock(mutex_);
+        const auto it = values_.find(key);
+        if (it != values_.end() && received_ > after) return std::stol(it->second);
+      }
+      ros::WallDuration(0.1).sleep();
+    }
+    return -1;
+  }
+
+ private:
+  void onDiagnostics(const diagnostic_msgs::DiagnosticArray& msg) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    for (const auto& status : msg.status) {
+      if (status.name.find("loop closure") == std::string::npos) continue;
+      for (const auto& kv : status.values) values_[kv.key] = kv.value;
+      received_ = ros::WallTime::now();
+    }
+  }
+  ros::Subscriber sub_;
+  mutable std::mutex mutex_;  // guards values_ and received_ (callback thread vs. test thread)
+  std::map<std::string, std::string> values_;
+  ros::WallTime received_;
+};
+
 TEST(LoopClosureNode, SurvivesBadInputAndStillFindsTheLoopsThatFollow) {
   ros::NodeHandle nh;
   Harness harness(nh);
+  DiagnosticsWatch diagnostics(nh);
   ASSERT_TRUE(harness.waitForNode(30.0));
   const Drive drive = blockDrive(true, 7);
   const std::size_t half = drive.truth.size() / 2;
   ros::WallRate rate(15.0);
   int kind = 0;
+  std::size_t expected_rejected = 0, expected_kept = 0;
   for (std::size_t k = 0; k < half && ros::ok(); ++k) {
     harness.cloud_pub.publish(harness.cloud(drive, k));
     harness.odom_pub.publish(harness.odom(drive, k));
     rate.sleep();
     if (k % 5 == 4) {
       publishBad(&harness, drive, k, kind % kBadKinds, harness.base + ros::Duration(drive.times[k] + 0.05));
+      const Outcome outcome = expectedOutcome(kind % kBadKinds);
+      expected_rejected += outcome == Outcome::kRejected;
+      expected_kept += outcome == Outcome::kKept;
       ++kind;
       rate.sleep();
     }
     if (k == half / 2) {
-      // Going back in time by a second: refused, database kept.
-      harness.cloud_pub.publish(harness.cloud(drive, k - 10));
-      harness.odom_pub.publish(harness.odom(drive, k - 10));
+      // Back in time by 0.5 s, less than new_session_jump (1 s): out of order, so refused; no new
+      // session, the database kept.
+      sensor_msgs::PointCloud2 cloud = harness.cloud(drive, k - 5);
+      nav_msgs::Odometry odom = harness.odom(drive, k - 5);
+      cloud.header.stamp = odom.header.stamp = harness.base + ros::Duration(drive.times[k] - 0.5);
+      harness.cloud_pub.publish(cloud);
+      harness.odom_pub.publish(odom);
+      ++expected_rejected;
       rate.sleep();
     }
   }
   harness.publish(drive, half, drive.truth.size(), 15.0);
   harness.settle(3.0, 30.0);
+  ASSERT_GE(kind, 2 * kBadKinds) << "every bad variant twice";
+
+  // Each bad keyframe did what it must: the refused ones are counted and never enter the database, the
+  // unpaired cloud is never paired with another keyframe's pose, and no session was started.
+  const ros::WallTime now = ros::WallTime::now();
+  EXPECT_EQ(diagnostics.value("database size", now, 10.0), static_cast<long>(drive.truth.size() + expected_kept));
+  EXPECT_EQ(diagnostics.value("keyframes rejected", now, 10.0), static_cast<long>(expected_rejected));
+  EXPECT_EQ(diagnostics.value("keyframes dropped", now, 10.0), 0);
+  EXPECT_EQ(diagnostics.value("sessions", now, 10.0), 1);
 
   const auto loops = harness.loops();
   std::size_t after_bad_input = 0;
