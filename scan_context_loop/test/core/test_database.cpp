@@ -4,6 +4,8 @@
 #include <random>
 #include <set>
 
+#include <malloc.h>
+
 #include <gtest/gtest.h>
 
 #include "scan_context_loop/core/pcl_adapters.h"
@@ -264,6 +266,43 @@ TEST(Database, EmptyDescriptorNeverMatchesAndMemoryStaysInBudget) {
   EXPECT_NEAR(again.query.best()->alignment.distance, 0.0, 1e-5);
   EXPECT_EQ(again.index, 2u);
   EXPECT_LE(detector.database().bytesPerKeyframe(), 6u * 1024u);
+}
+
+/// Bytes the heap has handed out and not taken back (glibc's own count, mmapped chunks included).
+std::size_t heapInUse() {
+  const struct mallinfo2 info = mallinfo2();
+  return info.uordblks + info.hblkhd;
+}
+
+TEST(Database, MeasuredHeapPerKeyframeMatchesTheStatedBytes) {
+  // The heap growth of a database of real street descriptors, measured by the allocator, against
+  // bytesPerKeyframe() (what the README and the node's memory figures rest on) and the 6 KB budget.
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+  GTEST_SKIP() << "a sanitizer's allocator replaces glibc's, whose count this reads";
+#endif
+  Config config;
+  std::vector<Descriptor> scenes;
+  for (std::uint32_t seed = 1; seed <= 4; ++seed) scenes.push_back(makeDescriptor(test::streetScene(seed), config));
+  constexpr std::size_t kKeyframes = 20000;
+  std::size_t before = 0, after = 0;
+  {
+    Database db(config);
+    before = heapInUse();
+    std::string error;
+    for (std::size_t i = 0; i < kKeyframes; ++i) {
+      ASSERT_TRUE(db.add(at(static_cast<double>(i), 2.0 * i), Descriptor(scenes[i % scenes.size()]), &error)) << error;
+      if (i % 2000 == 1999) db.query(scenes[0], at(static_cast<double>(i) + 0.5, 2.0 * i));  // the tree is built
+    }
+    after = heapInUse();
+    const double measured = static_cast<double>(after - before) / kKeyframes;
+    const double stated = static_cast<double>(db.bytesPerKeyframe());
+    std::printf("heap per keyframe: measured %.0f bytes, stated %.0f bytes\n", measured, stated);
+    EXPECT_LE(measured, 1.25 * stated);
+    EXPECT_GE(measured, 0.75 * stated);
+    EXPECT_LE(measured, 6.0 * 1024.0);
+  }
+  // Everything is returned with the database.
+  EXPECT_LE(heapInUse(), before + 64 * 1024);
 }
 
 }  // namespace
