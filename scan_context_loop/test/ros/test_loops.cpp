@@ -2,6 +2,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include <Eigen/Eigenvalues>
 #include <gtest/gtest.h>
 #include <tf2_eigen/tf2_eigen.h>
 
@@ -14,6 +15,39 @@ namespace test {
 namespace {
 
 double yawOf(const Eigen::Isometry3d& t) { return std::atan2(t(1, 0), t(0, 0)); }
+
+using Covariance = Eigen::Matrix<double, 6, 6>;
+
+Covariance covarianceOf(const boost::array<double, 36>& values) {
+  Covariance c;
+  for (int i = 0; i < 36; ++i) c(i / 6, i % 6) = values[i];
+  return c;
+}
+
+/// A loop's covariance is what a backend can use: symmetric and positive definite. A verified loop's is
+/// the registration's (each variance at least the floor); a descriptor loop's is the documented prior:
+/// covariance_translation, covariance_rotation and half a sector's yaw squared, nothing off the diagonal.
+void expectUsableCovariance(const Covariance& c, bool verified) {
+  const Config config;
+  EXPECT_TRUE(c.isApprox(c.transpose(), 1e-9)) << c;
+  const Eigen::SelfAdjointEigenSolver<Covariance> eigen(c);
+  EXPECT_GT(eigen.eigenvalues().minCoeff(), 0.0) << c;
+  if (verified) {
+    for (int i = 0; i < 3; ++i) EXPECT_GE(c(i, i), config.verification.min_translation_variance * (1 - 1e-4)) << c;
+    for (int i = 3; i < 6; ++i) EXPECT_GE(c(i, i), config.verification.min_rotation_variance * (1 - 1e-4)) << c;
+    // (The floor holds for the eigenvalues, so a diagonal may sit a rounding below it.)
+    // A registration that found the loop to 0.3 m (checked against the truth) does not report it as
+    // unknown: every standard deviation under 1 m and 5 degrees on this well-structured drive.
+    for (int i = 0; i < 3; ++i) EXPECT_LT(c(i, i), 1.0) << c;
+    for (int i = 3; i < 6; ++i) EXPECT_LT(c(i, i), std::pow(5.0 * M_PI / 180.0, 2)) << c;
+  } else {
+    const double half_sector = M_PI / config.num_sectors;
+    Eigen::Matrix<double, 6, 1> prior;
+    prior << config.covariance_translation, config.covariance_translation, config.covariance_translation,
+        config.covariance_rotation, config.covariance_rotation, half_sector * half_sector;
+    EXPECT_TRUE(c.isApprox(Covariance(prior.asDiagonal()), 1e-12)) << c;
+  }
+}
 
 TEST(LoopClosureNode, PublishesTrueRevisitsWithTheirYawAndMarkers) {
   ros::NodeHandle nh, pnh("~");
@@ -47,7 +81,7 @@ TEST(LoopClosureNode, PublishesTrueRevisitsWithTheirYawAndMarkers) {
     EXPECT_LT(std::fabs(wrapAngle(loop.yaw - yawOf(truth))), 6.0 * M_PI / 180.0) << "loop " << q << " -> " << m;
     Eigen::Isometry3d relative;
     tf2::fromMsg(loop.relative_pose, relative);
-    EXPECT_GT(loop.covariance[35], 0.0);
+    expectUsableCovariance(covarianceOf(loop.covariance), loop.verified);
     EXPECT_EQ(loop.verified, expect_verified);
     EXPECT_GE(loop.support, static_cast<std::uint32_t>(expect_support)) << "loop " << q << " -> " << m;
     if (expect_verified) {
@@ -74,7 +108,14 @@ TEST(LoopClosureNode, PublishesTrueRevisitsWithTheirYawAndMarkers) {
     tf2::fromMsg(pairs[2 * i + 1].pose.pose, query);
     tf2::fromMsg(loops[i].relative_pose, relative);
     EXPECT_TRUE((query.inverse() * match).isApprox(relative, 1e-6)) << "loop " << loops[i].query_id;
-    EXPECT_GT(pairs[2 * i + 1].pose.covariance[35], 0.0);
+    // The query's pose carries the loop's covariance turned into the pose frame's axes, the match's none.
+    Covariance rotate = Covariance::Zero();
+    rotate.topLeftCorner<3, 3>() = rotate.bottomRightCorner<3, 3>() = query.linear();
+    const Covariance expected = rotate * covarianceOf(loops[i].covariance) * rotate.transpose();
+    // (A registered rotation is orthonormal to float precision, hence the tolerance.)
+    EXPECT_TRUE(covarianceOf(pairs[2 * i + 1].pose.covariance).isApprox(expected, 1e-5))
+        << "loop " << loops[i].query_id << "\n" << covarianceOf(pairs[2 * i + 1].pose.covariance);
+    EXPECT_TRUE(covarianceOf(pairs[2 * i].pose.covariance).isZero(0.0));
   }
 
   ASSERT_GT(harness.markerMessages(), 0u);
