@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 #include <ros/ros.h>
+#include <sensor_msgs/PointCloud2.h>
 
 #include "scan_context_loop/ros/parameters.h"
 #include "scan_context_loop/core/settings.h"
@@ -90,6 +91,21 @@ TEST(Parameters, EveryTableKeyIsAcceptedWithItsDefault) {
   EXPECT_TRUE(problems.empty()) << problems.front();
 }
 
+TEST(Parameters, ANodeletWithBadParametersDoesNotStartAndItsManagerLivesOn) {
+  // parameters.test loads two nodelets into one manager: /with_defaults with the defaults,
+  // /with_bad_parameters with num_rings 0
+  // and a string for max_radius. The good one subscribes to its clouds; the bad one never does.
+  ros::NodeHandle nh;
+  ros::Publisher good = nh.advertise<sensor_msgs::PointCloud2>("/with_defaults/keyframe_cloud", 1);
+  ros::Publisher bad = nh.advertise<sensor_msgs::PointCloud2>("/with_bad_parameters/keyframe_cloud", 1);
+  const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(40.0);
+  while (good.getNumSubscribers() == 0 && ros::WallTime::now() < end) ros::WallDuration(0.1).sleep();
+  ASSERT_GT(good.getNumSubscribers(), 0u) << "the good nodelet never started";
+  ros::WallDuration(3.0).sleep();  // both were loaded at once: the bad one has had its chance
+  EXPECT_EQ(bad.getNumSubscribers(), 0u) << "a nodelet with bad parameters started";
+  EXPECT_GT(good.getNumSubscribers(), 0u) << "the manager went down";
+}
+
 }  // namespace
 }  // namespace scan_context_loop
 
@@ -97,5 +113,7 @@ int main(int argc, char** argv) {
   testing::InitGoogleTest(&argc, argv);
   ros::init(argc, argv, "test_parameters");
   ros::NodeHandle nh;
+  ros::AsyncSpinner spinner(1);
+  spinner.start();
   return RUN_ALL_TESTS();
 }

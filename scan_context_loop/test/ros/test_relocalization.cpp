@@ -56,6 +56,20 @@ TEST(Relocalization, SaveResetLoadThenRelocalizeASecondRunInTheSavedMap) {
   ASSERT_TRUE(save.response.success) << save.response.message;
   EXPECT_EQ(save.response.keyframes, n);
 
+  // Saving where no file can be written: refused with the reason, nothing written, the database stays.
+  SaveDatabase nowhere;
+  nowhere.request.path = "/nonexistent_directory_" + std::to_string(getpid()) + "/map.scdb";
+  ASSERT_TRUE(ros::service::call("a/loop_closure/save_database", nowhere));
+  EXPECT_FALSE(nowhere.response.success);
+  EXPECT_FALSE(nowhere.response.message.empty());
+  EXPECT_EQ(nowhere.response.keyframes, n);
+  EXPECT_NE(access(nowhere.request.path.c_str(), F_OK), 0);
+  // A missing file: refused, the database stays.
+  LoadDatabase missing;
+  missing.request.path = path + ".missing";
+  ASSERT_TRUE(ros::service::call("a/loop_closure/load_database", missing));
+  EXPECT_FALSE(missing.response.success);
+  EXPECT_EQ(missing.response.keyframes, n) << missing.response.message;
   // A file that is no database: refused, and the database stays.
   LoadDatabase bad;
   bad.request.path = "/proc/self/status";
@@ -118,6 +132,21 @@ TEST(Relocalization, SaveResetLoadThenRelocalizeASecondRunInTheSavedMap) {
   ASSERT_TRUE(where.response.found) << where.response.message;
   expectAt(drive, 40, where.response.pose.pose.pose);
   EXPECT_EQ(where.response.match_session, 0u);
+  // Clouds the node cannot use: answered, not found, with the reason; the map still answers after them.
+  Relocalize no_z, empty;
+  no_z.request.cloud = b.cloud(drive, 40);
+  no_z.request.cloud.fields.erase(no_z.request.cloud.fields.begin() + 2);
+  ASSERT_TRUE(ros::service::call("b/loop_closure/relocalize", no_z));
+  EXPECT_FALSE(no_z.response.found);
+  EXPECT_NE(no_z.response.message.find("cloud refused"), std::string::npos) << no_z.response.message;
+  empty.request.cloud = b.cloud(drive, 40);
+  empty.request.cloud.width = 0;
+  empty.request.cloud.row_step = 0;
+  empty.request.cloud.data.clear();
+  ASSERT_TRUE(ros::service::call("b/loop_closure/relocalize", empty));
+  EXPECT_FALSE(empty.response.found) << empty.response.message;
+  ASSERT_TRUE(ros::service::call("b/loop_closure/relocalize", where));
+  EXPECT_TRUE(where.response.found) << where.response.message;
   unlink(path.c_str());
 }
 
