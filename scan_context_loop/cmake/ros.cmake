@@ -123,10 +123,10 @@ if(CATKIN_ENABLE_TESTING)
 endif()
 
 if(CATKIN_ENABLE_TESTING)
-  # The dynamic_reconfigure description, the standard-type loops, pose input and the worker's exception
-  # barrier: no ROS master needed.
+  # The dynamic_reconfigure description, the standard-type loops, cloud and pose input and the worker's
+  # exception barrier: no ROS master needed.
   catkin_add_gtest(test_ros_units test/ros/test_live_settings.cpp test/ros/test_pose_input.cpp
-    test/ros/test_exception_barrier.cpp)
+    test/ros/test_cloud_input.cpp test/ros/test_exception_barrier.cpp)
   target_link_libraries(test_ros_units scan_context_loop_nodelet ${catkin_LIBRARIES})
 endif()
 
