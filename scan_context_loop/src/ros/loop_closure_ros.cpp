@@ -307,6 +307,7 @@ bool LoopClosureRos::lookUpPose(Item* item) {
     item->has_pose = true;
     return true;
   } catch (const tf2::TransformException& e) {
+    ++rejected_;
     ROS_WARN_THROTTLE_NAMED(5.0, name_, "keyframe skipped: no transform %s <- %s at its stamp: %s",
                             options_.fixed_frame.c_str(), sensor.c_str(), e.what());
     return false;

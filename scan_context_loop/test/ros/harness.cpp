@@ -107,6 +107,32 @@ void Harness::publishTfAndWorldClouds(const Drive& drive, double rate) {
   }
 }
 
+DiagnosticsWatch::DiagnosticsWatch(ros::NodeHandle nh, std::string node)
+    : node_(std::move(node)), sub_(nh.subscribe("/diagnostics", 10, &DiagnosticsWatch::onDiagnostics, this)) {}
+
+long DiagnosticsWatch::value(const std::string& key, const ros::WallTime& after, double seconds) const {
+  const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(seconds);
+  while (ros::ok() && ros::WallTime::now() < end) {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      const auto it = values_.find(key);
+      if (it != values_.end() && received_ > after) return std::stol(it->second);
+    }
+    ros::WallDuration(0.1).sleep();
+  }
+  return -1;
+}
+
+void DiagnosticsWatch::onDiagnostics(const diagnostic_msgs::DiagnosticArray& msg) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  for (const auto& status : msg.status) {
+    if (status.name.find("loop closure") == std::string::npos) continue;
+    if (!node_.empty() && status.name.compare(0, node_.size() + 1, node_ + ":") != 0) continue;
+    for (const auto& kv : status.values) values_[kv.key] = kv.value;
+    received_ = ros::WallTime::now();
+  }
+}
+
 void Harness::settle(double quiet, double limit) {
   const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(limit);
   while (ros::ok() && ros::WallTime::now() < end) {

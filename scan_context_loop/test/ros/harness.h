@@ -7,6 +7,7 @@
 #include <utility>
 #include <vector>
 
+#include <diagnostic_msgs/DiagnosticArray.h>
 #include <geometry_msgs/PoseWithCovarianceStamped.h>
 #include <nav_msgs/Odometry.h>
 #include <ros/ros.h>
@@ -66,6 +67,24 @@ class Harness {
   std::size_t marker_messages_ = 0, largest_marker_message_ = 0;
   std::vector<double> lio_arrivals_;
   ros::WallTime last_loop_ = ros::WallTime::now();
+};
+
+/// The latest values of a loop-closure node's diagnostics status ("<node>: loop closure"), by key.
+class DiagnosticsWatch {
+ public:
+  /// Watches the status of the node named `node` (its full name without the leading slash, "ns/name", as
+  /// the diagnostics name it; any loop-closure node's when empty).
+  explicit DiagnosticsWatch(ros::NodeHandle nh, std::string node = "");
+  /// The integer value of `key` from a status that arrived after `after`; -1 if none within `seconds`.
+  long value(const std::string& key, const ros::WallTime& after, double seconds) const;
+
+ private:
+  void onDiagnostics(const diagnostic_msgs::DiagnosticArray& msg);
+  std::string node_;
+  ros::Subscriber sub_;
+  mutable std::mutex mutex_;  // guards values_ and received_ (callback thread vs. test thread)
+  std::map<std::string, std::string> values_;
+  ros::WallTime received_;
 };
 
 /// main() of a rostest node: gtest and ROS initialised, callbacks served by two threads.

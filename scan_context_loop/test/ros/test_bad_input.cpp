@@ -3,11 +3,7 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
-#include <map>
-#include <mutex>
-#include <string>
 
-#include <diagnostic_msgs/DiagnosticArray.h>
 #include <gtest/gtest.h>
 
 #include "harness.h"
@@ -76,44 +72,10 @@ Outcome expectedOutcome(int kind) {
   return Outcome::kRejected;
 }
 
-/// The latest values of the node's "loop closure" diagnostics status, by key.
-class DiagnosticsWatch {
- public:
-  explicit DiagnosticsWatch(ros::NodeHandle nh)
-      : sub_(nh.subscribe("/diagnostics", 10, &DiagnosticsWatch::onDiagnostics, this)) {}
-  /// The value of `key` from a status published after `after`; -1 if none arrived within `seconds`.
-  long value(const std::string& key, const ros::WallTime& after, double seconds) const {
-    const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(seconds);
-    while (ros::ok() && ros::WallTime::now() < end) {
-      {
-        std::lock_guard<std::mutex> lock(mutex_);
-        const auto it = values_.find(key);
-        if (it != values_.end() && received_ > after) return std::stol(it->second);
-      }
-      ros::WallDuration(0.1).sleep();
-    }
-    return -1;
-  }
-
- private:
-  void onDiagnostics(const diagnostic_msgs::DiagnosticArray& msg) {
-    std::lock_guard<std::mutex> lock(mutex_);
-    for (const auto& status : msg.status) {
-      if (status.name.find("loop closure") == std::string::npos) continue;
-      for (const auto& kv : status.values) values_[kv.key] = kv.value;
-      received_ = ros::WallTime::now();
-    }
-  }
-  ros::Subscriber sub_;
-  mutable std::mutex mutex_;  // guards values_ and received_ (callback thread vs. test thread)
-  std::map<std::string, std::string> values_;
-  ros::WallTime received_;
-};
-
 TEST(LoopClosureNode, SurvivesBadInputAndStillFindsTheLoopsThatFollow) {
   ros::NodeHandle nh;
   Harness harness(nh);
-  DiagnosticsWatch diagnostics(nh);
+  DiagnosticsWatch diagnostics(nh, "loop_closure");
   ASSERT_TRUE(harness.waitForNode(30.0));
   const Drive drive = blockDrive(true, 7);
   const std::size_t half = drive.truth.size() / 2;
@@ -168,6 +130,31 @@ TEST(LoopClosureNode, SurvivesBadInputAndStillFindsTheLoopsThatFollow) {
     expectTrueLoop(drive, q, m, loop);
   }
   EXPECT_GE(after_bad_input, 10u) << "the node stopped finding loops after bad input";
+}
+
+TEST(LoopClosureNode, AFullQueueDropsKeyframesCountedAndTheNodeGoesOn) {
+  // bad_input.test also runs /tiny_queue/loop_closure with queue_size 1: a burst overflows it.
+  ros::NodeHandle nh("tiny_queue");
+  Harness harness(nh);
+  DiagnosticsWatch diagnostics(ros::NodeHandle(), "tiny_queue/loop_closure");
+  ASSERT_TRUE(harness.waitForNode(30.0));
+  const Drive drive = blockDrive(false, 3);
+  const std::size_t burst = 120;
+  ASSERT_GT(drive.truth.size(), burst + 20);
+  harness.publish(drive, 0, burst, 1000.0);
+  ros::WallDuration(3.0).sleep();
+  ros::WallTime now = ros::WallTime::now();
+  const long kept = diagnostics.value("database size", now, 10.0);
+  const long dropped = diagnostics.value("keyframes dropped", now, 10.0);
+  EXPECT_GT(dropped, 0) << "the burst never filled a queue of one";
+  EXPECT_GT(kept, 0);
+  EXPECT_LE(kept + dropped, static_cast<long>(burst));
+  // Then keyframes at a pace the worker keeps: every one enters, none more is dropped.
+  harness.publish(drive, burst, burst + 20, 5.0);
+  ros::WallDuration(2.0).sleep();
+  now = ros::WallTime::now();
+  EXPECT_EQ(diagnostics.value("database size", now, 10.0), kept + 20);
+  EXPECT_EQ(diagnostics.value("keyframes dropped", now, 10.0), dropped);
 }
 
 }  // namespace
