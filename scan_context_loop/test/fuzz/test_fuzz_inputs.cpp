@@ -1,6 +1,6 @@
-// The inputs the fuzz targets (scripts/fuzz) once crashed on, kept under test/fuzz_regressions/<target>/
-// and replayed through the same target functions; the in-memory database parser the
-// targets reach. No ROS master needed.
+// The fuzz targets' kept inputs (scripts/fuzz): the inputs that once crashed a target and the reduced
+// corpus, replayed through the same target functions; the in-memory database parser the targets reach.
+// No ROS master needed.
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -22,13 +22,46 @@ std::vector<std::uint8_t> readBytes(const fs::path& path) {
   return std::vector<std::uint8_t>(std::istreambuf_iterator<char>(file), std::istreambuf_iterator<char>());
 }
 
+/// The inputs of a packed corpus file (records of a 4-byte little-endian length and the bytes;
+/// scripts/fuzz_corpus.py). Fails the test if the file is missing or malformed.
+std::vector<std::vector<std::uint8_t>> readPacked(const fs::path& path) {
+  const std::vector<std::uint8_t> blob = readBytes(path);
+  std::vector<std::vector<std::uint8_t>> inputs;
+  std::size_t at = 0;
+  while (at < blob.size()) {
+    if (at + 4 > blob.size()) {
+      ADD_FAILURE() << path << ": truncated record header at byte " << at;
+      break;
+    }
+    const std::size_t size = blob[at] | blob[at + 1] << 8 | blob[at + 2] << 16 | std::size_t(blob[at + 3]) << 24;
+    at += 4;
+    if (at + size > blob.size()) {
+      ADD_FAILURE() << path << ": record " << inputs.size() << " runs past the end";
+      break;
+    }
+    inputs.emplace_back(blob.begin() + at, blob.begin() + at + size);
+    at += size;
+  }
+  return inputs;
+}
+
 TEST(FuzzRegressions, EveryKeptInputRunsThroughItsTarget) {
+  // Two kinds of kept input per target: test/fuzz_regressions/<target>/ (inputs that once crashed it,
+  // one file each) and test/fuzz_corpus/<target>.corpus (the fuzzing runs' corpus reduced to a set
+  // with the same coverage). Under `scripts/test --sanitize` and scripts/fuzz they run under ASan/UBSan.
   const std::pair<const char*, int (*)(const std::uint8_t*, std::size_t)> targets[] = {
       {"cloudInput", fuzz::cloudInput}, {"odometryInput", fuzz::odometryInput}, {"databaseFile", fuzz::databaseFile}};
-  const fs::path root = fs::path(SCL_PACKAGE_DIR) / "test" / "fuzz_regressions";
+  const fs::path root = fs::path(SCL_PACKAGE_DIR) / "test";
   for (const auto& [name, run] : targets) {
-    if (!fs::is_directory(root / name)) continue;
-    for (const auto& entry : fs::directory_iterator(root / name)) {
+    SCOPED_TRACE(name);
+    const auto corpus = readPacked(root / "fuzz_corpus" / (std::string(name) + ".corpus"));
+    EXPECT_GE(corpus.size(), 50u) << "the kept corpus is missing or nearly empty";
+    for (std::size_t i = 0; i < corpus.size(); ++i) {
+      SCOPED_TRACE("corpus input " + std::to_string(i));
+      EXPECT_EQ(run(corpus[i].data(), corpus[i].size()), 0);
+    }
+    if (!fs::is_directory(root / "fuzz_regressions" / name)) continue;
+    for (const auto& entry : fs::directory_iterator(root / "fuzz_regressions" / name)) {
       SCOPED_TRACE(entry.path().string());
       const std::vector<std::uint8_t> bytes = readBytes(entry.path());
       EXPECT_EQ(run(bytes.data(), bytes.size()), 0);
