@@ -11,7 +11,7 @@ export PATH="/usr/bin:/bin:$PATH"
 SCL_PACKAGES=(
   build-essential cmake pkg-config catkin python3-catkin-pkg
   ros-base-dev libnodeletlib-dev libnodelet-dev libnodeletlib-tools rosbash
-  libpcl-conversions-dev libpcl-dev libflann-dev libeigen3-dev liblz4-dev
+  libpcl-conversions-dev libpcl-dev libflann-dev libeigen3-dev liblz4-dev libceres-dev
   libtf2-ros-dev libtf2-eigen-dev libvisualization-msgs-dev libnav-msgs-dev libgeometry-msgs-dev
   libstd-msgs-dev libsensor-msgs-dev libdiagnostic-updater-dev
   libdynamic-reconfigure-config-init-mutex-dev python3-dynamic-reconfigure libstd-srvs-dev

@@ -1,0 +1,95 @@
+// A reference pose-graph backend: keyframe odometry poses as a chain of relative-pose factors, loop
+// closures as relative-pose factors with their covariance under a robust loss, solved with Ceres.
+// ROS-free (Eigen, Ceres, std); the `pose_graph` node wraps it.
+//
+// Conventions (the README's "Pose graph" section says the same):
+// - A pose is T_world<-keyframe (the sensor's pose, as the loop-closure node receives it).
+// - A factor between keyframes a and b measures T_a<-b. Its residual is
+//   [ p_ab - p̂_ab ; 2 vec(q̂_ab^-1 q_ab) ], with p̂_ab, q̂_ab the measurement and p_ab, q_ab the
+//   estimate (T_a^-1 T_b): translation in a's axes [m], rotation as a small angle about a's axes [rad].
+//   This is the order of a LoopClosure's covariance (x y z roll pitch yaw, in the query frame).
+// - A loop closure (query q, match m, relative_pose T_q<-m) is the factor a = q, b = m.
+// - Odometry between consecutive keyframes is the factor a = i, b = i+1 with the odometry's own
+//   T_i^-1 T_i+1 and a diagonal covariance that grows with the step (PoseGraphConfig).
+// - The first keyframe is held fixed (the gauge): the corrected trajectory starts where the odometry did.
+#pragma once
+
+#include <cstddef>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <Eigen/Geometry>
+
+namespace scan_context_loop {
+
+using Matrix6d = Eigen::Matrix<double, 6, 6>;
+
+struct PoseGraphConfig {
+  /// Odometry noise per step: standard deviation = floor + per_metre x step length (the step's
+  /// translation). Translation in metres, rotation in radians. The defaults (2 cm + 2% of the step,
+  /// 0.002 rad + 0.002 rad per metre) describe a LiDAR odometry that drifts about 1-2% of distance.
+  double odometry_translation_floor = 0.02;
+  double odometry_translation_per_metre = 0.02;
+  double odometry_rotation_floor = 0.002;
+  double odometry_rotation_per_metre = 0.002;
+  /// Robust loss on loop factors: Cauchy with this scale on the whitened residual's norm [-] (0: none,
+  /// plain least squares). A loop whose residual is many standard deviations off loses its pull.
+  double loop_robust_scale = 1.0;
+  /// Solver iterations per optimize() call.
+  int max_iterations = 50;
+
+  /// Problems with the values, one line each (empty when usable).
+  std::vector<std::string> validate() const;
+};
+
+struct PoseGraphResult {
+  bool solved = false;          ///< Ceres reported a usable solution
+  int iterations = 0;
+  double initial_cost = 0.0;
+  double final_cost = 0.0;
+  double seconds = 0.0;
+  std::string message;          ///< Ceres' brief report, or why nothing was solved
+};
+
+class PoseGraph {
+ public:
+  explicit PoseGraph(const PoseGraphConfig& config = PoseGraphConfig());
+  ~PoseGraph();
+  PoseGraph(const PoseGraph&) = delete;
+  PoseGraph& operator=(const PoseGraph&) = delete;
+
+  /// Appends a keyframe with its odometry pose T_odom<-keyframe; returns its index. Its estimate starts
+  /// at the previous keyframe's estimate moved by the odometry step, so earlier corrections carry on.
+  /// Returns -1 (nothing added) if the pose is not finite or its rotation is not one.
+  long addKeyframe(const Eigen::Isometry3d& odometry_pose);
+  /// Adds a loop factor T_query<-match with its covariance (x y z roll pitch yaw in the query's axes).
+  /// False (nothing added) for an unknown keyframe, a self-loop, a non-finite pose or a covariance that
+  /// is not symmetric positive definite; `error` then says which.
+  bool addLoop(std::size_t query, std::size_t match, const Eigen::Isometry3d& query_from_match,
+               const Matrix6d& covariance, std::string* error = nullptr);
+  /// Solves from the current estimates (warm start).
+  PoseGraphResult optimize();
+
+  std::size_t size() const { return odometry_.size(); }
+  std::size_t loops() const { return loop_count_; }
+  /// The corrected pose T_world<-keyframe of keyframe i (world = the odometry frame at keyframe 0).
+  Eigen::Isometry3d pose(std::size_t i) const;
+  std::vector<Eigen::Isometry3d> poses() const;
+  /// The correction T_world<-odom at the newest keyframe: corrected pose x inverse(odometry pose).
+  Eigen::Isometry3d correction() const;
+  const Eigen::Isometry3d& odometryPose(std::size_t i) const { return odometry_[i]; }
+  const PoseGraphConfig& config() const { return config_; }
+
+ private:
+  struct Impl;
+  PoseGraphConfig config_;
+  std::vector<Eigen::Isometry3d> odometry_;
+  std::size_t loop_count_ = 0;
+  std::unique_ptr<Impl> impl_;
+};
+
+/// The odometry factor's covariance for a step T_i<-i+1 under `config` (diagonal).
+Matrix6d odometryCovariance(const Eigen::Isometry3d& step, const PoseGraphConfig& config);
+
+}  // namespace scan_context_loop

@@ -1,0 +1,25 @@
+// Absolute trajectory error: how far a keyframe trajectory lies from the truth once the two are
+// aligned by the rigid motion that fits them best (Umeyama, without scale).
+#pragma once
+
+#include <cstddef>
+#include <vector>
+
+#include <Eigen/Geometry>
+
+namespace scan_context_loop {
+
+struct TrajectoryError {
+  std::size_t poses = 0;
+  double rmse = 0.0;  ///< root mean square of the position errors after alignment [m]
+  double mean = 0.0;
+  double max = 0.0;
+  Eigen::Isometry3d alignment = Eigen::Isometry3d::Identity();  ///< truth frame <- estimate frame
+};
+
+/// The error of `estimate` against `truth`, pose by pose (same length, at least 3; positions only).
+/// Returns poses = 0 when the lengths differ or there are too few.
+TrajectoryError absoluteTrajectoryError(const std::vector<Eigen::Isometry3d>& estimate,
+                                        const std::vector<Eigen::Isometry3d>& truth);
+
+}  // namespace scan_context_loop
