@@ -2,9 +2,10 @@
 # scan_context_common); its tool is in tools.cmake.
 find_package(yaml-cpp REQUIRED)
 add_library(scan_context_loop_eval src/eval/metrics.cpp src/eval/relocalization.cpp src/eval/config_file.cpp
-  src/eval/sequence.cpp src/eval/prior_map.cpp src/eval/evaluation.cpp)
+  src/eval/sequence.cpp src/eval/prior_map.cpp src/eval/evaluation.cpp src/eval/trajectory_correction.cpp)
 target_include_directories(scan_context_loop_eval PUBLIC include ${YAML_CPP_INCLUDE_DIR})
-target_link_libraries(scan_context_loop_eval PUBLIC scan_context_loop_core ${scan_context_common_LIBRARIES} yaml-cpp)
+target_link_libraries(scan_context_loop_eval PUBLIC scan_context_loop_core scan_context_loop_graph
+  ${scan_context_common_LIBRARIES} yaml-cpp)
 
 if(CATKIN_ENABLE_TESTING)
   # Simulated drives written as KITTI-format sequences, for the evaluator's tests.

@@ -6,6 +6,7 @@
 #include "scan_context_loop/eval/config_file.h"
 #include "scan_context_loop/eval/prior_map.h"
 #include "scan_context_loop/eval/evaluation.h"
+#include "scan_context_loop/eval/trajectory_correction.h"
 #include "scan_context_common/cli.h"
 
 namespace scl = scan_context_loop;
@@ -109,7 +110,22 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "scan_context_evaluate: %s\n", error.c_str());
     return 1;
   }
+  // What the loops do to the map: the reference pose graph over the odometry and the loops.
+  const eval::TrajectoryCorrection correction = eval::correctTrajectory(sequence, result, config);
+  if (!eval::writeTrajectoryErrorJson(out_dir + "/trajectory_error.json", correction, &error) ||
+      (correction.computed &&
+       !eval::writeCorrectedTrajectoryCsv(out_dir + "/trajectory_corrected.csv", sequence, correction, &error))) {
+    std::fprintf(stderr, "scan_context_evaluate: %s\n", error.c_str());
+    return 1;
+  }
   const eval::Metrics& m = result.metrics;
+  if (correction.computed) {
+    std::printf("trajectory error (ATE RMSE / max): odometry %.2f / %.2f m; corrected with the %zu loops %.2f / %.2f m; "
+                "plain Scan Context (%zu loops, %zu false) %.2f / %.2f m; with one false loop added %.2f / %.2f m\n",
+                correction.odometry.rmse, correction.odometry.max, correction.loops, correction.corrected.rmse,
+                correction.corrected.max, correction.plain_loops, correction.plain_false_loops, correction.plain.rmse,
+                correction.plain.max, correction.with_false_loop.rmse, correction.with_false_loop.max);
+  }
   std::printf("%s: %zu keyframes (%zu missing scans), %zu queries, %zu true revisits (R = %.1f m)\n",
               sequence_dir.c_str(), sequence.frames.size(), sequence.missing_scans, m.queries, m.revisits, radius);
   std::printf("at threshold %.3f: precision %.3f, recall %.3f (%zu TP, %zu FP)\n", m.threshold, m.precision, m.recall,

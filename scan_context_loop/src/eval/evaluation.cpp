@@ -174,6 +174,8 @@ void Run::score(const Sequence& s) {
     e_.descriptor_ms.push_back(d.descriptor_seconds * 1e3);
     e_.query_ms.push_back(d.query_seconds * 1e3);
     keyframes_.push_back({&s, k});
+    e_.keyframe_of.resize(d.index + 1, -1);
+    e_.keyframe_of[d.index] = static_cast<long>(k);
     outcome_of_.resize(d.index + 1, -1);
     prior_outcome_of_.resize(d.index + 1, -1);
     if (has_prior_) {

@@ -1,4 +1,5 @@
 #include <algorithm>
+#include <cstdio>
 #include <cstdlib>
 #include <fstream>
 #include <sstream>
@@ -10,6 +11,7 @@
 #include "scan_context_loop/core/verification.h"
 #include "scan_context_loop/eval/config_file.h"
 #include "scan_context_loop/eval/evaluation.h"
+#include "scan_context_loop/eval/trajectory_correction.h"
 #include "scan_context_common/kitti_io.h"
 #include "scan_context_loop/core/settings.h"
 #include "scan_context_sim/sequence_writer.h"
@@ -209,6 +211,48 @@ TEST(Evaluation, VerifiedLoopsAreScoredOnTheirOwnQueriesWhenReportedLate) {
   json << std::ifstream(temp("verified.json")).rdbuf();
   EXPECT_NE(json.str().find("\"reported_late\""), std::string::npos);
   EXPECT_NE(json.str().find("\"dropped_by_consistency\""), std::string::npos);
+}
+
+TEST(Evaluation, VerifiedLoopsCorrectTheDriftedTrajectoryAndHoldOffAFalseOne) {
+  // The reference pose graph over the simulated loop's drifting odometry and its verified loops.
+  const Sequence& sequence = simulatedLoop();
+  ASSERT_FALSE(sequence.frames.empty());
+  Config config;
+  config.exclude_recent_frames = 30;
+  config.verification.enabled = true;
+  const Evaluation e = evaluate(sequence, config, 5.0);
+  const TrajectoryCorrection c = correctTrajectory(sequence, e, config);
+  ASSERT_TRUE(c.computed) << c.note;
+  std::printf("ATE RMSE: odometry %.3f m, corrected %.3f m (%zu loops), plain Scan Context %.3f m (%zu loops), "
+              "with a false loop %.3f m\n", c.odometry.rmse, c.corrected.rmse, c.loops, c.plain.rmse, c.plain_loops,
+              c.with_false_loop.rmse);
+  EXPECT_EQ(c.loops, e.verified.true_positives + e.verified.false_positives);
+  EXPECT_GT(c.odometry.rmse, 0.15) << "the simulated odometry should drift";
+  EXPECT_LT(c.corrected.rmse, 0.6 * c.odometry.rmse);
+  EXPECT_GE(c.false_loop_gap, 40.0) << "a false loop was added";
+  EXPECT_LT(c.with_false_loop.rmse, c.corrected.rmse + 0.2 * c.odometry.rmse);
+  ASSERT_EQ(c.corrected_poses.size(), sequence.frames.size());
+
+  std::string error;
+  ASSERT_TRUE(writeTrajectoryErrorJson(temp("trajectory_error.json"), c, &error)) << error;
+  std::stringstream json;
+  json << std::ifstream(temp("trajectory_error.json")).rdbuf();
+  for (const char* key : {"\"odometry\"", "\"corrected\"", "\"plain_scan_context\"", "\"with_one_false_loop\""}) {
+    EXPECT_NE(json.str().find(key), std::string::npos) << key;
+  }
+  ASSERT_TRUE(writeCorrectedTrajectoryCsv(temp("trajectory_corrected.csv"), sequence, c, &error)) << error;
+  std::ifstream csv(temp("trajectory_corrected.csv"));
+  std::string line;
+  std::size_t rows = 0;
+  while (std::getline(csv, line)) ++rows;
+  EXPECT_EQ(rows, sequence.frames.size() + 1);
+
+  // Without odometry of its own there is nothing to correct, and the reason says so.
+  Sequence truth_only = sequence;
+  truth_only.odometry_from_file = false;
+  const TrajectoryCorrection none = correctTrajectory(truth_only, e, config);
+  EXPECT_FALSE(none.computed);
+  EXPECT_NE(none.note.find("odom_poses.txt"), std::string::npos);
 }
 
 TEST(Evaluation, CandidatesWhoseDataWasDroppedLeaveTheirTurnToKeptOnes) {

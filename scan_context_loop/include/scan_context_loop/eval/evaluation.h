@@ -38,6 +38,9 @@ struct Evaluation {
   std::vector<std::string> errors;
   /// Every loop reported, in order, as the node publishes them (keyframe numbers in arrival order).
   std::vector<Loop> loops;
+  /// For each keyframe number (database index), the sequence's keyframe it is (Sequence::truth etc.);
+  /// -1 for a keyframe of the prior map.
+  std::vector<long> keyframe_of;
   /// Evaluated in a prior map: each query keyframe against the prior map, and their scores.
   bool has_prior = false;
   std::string prior_source;  ///< the prior sequence's directory or the prior database's file
