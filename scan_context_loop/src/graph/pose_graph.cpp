@@ -98,13 +98,13 @@ struct PoseGraph::Impl {
   std::deque<Eigen::Quaterniond> rotations;
   std::vector<ceres::ResidualBlockId> loop_blocks;
   ceres::EigenQuaternionManifold quaternion_manifold;
-  std::unique_ptr<ceres::LossFunction> loop_loss;
+  /// The loops' loss: switched between none (least squares) and the Cauchy loss by optimize().
+  std::unique_ptr<ceres::LossFunctionWrapper> loop_loss =
+      std::make_unique<ceres::LossFunctionWrapper>(nullptr, ceres::TAKE_OWNERSHIP);
   std::unique_ptr<ceres::Problem> problem;
 };
 
-PoseGraph::PoseGraph(const PoseGraphConfig& config) : config_(config), impl_(std::make_unique<Impl>()) {
-  if (config_.loop_robust_scale > 0.0) impl_->loop_loss = std::make_unique<ceres::CauchyLoss>(config_.loop_robust_scale);
-}
+PoseGraph::PoseGraph(const PoseGraphConfig& config) : config_(config), impl_(std::make_unique<Impl>()) {}
 
 PoseGraph::~PoseGraph() = default;
 
@@ -173,13 +173,23 @@ PoseGraphResult PoseGraph::optimize() {
   options.max_num_iterations = config_.max_iterations;
   options.num_threads = 1;
   options.logging_type = ceres::SILENT;
-  ceres::Solver::Summary summary;
+  // Two passes. Least squares first: from drifted estimates every loop, true or not, starts many
+  // standard deviations off, where a robust loss would give the true ones no pull either. Then the
+  // Cauchy loss from there: a loop that the others and the odometry disagree with stays far off and
+  // loses its weight; the true ones, now close, keep theirs.
   const auto start = std::chrono::steady_clock::now();
+  ceres::Solver::Summary summary;
+  impl_->loop_loss->Reset(nullptr, ceres::TAKE_OWNERSHIP);
   ceres::Solve(options, impl_->problem.get(), &summary);
+  result.initial_cost = summary.initial_cost;
+  result.iterations = static_cast<int>(summary.iterations.size());
+  if (config_.loop_robust_scale > 0.0 && loop_count_ > 0 && summary.IsSolutionUsable()) {
+    impl_->loop_loss->Reset(new ceres::CauchyLoss(config_.loop_robust_scale), ceres::TAKE_OWNERSHIP);
+    ceres::Solve(options, impl_->problem.get(), &summary);
+    result.iterations += static_cast<int>(summary.iterations.size());
+  }
   result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   result.solved = summary.IsSolutionUsable();
-  result.iterations = static_cast<int>(summary.iterations.size());
-  result.initial_cost = summary.initial_cost;
   result.final_cost = summary.final_cost;
   result.message = summary.BriefReport();
   for (auto& q : impl_->rotations) q.normalize();
