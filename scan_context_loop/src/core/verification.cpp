@@ -251,6 +251,9 @@ void CloudStore::add(std::size_t index, VoxelCloud cloud) {
     if (index % stride_ != 0) return;
   }
   if (clouds_.size() <= index) clouds_.resize(index + 1);
+  // The budget counts the voxels; the memory is the arrays' capacity: make them the same.
+  cloud.means.shrink_to_fit();
+  cloud.normals.shrink_to_fit();
   bytes_ += size;
   clouds_[index].reset(new VoxelCloud(std::move(cloud)));
 }

@@ -279,6 +279,35 @@ TEST(CloudStore, HalvesItsDensityToStayWithinItsBudget) {
   EXPECT_GE(early, 2u);
 }
 
+TEST(CloudStore, HoldsNoMoreMemoryThanItsBudgetCounts) {
+  // A keyframe's registration data: only voxels with enough points are kept, and the arrays hold
+  // exactly those (a downsampled scan leaves most 1 m voxels with one or two points).
+  pcl::PointCloud<pcl::PointXYZI> sparse;
+  for (int i = 0; i < 4000; ++i) {
+    pcl::PointXYZI p;
+    p.x = static_cast<float>(-30.0 + 1.7 * (i % 37));
+    p.y = static_cast<float>(-30.0 + 1.3 * ((i / 37) % 41));
+    p.z = static_cast<float>(0.2 * (i % 5));
+    sparse.push_back(p);
+  }
+  for (const auto& scan : {test::kittiScan("00", 198), sparse}) {
+    const VoxelCloud cloud = prepareCloud(viewOf(scan), VerificationConfig());
+    ASSERT_FALSE(cloud.empty());
+    EXPECT_EQ(cloud.means.capacity(), cloud.size());
+    EXPECT_EQ(cloud.normals.capacity(), cloud.size());
+  }
+  // Whatever it is handed, the store keeps arrays no larger than the voxels it counts.
+  VoxelCloud slack = cloudOf(100);
+  slack.means.reserve(1000);
+  slack.normals.reserve(1000);
+  CloudStore store(1 << 20);
+  store.add(0, std::move(slack));
+  ASSERT_NE(store.get(0), nullptr);
+  EXPECT_EQ(store.get(0)->means.capacity(), 100u);
+  EXPECT_EQ(store.get(0)->normals.capacity(), 100u);
+  EXPECT_EQ(store.bytes(), cloudOf(100).bytes());
+}
+
 TEST(Verification, EveryRegistrationMethodRecoversAKnownTransform) {
   for (RegistrationMethod method :
        {RegistrationMethod::kVgicp, RegistrationMethod::kGicp, RegistrationMethod::kIcp, RegistrationMethod::kNdt}) {
