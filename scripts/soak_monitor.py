@@ -9,7 +9,8 @@ what the soak measures.
 - /proc/PID/status of the nodelet manager: VmRSS, sampled every 2 s and at every 1,000 keyframes.
 
 Writes CSV (one row per 1,000 keyframes processed: latency percentiles of that window, resident memory,
-counters, load average), CSV with "_rss" before its extension (every RSS sample), and, when the feeder's
+counters, load average), CSV with "_rss" before its extension (every RSS sample), with "_loops" (every
+loop: ids, verified, distance, relative pose; scripts/soak_check_loops.py scores it), and, when the feeder's
 PROGRESS file says all KEYFRAMES were fed and the node has processed all it accounts for (or nothing has
 moved for --quiet seconds), SUMMARY (key: value lines). Exits 0, or 1 when the manager died.
 
@@ -75,11 +76,15 @@ class Monitor:
             "latency_max_ms", "total_p50_ms", "total_p99_ms", "describe_query_p50_ms", "describe_query_p99_ms",
             "verify_p50_ms", "verify_p99_ms", "queue_length_max", "dropped", "rejected", "failed", "loops",
             "loops_verified", "markers_shown", "marker_messages", "registration_bytes", "database_bytes_per_keyframe",
-            "load1", "load5", "load15"])
+            "heap_allocated_bytes", "heap_free_bytes", "load1", "load5", "load15"])
         base, ext = os.path.splitext(args.csv)
         self.rss_csv = open(base + "_rss" + ext, "w", newline="")
         self.rss_writer = csv.writer(self.rss_csv)
         self.rss_writer.writerow(["elapsed_s", "keyframes", "rss_kb"])
+        self.loops_csv = open(base + "_loops" + ext, "w", newline="")
+        self.loops_writer = csv.writer(self.loops_csv)
+        self.loops_writer.writerow(["query_id", "match_id", "verified", "distance", "x", "y", "z", "qx", "qy", "qz",
+                                    "qw"])
 
     # ---- callbacks -----------------------------------------------------------------------------
     def on_markers(self, msg):
@@ -90,9 +95,14 @@ class Monitor:
             self.marker_points += sum(len(m.points) for m in msg.markers)
 
     def on_loop(self, msg):
+        p = msg.relative_pose
         with self.lock:
             self.loops += 1
             self.loops_verified += bool(msg.verified)
+            self.loops_writer.writerow([msg.query_id, msg.match_id, int(msg.verified), "%.4f" % msg.distance,
+                                        "%.4f" % p.position.x, "%.4f" % p.position.y, "%.4f" % p.position.z,
+                                        "%.6f" % p.orientation.x, "%.6f" % p.orientation.y, "%.6f" % p.orientation.z,
+                                        "%.6f" % p.orientation.w])
 
     def on_diagnostics(self, msg):
         for status in msg.status:
@@ -139,7 +149,8 @@ class Monitor:
                self.diag_int("keyframes dropped"), self.diag_int("keyframes rejected"),
                self.diag_int("keyframes and service calls failed (exception)"), self.loops, self.loops_verified,
                sum(self.markers.values()), self.marker_messages, self.diag_int("registration data [bytes]"),
-               self.diag_int("database bytes per keyframe"), "%.2f" % load[0], "%.2f" % load[1],
+               self.diag_int("database bytes per keyframe"), self.diag_int("heap allocated [bytes]"),
+               self.diag_int("heap free [bytes]"), "%.2f" % load[0], "%.2f" % load[1],
                "%.2f" % load[2]]
         self.writer.writerow(row)
         self.csv.flush()
@@ -209,6 +220,7 @@ class Monitor:
                 f.write("%s: %s\n" % (key, value))
         self.csv.close()
         self.rss_csv.close()
+        self.loops_csv.close()
         return lines
 
 

@@ -4,6 +4,8 @@
 #include <cstdio>
 #include <cmath>
 
+#include <malloc.h>
+
 #include <std_msgs/Float64MultiArray.h>
 #include <tf2_eigen/tf2_eigen.h>
 
@@ -541,6 +543,13 @@ void LoopClosureRos::diagnose(diagnostic_updater::DiagnosticStatusWrapper& statu
   status.add("database size", database_size_.load());
   status.add("database bytes per keyframe", database_bytes_per_keyframe_.load());
   status.add("registration data [bytes]", registration_bytes_.load());
+#if defined(__GLIBC__) && (__GLIBC__ > 2 || (__GLIBC__ == 2 && __GLIBC_MINOR__ >= 33))
+  // What the process holds allocated through malloc, and what malloc holds free (fragmentation): with the
+  // resident memory, this tells a leak from a heap that keeps freed memory for reuse.
+  const struct mallinfo2 heap = mallinfo2();
+  status.add("heap allocated [bytes]", heap.uordblks + heap.hblkhd);
+  status.add("heap free [bytes]", heap.fordblks);
+#endif
   status.add("sessions", sessions_count_.load());
   status.add("queue length", queue_length_.load());
   status.add("last query time [ms]", last_query_ms_.load());
