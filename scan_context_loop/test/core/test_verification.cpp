@@ -279,6 +279,28 @@ TEST(CloudStore, HalvesItsDensityToStayWithinItsBudget) {
   EXPECT_GE(early, 2u);
 }
 
+TEST(CloudStore, HalvingFreesTheDroppedCloudsAFewAtATime) {
+  // 1,000 clouds fill the budget; the next one halves the density: 500 leave the store at once, but
+  // their memory is freed at most kReleasedPerAdd per later add, not all by the keyframe that halved it.
+  const std::size_t per_cloud = cloudOf(10).bytes();
+  CloudStore store(1000 * per_cloud);
+  for (std::size_t i = 0; i < 1000; ++i) store.add(i, cloudOf(10));
+  EXPECT_EQ(store.releasing(), 0u);
+  store.add(1000, cloudOf(10));
+  EXPECT_EQ(store.dropped(), 500u);
+  EXPECT_EQ(store.releasing(), 500u);
+  EXPECT_EQ(store.stored(), 501u);
+  EXPECT_LE(store.bytes(), 1000 * per_cloud);
+  EXPECT_EQ(store.get(1), nullptr);  // dropped: never served again, even before it is freed
+  std::size_t adds = 0;
+  for (std::size_t i = 1001; store.releasing() > 0; ++i, ++adds) {
+    const std::size_t before = store.releasing();
+    store.add(i, cloudOf(10));
+    EXPECT_EQ(before - store.releasing(), std::min(before, CloudStore::kReleasedPerAdd));
+  }
+  EXPECT_EQ(adds, (500 + CloudStore::kReleasedPerAdd - 1) / CloudStore::kReleasedPerAdd);
+}
+
 TEST(CloudStore, HoldsNoMoreMemoryThanItsBudgetCounts) {
   // A keyframe's registration data: only voxels with enough points are kept, and the arrays hold
   // exactly those (a downsampled scan leaves most 1 m voxels with one or two points).
