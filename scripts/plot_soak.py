@@ -53,7 +53,7 @@ def main():
         bottom.plot(n[anchor:], expected, label="%d bytes/keyframe (database) from 10k" % bpk[-1],
                     color="tab:purple", linestyle="--")
     bottom.set_xlabel("keyframes processed")
-    bottom.set_ylabel("MB")
+    bottom.set_ylabel("MiB")
     bottom.set_ylim(bottom=0)
     bottom.grid(alpha=0.3)
     bottom.legend(loc="upper left")

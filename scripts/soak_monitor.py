@@ -155,7 +155,7 @@ class Monitor:
         self.writer.writerow(row)
         self.csv.flush()
         self.rows.append(row)
-        sys.stderr.write("soak: %6d keyframes, fed %6d, RSS %7.1f MB, p50 %.1f ms, p99 %.1f ms, loops %d, dropped %d, "
+        sys.stderr.write("soak: %6d keyframes, fed %6d, RSS %7.1f MiB, p50 %.1f ms, p99 %.1f ms, loops %d, dropped %d, "
                          "load %.2f\n" % (self.processed, fed, (rss or 0) / 1024.0, p(1, 50), p(1, 99), self.loops,
                                           self.diag_int("keyframes dropped"), load[0]))
 
