@@ -30,15 +30,24 @@ std::optional<TrackedCandidate> LoopTracker::predict(const Database& database, s
   // The query's pose in the match session's odometry frame: through the anchor loop, then along the
   // query session's odometry.
   const Eigen::Isometry3d predicted = *m.info.pose * anchor_->relative().inverse() * a.info.pose->inverse() * *q.info.pose;
-  // Sessions are contiguous runs of keyframes: scan the match's.
+  // Only keyframes within `reach` of path from the anchor's match qualify (nearAnchorMatch). Sessions are
+  // contiguous runs of keyframes along which the path length never decreases, so those form one run
+  // around the match: walk out from it to the run's ends rather than scan the whole session, which on a
+  // long single-session drive (scripts/soak) cost every tracked keyframe time in proportion to the
+  // database.
+  const double reach = q.path_length - a.path_length + kReach;
   std::size_t begin = anchor_->match;
-  while (begin > 0 && database.keyframe(begin - 1).session == m.session) --begin;
+  while (begin > 0) {
+    const Keyframe& k = database.keyframe(begin - 1);
+    if (k.session != m.session || m.path_length - k.path_length > reach) break;
+    --begin;
+  }
   const std::size_t end = std::min(eligible, database.size());
   std::optional<TrackedCandidate> best;
   double best_gap = kReach;
   for (std::size_t i = begin; i < end; ++i) {
     const Keyframe& k = database.keyframe(i);
-    if (k.session != m.session) break;
+    if (k.session != m.session || k.path_length - m.path_length > reach) break;
     if (!k.info.pose || !nearAnchorMatch(database, query, i) || (usable && !usable(i))) continue;
     const double gap = (k.info.pose->translation() - predicted.translation()).norm();
     if (gap > best_gap) continue;

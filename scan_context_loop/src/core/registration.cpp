@@ -102,8 +102,13 @@ VoxelCloud makeVoxelCloud(const PointView& points, const VoxelOptions& options, 
     a.syz += y * z;
     a.szz += z * z;
   }
-  out.means.reserve(s.acc.size());
-  out.normals.reserve(s.acc.size());
+  // Exactly the voxels that have enough points: the cloud store keeps these arrays for the keyframe's
+  // life and budgets them by their size, so no capacity may sit unused behind them (reserving one slot
+  // per accumulated voxel left about half again as much allocated on 0.4 m-voxel keyframes).
+  std::size_t kept = 0;
+  for (const Accumulator& a : s.acc) kept += a.count >= options.min_points;
+  out.means.reserve(kept);
+  out.normals.reserve(kept);
   for (const Accumulator& a : s.acc) {
     if (a.count < options.min_points) continue;
     const double inv_n = 1.0 / a.count;

@@ -4,6 +4,8 @@
 #include <cstdio>
 #include <cmath>
 
+#include <malloc.h>
+
 #include <std_msgs/Float64MultiArray.h>
 #include <tf2_eigen/tf2_eigen.h>
 
@@ -88,6 +90,7 @@ bool LoopClosureRos::start() {
       ros::SubscriberStatusCallback(), ros::VoidConstPtr(), true);
   if (options_.lio_sam_output) lio_pub_ = nh_.advertise<std_msgs::Float64MultiArray>("lio_loop", 100);
   pair_pub_ = nh_.advertise<geometry_msgs::PoseWithCovarianceStamped>("loop_closure_pairs", 200);
+  timing_pub_ = nh_.advertise<scan_context_loop::KeyframeTiming>("keyframe_timing", 100);
   advertiseSessionServices();
 
   // The live settings: dynamic_reconfigure starts from the parameters just read (its first call
@@ -170,6 +173,7 @@ void LoopClosureRos::onCloudOnly(const sensor_msgs::PointCloud2ConstPtr& cloud) 
 }
 
 void LoopClosureRos::enqueue(Item item) {
+  item.queued = std::chrono::steady_clock::now();
   {
     std::lock_guard<std::mutex> lock(queue_mutex_);
     if (queue_.size() >= static_cast<std::size_t>(options_.queue_size)) {
@@ -262,6 +266,7 @@ void LoopClosureRos::work() {
         item = std::move(queue_.front());
         queue_.pop_front();
         queue_length_ = queue_.size();
+        item.queue_length = queue_.size();
         have_item = true;
       }
     }
@@ -350,6 +355,7 @@ void LoopClosureRos::applyExtrinsic(Item* item) {
 }
 
 void LoopClosureRos::process(Item item) {
+  const auto started = std::chrono::steady_clock::now();
   const sensor_msgs::PointCloud2& msg = *item.cloud;
   if (!item.has_pose && !lookUpPose(&item)) return;
   applyExtrinsic(&item);
@@ -395,11 +401,34 @@ void LoopClosureRos::process(Item item) {
   poses_.push_back(item.pose);
   stamps_.push_back(msg.header.stamp);
   database_size_ = pipeline_->detector().database().size();
+  registration_bytes_ = pipeline_->detector().cloudStore().bytes();
+  database_bytes_per_keyframe_ = pipeline_->detector().database().bytesPerKeyframe();
   last_query_ms_ = (detection.descriptor_seconds + detection.query_seconds) * 1e3;
   loops_waiting_ = pipeline_->detector().consistency().waiting();
   publishLoops(detection, item.pose_frame);
   marker_frame_ = item.pose_frame;
   if (marker_pub_.getNumSubscribers() > 0) publishMarkers(item.pose_frame);
+
+  // The keyframe's whole time on the worker, markers included.
+  const auto ms = [](std::chrono::steady_clock::duration d) {
+    return std::chrono::duration<double, std::milli>(d).count();
+  };
+  const double processing_ms = ms(std::chrono::steady_clock::now() - started);
+  last_keyframe_ms_ = processing_ms;
+  if (processing_ms > max_keyframe_ms_.load()) max_keyframe_ms_ = processing_ms;
+  if (timing_pub_.getNumSubscribers() > 0) {
+    scan_context_loop::KeyframeTiming timing;
+    timing.header.stamp = msg.header.stamp;
+    timing.header.frame_id = item.pose_frame;
+    timing.keyframe_id = static_cast<std::uint32_t>(detection.index);
+    timing.database_size = static_cast<std::uint32_t>(database_size_.load());
+    timing.queue_ms = ms(started - item.queued);
+    timing.processing_ms = processing_ms;
+    timing.describe_query_ms = (detection.descriptor_seconds + detection.query_seconds) * 1e3;
+    timing.verify_ms = detection.verify_seconds * 1e3;
+    timing.queue_length = static_cast<std::uint32_t>(item.queue_length);
+    timing_pub_.publish(timing);
+  }
 }
 
 scan_context_loop::LoopClosure LoopClosureRos::makeLoop(const Loop& found, const std::string& frame) const {
@@ -513,9 +542,20 @@ void LoopClosureRos::diagnose(diagnostic_updater::DiagnosticStatusWrapper& statu
     status.summary(diagnostic_msgs::DiagnosticStatus::OK, "running");
   }
   status.add("database size", database_size_.load());
+  status.add("database bytes per keyframe", database_bytes_per_keyframe_.load());
+  status.add("registration data [bytes]", registration_bytes_.load());
+#if defined(__GLIBC__) && (__GLIBC__ > 2 || (__GLIBC__ == 2 && __GLIBC_MINOR__ >= 33))
+  // What the process holds allocated through malloc, and what malloc holds free (fragmentation): with the
+  // resident memory, this tells a leak from a heap that keeps freed memory for reuse.
+  const struct mallinfo2 heap = mallinfo2();
+  status.add("heap allocated [bytes]", heap.uordblks + heap.hblkhd);
+  status.add("heap free [bytes]", heap.fordblks);
+#endif
   status.add("sessions", sessions_count_.load());
   status.add("queue length", queue_length_.load());
   status.add("last query time [ms]", last_query_ms_.load());
+  status.add("last keyframe time [ms]", last_keyframe_ms_.load());
+  status.add("longest keyframe time [ms]", max_keyframe_ms_.load());
   status.add("loops found", loops_found_.load());
   status.add("verified loops waiting for support", loops_waiting_.load());
   status.add("keyframes dropped", dropped);

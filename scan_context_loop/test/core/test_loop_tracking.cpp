@@ -1,5 +1,9 @@
 // Loop tracking (LoopTracker): where a confirmed loop and the odometry put the next keyframes.
+#include <algorithm>
+#include <chrono>
 #include <cmath>
+#include <cstdio>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -190,6 +194,64 @@ TEST(LoopTracking, ATrackedLoopAgreesWithTheAnchorOnlyWhereTheOdometryPutsIt) {
   // The drift allowance (consistency_drift per metre of path: 12 m here) only without `strict`.
   EXPECT_FALSE(tracker.agrees(s.loop(8, 37, 1.3), s.database, true));
   EXPECT_TRUE(tracker.agrees(s.loop(8, 37, 1.3), s.database, false));
+}
+
+TEST(LoopTracking, APredictionLooksOnlyNearTheAnchorsMatchHoweverLongTheSession) {
+  // One session driving a 400 m loop again and again (a keyframe every 2 m), a verified loop from the
+  // last lap into the lap before as the anchor. The prediction must find the previous lap's keyframe
+  // at the predicted spot, never an earlier lap's, and cost the same after 500 laps as after 10: only
+  // the keyframes near the anchor's match along the path are looked at, not the whole session.
+  Config config;
+  config.num_rings = 2;  // a tiny grid: many keyframes cheaply (only poses and paths matter here)
+  config.num_sectors = 3;
+  const Descriptor d = makeDescriptor(test::streetScene(5), config);
+  constexpr int kPerLap = 200;
+  const double radius = 400.0 / (2.0 * M_PI);
+  auto onLoop = [&](int k) {
+    const double angle = 2.0 * M_PI * (k % kPerLap) / kPerLap;
+    return pose(radius * std::cos(angle), radius * std::sin(angle), angle * 180.0 / M_PI + 90.0);
+  };
+  // Seconds per prediction (the best of five runs of 200) and the keyframes predicted.
+  auto measure = [&](int laps, std::vector<std::size_t>* predicted) {
+    Database database(config);
+    const int n = laps * kPerLap;
+    for (int k = 0; k < n; ++k) {
+      KeyframeInfo info;
+      info.stamp = k;
+      info.pose = onLoop(k);
+      EXPECT_TRUE(database.add(info, d));
+    }
+    Loop anchor;
+    anchor.query = static_cast<std::size_t>(n - 30);
+    anchor.match = anchor.query - kPerLap;
+    anchor.verified = true;
+    anchor.verification.accepted = true;
+    anchor.verification.relative = Eigen::Isometry3d::Identity();  // the same place, a lap apart
+    LoopTracker tracker;
+    tracker.anchor(anchor);
+    double best = 1e9;
+    for (int run = 0; run < 5; ++run) {
+      predicted->clear();
+      const auto start = std::chrono::steady_clock::now();
+      for (int i = 0; i < 200; ++i) {
+        const std::size_t query = anchor.query + 1 + static_cast<std::size_t>(i % 20);
+        const auto p = tracker.predict(database, query, database.size() - 50);
+        predicted->push_back(p ? p->index : static_cast<std::size_t>(-1));
+      }
+      best = std::min(best, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() / 200);
+    }
+    for (int i = 0; i < 20; ++i) {
+      EXPECT_EQ((*predicted)[i], anchor.match + 1 + i) << "query " << anchor.query + 1 + i << " of " << n;
+    }
+    return best;
+  };
+  std::vector<std::size_t> short_run, long_run;
+  const double short_seconds = measure(10, &short_run);
+  const double long_seconds = measure(500, &long_run);
+  std::printf("prediction: %.2f us after 2,000 keyframes, %.2f us after 100,000\n", short_seconds * 1e6,
+              long_seconds * 1e6);
+  // Scanning the session would make it 50 times slower; allow for a loaded machine.
+  EXPECT_LT(long_seconds, 5.0 * short_seconds + 20e-6);
 }
 
 }  // namespace

@@ -279,6 +279,57 @@ TEST(CloudStore, HalvesItsDensityToStayWithinItsBudget) {
   EXPECT_GE(early, 2u);
 }
 
+TEST(CloudStore, HalvingFreesTheDroppedCloudsAFewAtATime) {
+  // 1,000 clouds fill the budget; the next one halves the density: 500 leave the store at once, but
+  // their memory is freed at most kReleasedPerAdd per later add, not all by the keyframe that halved it.
+  const std::size_t per_cloud = cloudOf(10).bytes();
+  CloudStore store(1000 * per_cloud);
+  for (std::size_t i = 0; i < 1000; ++i) store.add(i, cloudOf(10));
+  EXPECT_EQ(store.releasing(), 0u);
+  store.add(1000, cloudOf(10));
+  EXPECT_EQ(store.dropped(), 500u);
+  EXPECT_EQ(store.releasing(), 500u);
+  EXPECT_EQ(store.stored(), 501u);
+  EXPECT_LE(store.bytes(), 1000 * per_cloud);
+  EXPECT_EQ(store.get(1), nullptr);  // dropped: never served again, even before it is freed
+  std::size_t adds = 0;
+  for (std::size_t i = 1001; store.releasing() > 0; ++i, ++adds) {
+    const std::size_t before = store.releasing();
+    store.add(i, cloudOf(10));
+    EXPECT_EQ(before - store.releasing(), std::min(before, CloudStore::kReleasedPerAdd));
+  }
+  EXPECT_EQ(adds, (500 + CloudStore::kReleasedPerAdd - 1) / CloudStore::kReleasedPerAdd);
+}
+
+TEST(CloudStore, HoldsNoMoreMemoryThanItsBudgetCounts) {
+  // A keyframe's registration data: only voxels with enough points are kept, and the arrays hold
+  // exactly those (a downsampled scan leaves most 1 m voxels with one or two points).
+  pcl::PointCloud<pcl::PointXYZI> sparse;
+  for (int i = 0; i < 4000; ++i) {
+    pcl::PointXYZI p;
+    p.x = static_cast<float>(-30.0 + 1.7 * (i % 37));
+    p.y = static_cast<float>(-30.0 + 1.3 * ((i / 37) % 41));
+    p.z = static_cast<float>(0.2 * (i % 5));
+    sparse.push_back(p);
+  }
+  for (const auto& scan : {test::kittiScan("00", 198), sparse}) {
+    const VoxelCloud cloud = prepareCloud(viewOf(scan), VerificationConfig());
+    ASSERT_FALSE(cloud.empty());
+    EXPECT_EQ(cloud.means.capacity(), cloud.size());
+    EXPECT_EQ(cloud.normals.capacity(), cloud.size());
+  }
+  // Whatever it is handed, the store keeps arrays no larger than the voxels it counts.
+  VoxelCloud slack = cloudOf(100);
+  slack.means.reserve(1000);
+  slack.normals.reserve(1000);
+  CloudStore store(1 << 20);
+  store.add(0, std::move(slack));
+  ASSERT_NE(store.get(0), nullptr);
+  EXPECT_EQ(store.get(0)->means.capacity(), 100u);
+  EXPECT_EQ(store.get(0)->normals.capacity(), 100u);
+  EXPECT_EQ(store.bytes(), cloudOf(100).bytes());
+}
+
 TEST(Verification, EveryRegistrationMethodRecoversAKnownTransform) {
   for (RegistrationMethod method :
        {RegistrationMethod::kVgicp, RegistrationMethod::kGicp, RegistrationMethod::kIcp, RegistrationMethod::kNdt}) {

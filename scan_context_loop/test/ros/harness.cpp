@@ -44,6 +44,11 @@ Harness::Harness(ros::NodeHandle nh) : nh_(nh) {
         std::lock_guard<std::mutex> lock(mutex_);
         pairs_.push_back(*m);
       });
+  timing_sub_ = nh_.subscribe<scan_context_loop::KeyframeTiming>(
+      "keyframe_timing", 2000, [this](const scan_context_loop::KeyframeTiming::ConstPtr& m) {
+        std::lock_guard<std::mutex> lock(mutex_);
+        timings_.push_back(*m);
+      });
 }
 
 bool Harness::waitForNode(double seconds, bool poses) {
@@ -180,6 +185,11 @@ visualization_msgs::MarkerArray Harness::shownMarkers() const {
 std::size_t Harness::largestMarkerMessage() const {
   std::lock_guard<std::mutex> lock(mutex_);
   return largest_marker_message_;
+}
+
+std::vector<scan_context_loop::KeyframeTiming> Harness::timings() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return timings_;
 }
 
 std::vector<double> Harness::lioArrivals() const {

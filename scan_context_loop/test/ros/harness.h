@@ -16,6 +16,7 @@
 #include <visualization_msgs/MarkerArray.h>
 
 #include "../common/sim_drive.h"
+#include "scan_context_loop/KeyframeTiming.h"
 #include "scan_context_loop/LoopClosure.h"
 
 namespace scan_context_loop {
@@ -50,6 +51,8 @@ class Harness {
   std::size_t markerMessages() const;
   /// The most points any one marker message carried (markers go out incrementally).
   std::size_t largestMarkerMessage() const;
+  /// Every keyframe_timing message, in arrival order.
+  std::vector<scan_context_loop::KeyframeTiming> timings() const;
   /// When each lio_loop message arrived [wall seconds].
   std::vector<double> lioArrivals() const;
 
@@ -58,11 +61,12 @@ class Harness {
 
  private:
   ros::NodeHandle nh_;
-  ros::Subscriber loop_sub_, marker_sub_, lio_sub_, pair_sub_;
+  ros::Subscriber loop_sub_, marker_sub_, lio_sub_, pair_sub_, timing_sub_;
   mutable std::mutex mutex_;  // guards everything below (callbacks vs. test thread)
   std::vector<scan_context_loop::LoopClosure> loops_;
   std::vector<std_msgs::Float64MultiArray> lio_;
   std::vector<geometry_msgs::PoseWithCovarianceStamped> pairs_;
+  std::vector<scan_context_loop::KeyframeTiming> timings_;
   std::map<std::pair<std::string, int>, visualization_msgs::Marker> markers_;
   std::size_t marker_messages_ = 0, largest_marker_message_ = 0;
   std::vector<double> lio_arrivals_;

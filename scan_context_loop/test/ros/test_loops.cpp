@@ -118,6 +118,23 @@ TEST(LoopClosureNode, PublishesTrueRevisitsWithTheirYawAndMarkers) {
     EXPECT_TRUE(covarianceOf(pairs[2 * i].pose.covariance).isZero(0.0));
   }
 
+  // keyframe_timing: one message per keyframe, in order, with its stamp and the time it took.
+  const auto timings = harness.timings();
+  ASSERT_EQ(timings.size(), drive.truth.size());
+  for (std::size_t k = 0; k < timings.size(); ++k) {
+    const auto& t = timings[k];
+    EXPECT_EQ(t.keyframe_id, k);
+    EXPECT_EQ(t.database_size, k + 1);
+    EXPECT_EQ(t.header.stamp, harness.base + ros::Duration(drive.times[k]));
+    EXPECT_EQ(t.header.frame_id, "odom");
+    EXPECT_GE(t.queue_ms, 0.0);
+    EXPECT_GT(t.describe_query_ms, 0.0);
+    EXPECT_GE(t.verify_ms, 0.0);
+    // The whole keyframe includes its parts (and the cloud checks, the registration data, publishing).
+    EXPECT_GE(t.processing_ms, t.describe_query_ms + t.verify_ms) << "keyframe " << k;
+    EXPECT_LT(t.processing_ms, 10000.0) << "keyframe " << k;
+  }
+
   ASSERT_GT(harness.markerMessages(), 0u);
   // The markers RViz would show: every keyframe and every loop, although each message carried only what
   // changed (a few chunks, never the whole map).

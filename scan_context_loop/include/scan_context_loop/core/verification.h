@@ -70,6 +70,11 @@ class CloudStore {
   std::size_t bytes() const { return bytes_; }
   std::size_t stored() const;
   std::size_t dropped() const { return dropped_; }
+  /// Dropped clouds whose memory is still to be freed: halving the density takes them out at once
+  /// (get() no longer serves them, bytes() no longer counts them) but frees at most
+  /// kReleasedPerAdd of them in each later add(), so no single keyframe pays for freeing half the store.
+  std::size_t releasing() const { return releasing_.size(); }
+  static constexpr std::size_t kReleasedPerAdd = 64;
 
  private:
   std::size_t max_bytes_;
@@ -77,6 +82,7 @@ class CloudStore {
   std::size_t dropped_ = 0;
   std::size_t stride_ = 1;  // data are kept for keyframe numbers that are multiples of this
   std::vector<std::unique_ptr<VoxelCloud>> clouds_;  // by keyframe index; null = none
+  std::vector<std::unique_ptr<VoxelCloud>> releasing_;  // dropped, memory not yet freed
 };
 
 /// The registration data of a keyframe: finite points within max_range, rotated by `levelling`

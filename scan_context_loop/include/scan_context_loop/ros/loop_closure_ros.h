@@ -3,6 +3,7 @@
 #pragma once
 
 #include <atomic>
+#include <chrono>
 #include <cstdint>
 #include <condition_variable>
 #include <deque>
@@ -28,6 +29,7 @@
 #include <tf2_ros/transform_listener.h>
 
 #include "scan_context_loop/core/keyframes.h"
+#include "scan_context_loop/KeyframeTiming.h"
 #include "scan_context_loop/LoopClosure.h"
 #include "scan_context_loop/LoopClosureConfig.h"
 #include "scan_context_loop/LoadDatabase.h"
@@ -57,6 +59,8 @@ class LoopClosureRos {
     Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
     std::string pose_frame;
     std::string child_frame;  ///< the odometry's child_frame_id (odom mode)
+    std::chrono::steady_clock::time_point queued;  ///< when the callback queued it
+    std::size_t queue_length = 0;                  ///< keyframes left in the queue when the worker took it
   };
   using ApproxPolicy = message_filters::sync_policies::ApproximateTime<sensor_msgs::PointCloud2, nav_msgs::Odometry>;
   using ExactPolicy = message_filters::sync_policies::ExactTime<sensor_msgs::PointCloud2, nav_msgs::Odometry>;
@@ -120,7 +124,7 @@ class LoopClosureRos {
   std::unique_ptr<message_filters::Synchronizer<ApproxPolicy>> approx_sync_;
   std::unique_ptr<message_filters::Synchronizer<ExactPolicy>> exact_sync_;
   ros::Subscriber cloud_only_sub_;
-  ros::Publisher loop_pub_, rejected_pub_, marker_pub_, lio_pub_, pair_pub_, relocalization_pub_;
+  ros::Publisher loop_pub_, rejected_pub_, marker_pub_, lio_pub_, pair_pub_, relocalization_pub_, timing_pub_;
   ros::ServiceServer save_srv_, load_srv_, reset_srv_, relocalize_srv_;
   std::unique_ptr<tf2_ros::Buffer> tf_buffer_;
   std::unique_ptr<tf2_ros::TransformListener> tf_listener_;
@@ -147,8 +151,9 @@ class LoopClosureRos {
 
   // Counters read by diagnostics and the synchronisation check; written by callbacks and the worker.
   std::atomic<std::size_t> dropped_{0}, rejected_{0}, loops_found_{0}, database_size_{0}, queue_length_{0},
-      loops_waiting_{0}, lio_skipped_{0}, sessions_count_{1}, failures_{0};
-  std::atomic<double> last_query_ms_{0.0};
+      loops_waiting_{0}, lio_skipped_{0}, sessions_count_{1}, failures_{0}, registration_bytes_{0},
+      database_bytes_per_keyframe_{0};
+  std::atomic<double> last_query_ms_{0.0}, last_keyframe_ms_{0.0}, max_keyframe_ms_{0.0};
   std::atomic<double> last_cloud_wall_{0.0}, last_pair_wall_{0.0}, first_unpaired_wall_{0.0};
 
   // Worker-only state: touched by the worker thread alone, no lock.
