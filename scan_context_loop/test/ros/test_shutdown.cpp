@@ -94,7 +94,8 @@ class Burst {
 /// Watches /diagnostics for the count of keyframes the node `node` dropped because its queue was full.
 class DroppedWatch {
  public:
-  explicit DroppedWatch(const std::string& node) : prefix_(node + ":") {
+  // diagnostic_updater names each status "<node name without its leading slash>: <task>".
+  explicit DroppedWatch(const std::string& node) : prefix_(node.substr(node.rfind('/', 0) == 0 ? 1 : 0) + ":") {
     sub_ = ros::NodeHandle().subscribe<diagnostic_msgs::DiagnosticArray>(
         "/diagnostics", 100, [this](const diagnostic_msgs::DiagnosticArray::ConstPtr& m) {
           for (const auto& status : m->status) {
