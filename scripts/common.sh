@@ -86,6 +86,11 @@ scl_build_fresh() {
   return 1
 }
 
+# Extra CMake arguments for scl_build (scripts/test --sanitize sets the build type and the sanitizer
+# flags here, with SCL_WS pointing at a workspace of its own); empty for a normal Release build.
+SCL_CMAKE_ARGS=(-DCMAKE_BUILD_TYPE=Release)
+SCL_BUILD_KIND="Release"
+
 # scl_build [TARGET...]: builds the targets (default: all) in Release unless nothing they depend on
 # changed since they were last built (scl_build_fresh); SCL_FORCE_BUILD=1 always runs catkin_make.
 scl_build() {
@@ -104,13 +109,13 @@ scl_build() {
     scl_log "up to date in $SCL_WS (${targets[*]})"
     return 0
   fi
-  scl_log "building in $SCL_WS (Release): ${targets[*]}"
+  scl_log "building in $SCL_WS ($SCL_BUILD_KIND): ${targets[*]}"
   # The stamp's time is the build's start, so an edit made during the build still counts as a change.
   local marker="$SCL_WS/.scl_build_started.$$"
   touch "$marker"
   (
     cd "$SCL_WS"
-    catkin_make -DCMAKE_BUILD_TYPE=Release -DCATKIN_ENABLE_TESTING=ON "$@" >"$SCL_WS/build.log" 2>&1 || {
+    catkin_make "${SCL_CMAKE_ARGS[@]}" -DCATKIN_ENABLE_TESTING=ON "$@" >"$SCL_WS/build.log" 2>&1 || {
       tail -n 60 "$SCL_WS/build.log" >&2
       scl_log "build failed, full log: $SCL_WS/build.log"
       rm -f "$marker"

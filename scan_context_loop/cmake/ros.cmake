@@ -156,3 +156,10 @@ if(CATKIN_ENABLE_TESTING)
   target_link_libraries(test_fuzz_inputs scan_context_loop_nodelet ${catkin_LIBRARIES})
   target_compile_definitions(test_fuzz_inputs PRIVATE SCL_PACKAGE_DIR="${SCL_PACKAGE_DIR}")
 endif()
+
+if(CATKIN_ENABLE_TESTING)
+  # Unloading the nodelet and SIGINT to a node or manager while a burst keeps the queue full.
+  add_rostest_gtest(test_ros_shutdown test/ros/shutdown.test test/ros/test_shutdown.cpp)
+  target_link_libraries(test_ros_shutdown scan_context_loop_ros_harness)
+  add_dependencies(test_ros_shutdown scan_context_loop_nodelet loop_closure_node)
+endif()

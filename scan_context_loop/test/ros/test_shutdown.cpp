@@ -1,0 +1,277 @@
+// rostest: unloading the nodelet and stopping its process while a burst of keyframes keeps its queue
+// full. (a) The nodelet is unloaded from a running manager (its unload service, as `rosrun nodelet
+// nodelet unload` calls it) in the middle of a burst: the call must return within a few seconds and
+// the manager must keep serving. (b) SIGINT to a standalone node, and to a manager with the nodelet
+// loaded, in the middle of a burst: the process must exit with status 0 within a few seconds. Under
+// `scripts/test --sanitize` the processes run with AddressSanitizer and LeakSanitizer, whose report at
+// exit changes that status.
+#include <signal.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <chrono>
+#include <cstdio>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <diagnostic_msgs/DiagnosticArray.h>
+#include <gtest/gtest.h>
+#include <nodelet/NodeletList.h>
+#include <nodelet/NodeletLoad.h>
+#include <nodelet/NodeletUnload.h>
+
+#include "harness.h"
+
+extern char** environ;
+
+namespace scan_context_loop {
+namespace test {
+namespace {
+
+// How long an unload or a SIGINT exit may take: the worker finishes the keyframe in hand (one
+// verification, well under a second in Release; several times that under the sanitizers).
+double shutdownLimit() {
+  double limit = 5.0;
+  ros::NodeHandle("~").param("shutdown_limit", limit, limit);
+  return limit;
+}
+
+double wallSeconds() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+/// Keyframes made once, then published back to back as fast as the connection takes them.
+class Burst {
+ public:
+  Burst(ros::NodeHandle nh, std::size_t count) : harness_(nh) {
+    const Drive drive = blockDrive(false, 3);
+    for (std::size_t k = 0; k < count && k < drive.truth.size(); ++k) {
+      clouds_.push_back(harness_.cloud(drive, k));
+      odoms_.push_back(harness_.odom(drive, k));
+    }
+  }
+  Harness& harness() { return harness_; }
+
+  /// Publishes the keyframes on a thread, again and again with later stamps, until stop().
+  void start() {
+    running_ = true;
+    thread_ = std::thread([this] {
+      double offset = 0.0;
+      while (running_ && ros::ok()) {
+        for (std::size_t k = 0; k < clouds_.size() && running_; ++k) {
+          auto cloud = clouds_[k];
+          auto odom = odoms_[k];
+          cloud.header.stamp += ros::Duration(offset);
+          odom.header.stamp = cloud.header.stamp;
+          harness_.cloud_pub.publish(cloud);
+          harness_.odom_pub.publish(odom);
+          ++published_;
+          std::this_thread::sleep_for(std::chrono::milliseconds(5));
+        }
+        offset += 1000.0;
+      }
+    });
+  }
+  void stop() {
+    running_ = false;
+    if (thread_.joinable()) thread_.join();
+  }
+  std::size_t published() const { return published_; }
+  ~Burst() { stop(); }
+
+ private:
+  Harness harness_;
+  std::vector<sensor_msgs::PointCloud2> clouds_;
+  std::vector<nav_msgs::Odometry> odoms_;
+  std::atomic<bool> running_{false};
+  std::atomic<std::size_t> published_{0};
+  std::thread thread_;
+};
+
+/// Watches /diagnostics for the count of keyframes the node `node` dropped because its queue was full.
+class DroppedWatch {
+ public:
+  // diagnostic_updater names each status "<node name without its leading slash>: <task>".
+  explicit DroppedWatch(const std::string& node) : prefix_(node.substr(node.rfind('/', 0) == 0 ? 1 : 0) + ":") {
+    sub_ = ros::NodeHandle().subscribe<diagnostic_msgs::DiagnosticArray>(
+        "/diagnostics", 100, [this](const diagnostic_msgs::DiagnosticArray::ConstPtr& m) {
+          for (const auto& status : m->status) {
+            if (status.name.compare(0, prefix_.size(), prefix_) != 0) continue;
+            for (const auto& kv : status.values) {
+              if (kv.key == "keyframes dropped" && std::stoul(kv.value) > 0) dropped_ = true;
+            }
+          }
+        });
+  }
+  bool dropped() const { return dropped_; }
+
+ private:
+  std::string prefix_;
+  ros::Subscriber sub_;
+  std::atomic<bool> dropped_{false};
+};
+
+/// Waits until the node's queue has overflowed at least once (its diagnostics say so); false after
+/// `seconds`.
+bool waitForFullQueue(const DroppedWatch& watch, double seconds) {
+  const double end = wallSeconds() + seconds;
+  while (ros::ok() && wallSeconds() < end && !watch.dropped()) ros::WallDuration(0.05).sleep();
+  return watch.dropped();
+}
+
+/// A child process (rosrun PACKAGE EXECUTABLE ARGS...), with the environment of this test.
+class Child {
+ public:
+  explicit Child(const std::vector<std::string>& args) {
+    std::vector<char*> argv;
+    argv.push_back(const_cast<char*>("rosrun"));
+    for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+    argv.push_back(nullptr);
+    if (posix_spawnp(&pid_, "rosrun", nullptr, nullptr, argv.data(), environ) != 0) pid_ = -1;
+  }
+  ~Child() {
+    if (pid_ > 0 && !exited_) {
+      kill(pid_, SIGKILL);
+      waitpid(pid_, nullptr, 0);
+    }
+  }
+  pid_t pid() const { return pid_; }
+  bool running() {
+    poll();
+    return pid_ > 0 && !exited_;
+  }
+  /// Sends `signal`, then waits up to `seconds` for the exit; false when it did not exit in time.
+  bool stop(int signal, double seconds, double* took) {
+    const double start = wallSeconds();
+    kill(pid_, signal);
+    while (wallSeconds() - start < seconds) {
+      if (poll()) {
+        *took = wallSeconds() - start;
+        return true;
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+    *took = wallSeconds() - start;
+    return false;
+  }
+  /// The exit status (0 when it exited normally with 0), or a description of how it ended.
+  std::string how() const {
+    if (!exited_) return "still running";
+    if (WIFEXITED(status_)) return "exit status " + std::to_string(WEXITSTATUS(status_));
+    return "killed by signal " + std::to_string(WTERMSIG(status_));
+  }
+  bool exitedCleanly() const { return exited_ && WIFEXITED(status_) && WEXITSTATUS(status_) == 0; }
+
+ private:
+  bool poll() {
+    if (exited_) return true;
+    if (pid_ <= 0) return false;
+    if (waitpid(pid_, &status_, WNOHANG) == pid_) exited_ = true;
+    return exited_;
+  }
+  pid_t pid_ = -1;
+  int status_ = 0;
+  bool exited_ = false;
+};
+
+bool waitForService(const std::string& name, double seconds) {
+  return ros::service::waitForService(name, ros::Duration(seconds));
+}
+
+bool listNodelets(const std::string& manager, std::vector<std::string>* names) {
+  nodelet::NodeletList list;
+  if (!ros::service::call(manager + "/list", list)) return false;
+  *names = list.response.nodelets;
+  return true;
+}
+
+// The launch file's manager with the nodelet loaded (queue_size 3): unloaded through the manager's
+// service in the middle of a burst.
+TEST(Shutdown, UnloadDuringABurstIsPromptAndTheManagerStaysUp) {
+  DroppedWatch watch("/loop_closure");
+  Burst burst(ros::NodeHandle(), 40);
+  ASSERT_TRUE(burst.harness().waitForNode(60.0)) << "the nodelet never subscribed";
+  burst.start();
+  EXPECT_TRUE(waitForFullQueue(watch, 30.0)) << "the burst never filled the queue";
+  ros::WallDuration(1.0).sleep();
+
+  nodelet::NodeletUnload unload;
+  unload.request.name = "/loop_closure";
+  const double start = wallSeconds();
+  ASSERT_TRUE(ros::service::call("/manager/unload_nodelet", unload)) << "the manager's unload service failed";
+  const double took = wallSeconds() - start;
+  std::printf("unload during a burst (%zu keyframes published): %.3f s\n", burst.published(), took);
+  RecordProperty("unload_seconds", std::to_string(took));
+  EXPECT_TRUE(unload.response.success);
+  EXPECT_LT(took, shutdownLimit());
+  burst.stop();
+
+  // The manager still serves: it lists no nodelet now, and loads one again.
+  std::vector<std::string> names;
+  ASSERT_TRUE(listNodelets("/manager", &names)) << "the manager stopped answering";
+  EXPECT_TRUE(names.empty());
+  nodelet::NodeletLoad load;
+  load.request.name = "/loop_closure_again";
+  load.request.type = "scan_context_loop/LoopClosureNodelet";
+  ASSERT_TRUE(ros::service::call("/manager/load_nodelet", load));
+  EXPECT_TRUE(load.response.success);
+  ASSERT_TRUE(listNodelets("/manager", &names));
+  EXPECT_EQ(names, std::vector<std::string>{"/loop_closure_again"});
+  unload.request.name = "/loop_closure_again";
+  ASSERT_TRUE(ros::service::call("/manager/unload_nodelet", unload));
+  EXPECT_TRUE(unload.response.success);
+}
+
+TEST(Shutdown, SigintStopsAStandaloneNodeUnderLoad) {
+  DroppedWatch watch("/standalone/loop_closure");
+  Burst burst(ros::NodeHandle("standalone"), 40);
+  Child node({"scan_context_loop", "loop_closure_node", "__ns:=standalone", "__name:=loop_closure",
+              "_queue_size:=3", "_exclude_recent_frames:=30"});
+  ASSERT_GT(node.pid(), 0);
+  ASSERT_TRUE(burst.harness().waitForNode(60.0)) << "the node never subscribed";
+  burst.start();
+  EXPECT_TRUE(waitForFullQueue(watch, 30.0)) << "the burst never filled the queue";
+  ros::WallDuration(1.0).sleep();
+  ASSERT_TRUE(node.running());
+  double took = 0.0;
+  const bool exited = node.stop(SIGINT, shutdownLimit(), &took);
+  std::printf("SIGINT to the standalone node during a burst: %s after %.3f s\n", node.how().c_str(), took);
+  RecordProperty("node_sigint_seconds", std::to_string(took));
+  EXPECT_TRUE(exited) << "no exit within " << shutdownLimit() << " s";
+  EXPECT_TRUE(node.exitedCleanly()) << node.how();
+}
+
+TEST(Shutdown, SigintStopsAManagerWithTheNodeletUnderLoad) {
+  DroppedWatch watch("/managed/loop_closure");
+  Burst burst(ros::NodeHandle("managed"), 40);
+  Child manager({"nodelet", "nodelet", "manager", "__ns:=managed", "__name:=manager"});
+  ASSERT_GT(manager.pid(), 0);
+  ASSERT_TRUE(waitForService("/managed/manager/load_nodelet", 60.0));
+  ros::param::set("/managed/loop_closure/queue_size", 3);
+  ros::param::set("/managed/loop_closure/exclude_recent_frames", 30);
+  nodelet::NodeletLoad load;
+  load.request.name = "/managed/loop_closure";
+  load.request.type = "scan_context_loop/LoopClosureNodelet";
+  ASSERT_TRUE(ros::service::call("/managed/manager/load_nodelet", load));
+  ASSERT_TRUE(load.response.success);
+  ASSERT_TRUE(burst.harness().waitForNode(60.0)) << "the nodelet never subscribed";
+  burst.start();
+  EXPECT_TRUE(waitForFullQueue(watch, 30.0)) << "the burst never filled the queue";
+  ros::WallDuration(1.0).sleep();
+  ASSERT_TRUE(manager.running());
+  double took = 0.0;
+  const bool exited = manager.stop(SIGINT, shutdownLimit(), &took);
+  std::printf("SIGINT to a manager with the nodelet during a burst: %s after %.3f s\n", manager.how().c_str(), took);
+  RecordProperty("manager_sigint_seconds", std::to_string(took));
+  EXPECT_TRUE(exited) << "no exit within " << shutdownLimit() << " s";
+  EXPECT_TRUE(manager.exitedCleanly()) << manager.how();
+}
+
+}  // namespace
+}  // namespace test
+}  // namespace scan_context_loop
+
+int main(int argc, char** argv) { return scan_context_loop::test::runRosTests(argc, argv, "shutdown_test"); }
