@@ -17,7 +17,6 @@
 #include <thread>
 #include <vector>
 
-#include <diagnostic_msgs/DiagnosticArray.h>
 #include <gtest/gtest.h>
 #include <nodelet/NodeletList.h>
 #include <nodelet/NodeletLoad.h>
@@ -91,35 +90,14 @@ class Burst {
   std::thread thread_;
 };
 
-/// Watches /diagnostics for the count of keyframes the node `node` dropped because its queue was full.
-class DroppedWatch {
- public:
-  // diagnostic_updater names each status "<node name without its leading slash>: <task>".
-  explicit DroppedWatch(const std::string& node) : prefix_(node.substr(node.rfind('/', 0) == 0 ? 1 : 0) + ":") {
-    sub_ = ros::NodeHandle().subscribe<diagnostic_msgs::DiagnosticArray>(
-        "/diagnostics", 100, [this](const diagnostic_msgs::DiagnosticArray::ConstPtr& m) {
-          for (const auto& status : m->status) {
-            if (status.name.compare(0, prefix_.size(), prefix_) != 0) continue;
-            for (const auto& kv : status.values) {
-              if (kv.key == "keyframes dropped" && std::stoul(kv.value) > 0) dropped_ = true;
-            }
-          }
-        });
-  }
-  bool dropped() const { return dropped_; }
-
- private:
-  std::string prefix_;
-  ros::Subscriber sub_;
-  std::atomic<bool> dropped_{false};
-};
-
-/// Waits until the node's queue has overflowed at least once (its diagnostics say so); false after
-/// `seconds`.
-bool waitForFullQueue(const DroppedWatch& watch, double seconds) {
+/// Waits until the node's queue has overflowed at least once (its diagnostics count dropped
+/// keyframes); false after `seconds`.
+bool waitForFullQueue(const DiagnosticsWatch& watch, double seconds) {
   const double end = wallSeconds() + seconds;
-  while (ros::ok() && wallSeconds() < end && !watch.dropped()) ros::WallDuration(0.05).sleep();
-  return watch.dropped();
+  while (ros::ok() && wallSeconds() < end) {
+    if (watch.value("keyframes dropped", ros::WallTime(), 0.2) > 0) return true;
+  }
+  return false;
 }
 
 /// A child process (rosrun PACKAGE EXECUTABLE ARGS...), with the environment of this test.
@@ -191,7 +169,7 @@ bool listNodelets(const std::string& manager, std::vector<std::string>* names) {
 // The launch file's manager with the nodelet loaded (queue_size 3): unloaded through the manager's
 // service in the middle of a burst.
 TEST(Shutdown, UnloadDuringABurstIsPromptAndTheManagerStaysUp) {
-  DroppedWatch watch("/loop_closure");
+  DiagnosticsWatch watch(ros::NodeHandle(), "loop_closure");
   Burst burst(ros::NodeHandle(), 40);
   ASSERT_TRUE(burst.harness().waitForNode(60.0)) << "the nodelet never subscribed";
   burst.start();
@@ -225,27 +203,34 @@ TEST(Shutdown, UnloadDuringABurstIsPromptAndTheManagerStaysUp) {
   EXPECT_TRUE(unload.response.success);
 }
 
+/// Starts the burst, waits until the queue is full, then sends SIGINT to `process` and expects a clean,
+/// prompt exit; records the time as `property`.
+void expectSigintStopsItUnderLoad(Burst* burst, const DiagnosticsWatch& watch, Child* process, const char* what,
+                                  const char* property) {
+  burst->start();
+  EXPECT_TRUE(waitForFullQueue(watch, 30.0)) << "the burst never filled the queue";
+  ros::WallDuration(1.0).sleep();
+  ASSERT_TRUE(process->running());
+  double took = 0.0;
+  const bool exited = process->stop(SIGINT, shutdownLimit(), &took);
+  std::printf("SIGINT to %s during a burst: %s after %.3f s\n", what, process->how().c_str(), took);
+  ::testing::Test::RecordProperty(property, std::to_string(took));
+  EXPECT_TRUE(exited) << "no exit within " << shutdownLimit() << " s";
+  EXPECT_TRUE(process->exitedCleanly()) << process->how();
+}
+
 TEST(Shutdown, SigintStopsAStandaloneNodeUnderLoad) {
-  DroppedWatch watch("/standalone/loop_closure");
+  DiagnosticsWatch watch(ros::NodeHandle(), "standalone/loop_closure");
   Burst burst(ros::NodeHandle("standalone"), 40);
   Child node({"scan_context_loop", "loop_closure_node", "__ns:=standalone", "__name:=loop_closure",
               "_queue_size:=3", "_exclude_recent_frames:=30"});
   ASSERT_GT(node.pid(), 0);
   ASSERT_TRUE(burst.harness().waitForNode(60.0)) << "the node never subscribed";
-  burst.start();
-  EXPECT_TRUE(waitForFullQueue(watch, 30.0)) << "the burst never filled the queue";
-  ros::WallDuration(1.0).sleep();
-  ASSERT_TRUE(node.running());
-  double took = 0.0;
-  const bool exited = node.stop(SIGINT, shutdownLimit(), &took);
-  std::printf("SIGINT to the standalone node during a burst: %s after %.3f s\n", node.how().c_str(), took);
-  RecordProperty("node_sigint_seconds", std::to_string(took));
-  EXPECT_TRUE(exited) << "no exit within " << shutdownLimit() << " s";
-  EXPECT_TRUE(node.exitedCleanly()) << node.how();
+  expectSigintStopsItUnderLoad(&burst, watch, &node, "the standalone node", "node_sigint_seconds");
 }
 
 TEST(Shutdown, SigintStopsAManagerWithTheNodeletUnderLoad) {
-  DroppedWatch watch("/managed/loop_closure");
+  DiagnosticsWatch watch(ros::NodeHandle(), "managed/loop_closure");
   Burst burst(ros::NodeHandle("managed"), 40);
   Child manager({"nodelet", "nodelet", "manager", "__ns:=managed", "__name:=manager"});
   ASSERT_GT(manager.pid(), 0);
@@ -258,16 +243,7 @@ TEST(Shutdown, SigintStopsAManagerWithTheNodeletUnderLoad) {
   ASSERT_TRUE(ros::service::call("/managed/manager/load_nodelet", load));
   ASSERT_TRUE(load.response.success);
   ASSERT_TRUE(burst.harness().waitForNode(60.0)) << "the nodelet never subscribed";
-  burst.start();
-  EXPECT_TRUE(waitForFullQueue(watch, 30.0)) << "the burst never filled the queue";
-  ros::WallDuration(1.0).sleep();
-  ASSERT_TRUE(manager.running());
-  double took = 0.0;
-  const bool exited = manager.stop(SIGINT, shutdownLimit(), &took);
-  std::printf("SIGINT to a manager with the nodelet during a burst: %s after %.3f s\n", manager.how().c_str(), took);
-  RecordProperty("manager_sigint_seconds", std::to_string(took));
-  EXPECT_TRUE(exited) << "no exit within " << shutdownLimit() << " s";
-  EXPECT_TRUE(manager.exitedCleanly()) << manager.how();
+  expectSigintStopsItUnderLoad(&burst, watch, &manager, "a manager with the nodelet", "manager_sigint_seconds");
 }
 
 }  // namespace
