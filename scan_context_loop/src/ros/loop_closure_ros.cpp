@@ -45,6 +45,10 @@ LoopClosureRos::~LoopClosureRos() {
   }
   queue_cv_.notify_all();
   if (worker_.joinable()) worker_.join();
+  // Callbacks that lock queue_mutex_ (a new marker subscriber, a live reconfigure) end here, while the
+  // mutex lives: declared after them, it is destroyed before them.
+  marker_pub_.shutdown();
+  reconfigure_server_.reset();
   if (pipeline_ && !options_.database_save.empty() && options_.mode != "relocalize") {
     SaveOptions save;
     save.include_clouds = options_.database_save_clouds;
