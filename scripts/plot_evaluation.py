@@ -1,6 +1,8 @@
 #!/usr/bin/env python3
-"""Draws OUT_DIR/pr.png (precision-recall curve) and OUT_DIR/map.png (trajectory with the detected
-loops: true positives green, false positives red, missed revisits marked) from the evaluator's files.
+"""Draws OUT_DIR/pr.png (precision-recall curve), OUT_DIR/map.png (trajectory with the detected
+loops: true positives green, false positives red, missed revisits marked) and, when the evaluator
+corrected the trajectory, OUT_DIR/correction.png (the truth, the drifting odometry and the trajectory
+corrected by the loops, each aligned to the truth) from the evaluator's files.
 
 usage: plot_evaluation.py OUT_DIR"""
 import csv
@@ -75,7 +77,37 @@ def main():
     ax.legend(loc="best")
     fig.savefig(os.path.join(out, "map.png"), dpi=100, bbox_inches="tight")
     plt.close(fig)
-    print(os.path.join(out, "pr.png"), os.path.join(out, "map.png"))
+    written = [os.path.join(out, "pr.png"), os.path.join(out, "map.png")]
+    corrected = os.path.join(out, "trajectory_corrected.csv")
+    if os.path.exists(corrected):
+        written.append(plot_correction(out, trajectory, corrected))
+    print(*written)
+
+
+def plot_correction(out, trajectory, corrected_csv):
+    """Top-down: the truth, the odometry and the corrected trajectory, with their errors."""
+    with open(corrected_csv) as f:
+        rows = list(csv.DictReader(f))
+    with open(os.path.join(out, "trajectory_error.json")) as f:
+        errors = json.load(f)
+    fig, ax = plt.subplots(figsize=(10, 9))
+    frames = [int(r["frame"]) for r in rows if int(r["frame"]) in trajectory]
+    ax.plot([trajectory[f][0] for f in frames], [trajectory[f][1] for f in frames], "-", color="k", lw=2.5,
+            alpha=0.25, label="truth")
+    ax.plot([float(r["odom_x"]) for r in rows], [float(r["odom_y"]) for r in rows], "--", color="tab:red", lw=1, alpha=0.8,
+            label="odometry: ATE %.2f m (max %.2f)" % (errors["odometry"]["rmse_m"], errors["odometry"]["max_m"]))
+    ax.plot([float(r["corrected_x"]) for r in rows], [float(r["corrected_y"]) for r in rows], "-", color="tab:blue",
+            lw=1.2, label="corrected with %d loops: ATE %.2f m (max %.2f)" % (
+                errors["loops"], errors["corrected"]["rmse_m"], errors["corrected"]["max_m"]))
+    ax.set_aspect("equal")
+    ax.set_xlabel("x [m]")
+    ax.set_ylabel("y [m]")
+    ax.set_title("what the loops do to the trajectory (each aligned to the truth)")
+    ax.legend(loc="best")
+    path = os.path.join(out, "correction.png")
+    fig.savefig(path, dpi=100, bbox_inches="tight")
+    plt.close(fig)
+    return path
 
 
 if __name__ == "__main__":
