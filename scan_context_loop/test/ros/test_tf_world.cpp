@@ -29,6 +29,7 @@ TEST(LoopClosureNode, PosesFromTfAndRegisteredClouds) {
   const ros::WallTime before = ros::WallTime::now();
   const long kept = diagnostics.value("database size", before, 10.0);
   const long refused = diagnostics.value("keyframes rejected", before, 10.0);
+  const long dropped = diagnostics.value("keyframes dropped", before, 10.0);  // a full queue, under load
   EXPECT_GE(kept, static_cast<long>(drive.truth.size()) - 5);
   sensor_msgs::PointCloud2 late, zero_rotation;
   pcl::toROSMsg(drive.scan(0), late);
@@ -50,7 +51,7 @@ TEST(LoopClosureNode, PosesFromTfAndRegisteredClouds) {
   const ros::WallTime now = ros::WallTime::now();
   EXPECT_EQ(diagnostics.value("database size", now, 10.0), kept);
   EXPECT_EQ(diagnostics.value("keyframes rejected", now, 10.0), refused + 2);
-  EXPECT_EQ(kept + refused, static_cast<long>(drive.truth.size())) << "every keyframe kept or counted";
+  EXPECT_EQ(kept + refused + dropped, static_cast<long>(drive.truth.size())) << "every keyframe kept or counted";
   const auto loops = harness.loops();
   ASSERT_GE(loops.size(), 10u);
   expectTrueLoops(drive, harness.base, loops, false);
