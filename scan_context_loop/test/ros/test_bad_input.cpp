@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <utility>
 
 #include <gtest/gtest.h>
 
@@ -132,6 +133,22 @@ TEST(LoopClosureNode, SurvivesBadInputAndStillFindsTheLoopsThatFollow) {
   EXPECT_GE(after_bad_input, 10u) << "the node stopped finding loops after bad input";
 }
 
+/// "database size" and "keyframes dropped" once two diagnostics statuses 1.5 s apart agree (the worker is idle), or
+/// {-1, -1} if they never settle within `limit` seconds.
+std::pair<long, long> settledCounts(const DiagnosticsWatch& diagnostics, double limit) {
+  const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(limit);
+  std::pair<long, long> last{-2, -2};
+  while (ros::ok() && ros::WallTime::now() < end) {
+    const ros::WallTime now = ros::WallTime::now();
+    const std::pair<long, long> counts{diagnostics.value("database size", now, 10.0),
+                                       diagnostics.value("keyframes dropped", now, 10.0)};
+    if (counts == last && counts.first >= 0) return counts;
+    last = counts;
+    ros::WallDuration(1.5).sleep();
+  }
+  return {-1, -1};
+}
+
 TEST(LoopClosureNode, AFullQueueDropsKeyframesCountedAndTheNodeGoesOn) {
   // bad_input.test also runs /tiny_queue/loop_closure with queue_size 1: a burst overflows it.
   ros::NodeHandle nh("tiny_queue");
@@ -140,21 +157,20 @@ TEST(LoopClosureNode, AFullQueueDropsKeyframesCountedAndTheNodeGoesOn) {
   ASSERT_TRUE(harness.waitForNode(30.0));
   const Drive drive = blockDrive(false, 3);
   const std::size_t burst = 120;
-  ASSERT_GT(drive.truth.size(), burst + 20);
+  const std::size_t paced = 20;
+  ASSERT_GT(drive.truth.size(), burst + paced);
   harness.publish(drive, 0, burst, 1000.0);
-  ros::WallDuration(3.0).sleep();
-  ros::WallTime now = ros::WallTime::now();
-  const long kept = diagnostics.value("database size", now, 10.0);
-  const long dropped = diagnostics.value("keyframes dropped", now, 10.0);
+  const auto [kept, dropped] = settledCounts(diagnostics, 60.0);
   EXPECT_GT(dropped, 0) << "the burst never filled a queue of one";
   EXPECT_GT(kept, 0);
+  // Some of the burst may be lost before the node (the transport's own queue); what reaches it is kept or counted.
   EXPECT_LE(kept + dropped, static_cast<long>(burst));
-  // Then keyframes at a pace the worker keeps: every one enters, none more is dropped.
-  harness.publish(drive, burst, burst + 20, 5.0);
-  ros::WallDuration(2.0).sleep();
-  now = ros::WallTime::now();
-  EXPECT_EQ(diagnostics.value("database size", now, 10.0), kept + 20);
-  EXPECT_EQ(diagnostics.value("keyframes dropped", now, 10.0), dropped);
+  // Then keyframes at a pace the worker normally keeps. On a loaded machine one may still find the queue full;
+  // either way each is kept or counted as dropped, none vanishes, and the node goes on adding to its database.
+  harness.publish(drive, burst, burst + paced, 4.0);
+  const auto [kept_after, dropped_after] = settledCounts(diagnostics, 60.0);
+  EXPECT_EQ(kept_after + dropped_after, kept + dropped + static_cast<long>(paced)) << "a keyframe vanished uncounted";
+  EXPECT_GE(kept_after, kept + static_cast<long>(paced) / 2) << "the node stopped taking keyframes after the burst";
 }
 
 }  // namespace
