@@ -1,9 +1,9 @@
 # The reference pose-graph backend (Ceres) and the trajectory error: ROS-free, in their own library so
 # that the detector's core does not depend on Ceres.
 find_package(Ceres REQUIRED)
-add_library(scan_context_loop_graph src/graph/pose_graph.cpp src/graph/trajectory_error.cpp)
-target_include_directories(scan_context_loop_graph PUBLIC include ${EIGEN3_INCLUDE_DIRS})
-target_link_libraries(scan_context_loop_graph PUBLIC Ceres::ceres)
+add_library(scan_context_loop_graph src/graph/pose_graph.cpp src/graph/trajectory_error.cpp src/graph/keyframe_map.cpp)
+target_include_directories(scan_context_loop_graph PUBLIC include ${EIGEN3_INCLUDE_DIRS} ${PCL_INCLUDE_DIRS})
+target_link_libraries(scan_context_loop_graph PUBLIC Ceres::ceres ${PCL_FILTERS_LIBRARIES} ${PCL_COMMON_LIBRARIES})
 
 install(TARGETS scan_context_loop_graph
   ARCHIVE DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}

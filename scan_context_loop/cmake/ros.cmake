@@ -17,6 +17,7 @@ target_link_libraries(scan_context_loop_nodelet scan_context_loop_core ${catkin_
 add_dependencies(scan_context_loop_nodelet ${PROJECT_NAME}_generate_messages_cpp ${PROJECT_NAME}_gencfg)
 
 add_executable(loop_closure_node src/ros/loop_closure_node.cpp)
+target_include_directories(loop_closure_node PRIVATE include ${catkin_INCLUDE_DIRS})
 target_link_libraries(loop_closure_node ${catkin_LIBRARIES})
 
 install(TARGETS scan_context_loop_nodelet loop_closure_node
@@ -162,4 +163,22 @@ if(CATKIN_ENABLE_TESTING)
   add_rostest_gtest(test_ros_shutdown test/ros/shutdown.test test/ros/test_shutdown.cpp)
   target_link_libraries(test_ros_shutdown scan_context_loop_ros_harness)
   add_dependencies(test_ros_shutdown scan_context_loop_nodelet loop_closure_node)
+endif()
+
+# The reference pose-graph backend's node: in the same nodelet library (one plugin file), linking the graph.
+target_sources(scan_context_loop_nodelet PRIVATE
+  src/ros/pose_graph_parameters.cpp
+  src/ros/pose_graph_ros.cpp
+  src/ros/pose_graph_worker.cpp
+  src/ros/pose_graph_nodelet.cpp)
+target_link_libraries(scan_context_loop_nodelet scan_context_loop_graph)
+add_executable(pose_graph_node src/ros/pose_graph_node.cpp)
+target_include_directories(pose_graph_node PRIVATE include ${catkin_INCLUDE_DIRS})
+target_link_libraries(pose_graph_node ${catkin_LIBRARIES})
+install(TARGETS pose_graph_node RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
+
+if(CATKIN_ENABLE_TESTING)
+  add_rostest_gtest(test_ros_pose_graph test/ros/pose_graph.test test/ros/test_pose_graph.cpp)
+  target_link_libraries(test_ros_pose_graph scan_context_loop_ros_harness scan_context_loop_graph)
+  add_dependencies(test_ros_pose_graph scan_context_loop_nodelet pose_graph_node)
 endif()

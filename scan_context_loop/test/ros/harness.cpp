@@ -77,7 +77,7 @@ nav_msgs::Odometry Harness::odom(const Drive& drive, std::size_t k) const {
   msg.header.stamp = base + ros::Duration(drive.times[k]);
   msg.header.frame_id = "odom";
   msg.child_frame_id = "velodyne";
-  msg.pose.pose = tf2::toMsg(drive.truth[k]);
+  msg.pose.pose = tf2::toMsg(odometry != nullptr ? (*odometry)[k] : drive.truth[k]);
   return msg;
 }
 
@@ -112,8 +112,8 @@ void Harness::publishTfAndWorldClouds(const Drive& drive, double rate) {
   }
 }
 
-DiagnosticsWatch::DiagnosticsWatch(ros::NodeHandle nh, std::string node)
-    : node_(std::move(node)), sub_(nh.subscribe("/diagnostics", 10, &DiagnosticsWatch::onDiagnostics, this)) {}
+DiagnosticsWatch::DiagnosticsWatch(ros::NodeHandle nh, std::string node, std::string status)
+    : node_(std::move(node)), status_(std::move(status)), sub_(nh.subscribe("/diagnostics", 10, &DiagnosticsWatch::onDiagnostics, this)) {}
 
 long DiagnosticsWatch::value(const std::string& key, const ros::WallTime& after, double seconds) const {
   const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(seconds);
@@ -131,7 +131,7 @@ long DiagnosticsWatch::value(const std::string& key, const ros::WallTime& after,
 void DiagnosticsWatch::onDiagnostics(const diagnostic_msgs::DiagnosticArray& msg) {
   std::lock_guard<std::mutex> lock(mutex_);
   for (const auto& status : msg.status) {
-    if (status.name.find("loop closure") == std::string::npos) continue;
+    if (status.name.find(status_) == std::string::npos) continue;
     if (!node_.empty() && status.name.compare(0, node_.size() + 1, node_ + ":") != 0) continue;
     for (const auto& kv : status.values) values_[kv.key] = kv.value;
     received_ = ros::WallTime::now();

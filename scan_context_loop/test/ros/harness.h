@@ -58,6 +58,8 @@ class Harness {
 
   ros::Publisher cloud_pub, odom_pub;
   ros::Time base{1000.0};
+  /// When set, the poses odom() sends (a drifting odometry, one per keyframe) instead of the truth.
+  const std::vector<Eigen::Isometry3d>* odometry = nullptr;
 
  private:
   ros::NodeHandle nh_;
@@ -73,18 +75,19 @@ class Harness {
   ros::WallTime last_loop_ = ros::WallTime::now();
 };
 
-/// The latest values of a loop-closure node's diagnostics status ("<node>: loop closure"), by key.
+/// The latest values of a node's diagnostics status ("<node>: <status>", by default a loop-closure
+/// node's), by key.
 class DiagnosticsWatch {
  public:
   /// Watches the status of the node named `node` (its full name without the leading slash, "ns/name", as
   /// the diagnostics name it; any loop-closure node's when empty).
-  explicit DiagnosticsWatch(ros::NodeHandle nh, std::string node = "");
+  explicit DiagnosticsWatch(ros::NodeHandle nh, std::string node = "", std::string status = "loop closure");
   /// The integer value of `key` from a status that arrived after `after`; -1 if none within `seconds`.
   long value(const std::string& key, const ros::WallTime& after, double seconds) const;
 
  private:
   void onDiagnostics(const diagnostic_msgs::DiagnosticArray& msg);
-  std::string node_;
+  std::string node_, status_;
   ros::Subscriber sub_;
   mutable std::mutex mutex_;  // guards values_ and received_ (callback thread vs. test thread)
   std::map<std::string, std::string> values_;

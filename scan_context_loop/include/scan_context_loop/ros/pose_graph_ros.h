@@ -1,0 +1,119 @@
+// The reference backend's ROS adapter: keyframe poses (keyframe_odom) and loop closures
+// (loop_closures) in; the corrected keyframe path, the raw odometry path, the loops as markers, the
+// correction as the tf map_frame -> odometry frame, and a corrected map cloud out. Callbacks queue what
+// arrives; one worker owns the graph and the map and publishes.
+#pragma once
+
+#include <atomic>
+#include <condition_variable>
+#include <deque>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <diagnostic_updater/diagnostic_updater.h>
+#include <nav_msgs/Odometry.h>
+#include <ros/ros.h>
+#include <sensor_msgs/PointCloud2.h>
+#include <std_srvs/Trigger.h>
+#include <tf2_ros/transform_broadcaster.h>
+
+#include "scan_context_loop/LoopClosure.h"
+#include "scan_context_loop/graph/keyframe_map.h"
+#include "scan_context_loop/graph/pose_graph.h"
+#include "scan_context_loop/ros/pose_graph_parameters.h"
+
+namespace scan_context_loop {
+
+class PoseGraphRos {
+ public:
+  /// `nh` resolves the topics (relative names), `pnh` the parameters; `name` prefixes the logs.
+  PoseGraphRos(const ros::NodeHandle& nh, const ros::NodeHandle& pnh, const std::string& name);
+  /// Stops the inputs and the worker (it finishes the solve in hand).
+  ~PoseGraphRos();
+
+  /// Reads and validates the parameters, then subscribes, advertises and starts the worker. False, with
+  /// every problem logged as fatal, when the configuration is impossible.
+  bool start();
+
+ private:
+  /// Something that arrived, waiting for the worker: exactly one pointer is set.
+  struct Event {
+    nav_msgs::OdometryConstPtr odom;
+    sensor_msgs::PointCloud2ConstPtr cloud;
+    scan_context_loop::LoopClosureConstPtr loop;
+    bool publish_map = false;  ///< the publish_map service asked for the map
+  };
+
+  void onOdom(const nav_msgs::OdometryConstPtr& msg);
+  void onCloud(const sensor_msgs::PointCloud2ConstPtr& msg);
+  void onLoop(const scan_context_loop::LoopClosureConstPtr& msg);
+  bool onPublishMap(std_srvs::Trigger::Request& request, std_srvs::Trigger::Response& response);
+  void enqueue(Event event);
+  void onTfTimer(const ros::TimerEvent&);
+  void diagnose(diagnostic_updater::DiagnosticStatusWrapper& status);
+
+  // Worker (pose_graph_worker.cpp).
+  void work();
+  void handle(const Event& event);
+  void addKeyframe(const nav_msgs::Odometry& msg);
+  void addCloud(const sensor_msgs::PointCloud2& msg);
+  /// Adds the loop if both keyframes are known; false if it has to wait for them.
+  bool addLoop(const scan_context_loop::LoopClosure& msg);
+  void retryWaitingLoops();
+  /// The keyframe whose stamp is within stamp_tolerance of `stamp`, or -1.
+  long keyframeAt(const ros::Time& stamp) const;
+  void solveAndPublish(bool solve);
+  void publishMap();
+
+  ros::NodeHandle nh_, pnh_;
+  std::string name_;
+  PoseGraphConfig graph_config_;
+  KeyframeMapConfig map_config_;
+  PoseGraphOptions options_;
+
+  ros::Subscriber odom_sub_, cloud_sub_, loop_sub_;
+  ros::Publisher path_pub_, odometry_path_pub_, marker_pub_, map_pub_;
+  ros::ServiceServer map_srv_;
+  ros::Timer tf_timer_, diagnostics_timer_;
+  std::unique_ptr<tf2_ros::TransformBroadcaster> tf_broadcaster_;
+  std::unique_ptr<diagnostic_updater::Updater> diagnostics_;
+
+  // queue_mutex_ guards queue_ and stop_; queue_cv_ wakes the worker.
+  std::mutex queue_mutex_;
+  std::condition_variable queue_cv_;
+  std::deque<Event> queue_;
+  bool stop_ = false;
+  std::thread worker_;
+
+  // correction_mutex_ guards correction_, odom_frame_ and have_correction_ (worker writes, tf timer reads).
+  std::mutex correction_mutex_;
+  Eigen::Isometry3d correction_ = Eigen::Isometry3d::Identity();
+  std::string odom_frame_;
+  bool have_correction_ = false;
+
+  // Counters read by diagnostics; written by callbacks and the worker.
+  std::atomic<std::size_t> keyframes_{0}, loops_used_{0}, loops_skipped_{0}, loops_waiting_{0}, rejected_{0},
+      dropped_{0}, solves_{0}, map_points_{0};
+  std::atomic<double> last_solve_ms_{0.0}, last_cost_{0.0};
+
+  // Worker-only state.
+  std::unique_ptr<PoseGraph> graph_;
+  std::unique_ptr<KeyframeMap> map_;
+  std::vector<ros::Time> stamps_;  // keyframe stamps, increasing, by graph index
+  std::vector<scan_context_loop::LoopClosure> waiting_;  // loops whose keyframes have not arrived yet
+  struct UsedLoop {
+    std::size_t query, match;
+    bool verified;
+  };
+  std::vector<UsedLoop> used_;
+  std::deque<sensor_msgs::PointCloud2ConstPtr> early_clouds_;  // clouds that came before their pose
+  ros::WallTime last_solve_;
+  ros::WallTime last_map_;
+  bool solve_pending_ = false;
+  bool map_changed_ = false;
+};
+
+}  // namespace scan_context_loop
