@@ -10,6 +10,7 @@ install(TARGETS scan_context_loop_graph
   LIBRARY DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION})
 
 if(CATKIN_ENABLE_TESTING)
-  catkin_add_gtest(test_graph test/test_main.cpp test/graph/test_pose_graph.cpp test/graph/test_trajectory_error.cpp)
+  catkin_add_gtest(test_graph test/test_main.cpp test/graph/test_pose_graph.cpp test/graph/test_trajectory_error.cpp
+    test/graph/test_keyframe_map.cpp)
   target_link_libraries(test_graph scan_context_loop_graph)
 endif()
