@@ -20,7 +20,7 @@ SCL_PACKAGES=(
   python3-numpy python3-matplotlib python3-yaml libyaml-cpp-dev rviz
 )
 # Only the demo needs these (RViz under a virtual display, and a screenshot of it).
-SCL_DEMO_PACKAGES=(xvfb xauth x11-apps imagemagick python3-rospy python3-geometry-msgs python3-visualization-msgs python3-std-msgs python3-tf2-ros)
+SCL_DEMO_PACKAGES=(xvfb xauth x11-apps imagemagick python3-rospy python3-geometry-msgs python3-visualization-msgs python3-std-msgs python3-tf2-ros python3-nav-msgs)
 
 scl_log() { echo "[scan_context_loop] $*" >&2; }
 

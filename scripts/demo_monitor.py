@@ -1,16 +1,20 @@
 #!/usr/bin/env python3
 """Listens to the loop-closure node during the demo and scores every loop it publishes against the
 ground truth in the bag: true separation, estimated and true yaw. Prints a table and a summary; exits
-when the bag's last keyframe has been processed (or after --timeout seconds).
+when the bag's last keyframe has been processed (or after --timeout seconds). With the pose-graph
+backend running, also prints the absolute trajectory error (RMSE and max after the rigid alignment
+that fits best) of the odometry and of the corrected path against the truth.
 
-usage: demo_monitor.py BAG [--radius 5] [--timeout 600]"""
+usage: demo_monitor.py BAG [--radius 5] [--timeout 600] [--no-pose-graph]"""
 import argparse
 import math
 import sys
 import time
 
+import numpy as np
 import rosbag
 import rospy
+from nav_msgs.msg import Path
 from scan_context_loop.msg import LoopClosure
 
 
@@ -22,11 +26,56 @@ def wrap(a):
     return (a + math.pi) % (2.0 * math.pi) - math.pi
 
 
+def aligned_error(estimate, truth):
+    """Position errors [m] of `estimate` against `truth` (N x 3 each) after the rotation and translation
+    that fit them best (Umeyama's method without scale)."""
+    mu_e, mu_t = estimate.mean(axis=0), truth.mean(axis=0)
+    u, _, vt = np.linalg.svd((truth - mu_t).T @ (estimate - mu_e))
+    d = np.eye(3)
+    d[2, 2] = np.sign(np.linalg.det(u @ vt))
+    rotation = u @ d @ vt
+    moved = (rotation @ (estimate - mu_e).T).T + mu_t
+    return np.linalg.norm(moved - truth, axis=1)
+
+
+def path_positions(path, truth):
+    """The path's positions and the true ones at the same stamps (keyframes without truth left out)."""
+    est, tru = [], []
+    for pose in path.poses:
+        t = truth.get(pose.header.stamp.to_nsec())
+        if t is None:
+            continue
+        p = pose.pose.position
+        est.append((p.x, p.y, p.z))
+        tru.append(t[:3])
+    return np.array(est), np.array(tru)
+
+
+def report_trajectory_error(paths, truth):
+    """Prints the ATE of the odometry and the corrected path; returns (odometry, corrected) RMSE or None."""
+    if "corrected" not in paths or "odometry" not in paths:
+        print("\nno corrected path from the pose graph: no trajectory error")
+        return None
+    rmse = {}
+    for name in ("odometry", "corrected"):
+        est, tru = path_positions(paths[name], truth)
+        if len(est) < 3:
+            print("\n%s path: too few keyframes with a true pose" % name)
+            return None
+        errors = aligned_error(est, tru)
+        rmse[name] = math.sqrt(float(np.mean(errors ** 2)))
+        print("%s trajectory error over %d keyframes: RMSE %.2f m, max %.2f m" % (
+            "\nodometry " if name == "odometry" else "corrected", len(est), rmse[name], float(errors.max())))
+    print("the loops take the trajectory error to %.0f%% of the odometry's" % (100.0 * rmse["corrected"] / rmse["odometry"]))
+    return rmse["odometry"], rmse["corrected"]
+
+
 def main():
     parser = argparse.ArgumentParser()
     parser.add_argument("bag")
     parser.add_argument("--radius", type=float, default=5.0)
     parser.add_argument("--timeout", type=float, default=600.0)
+    parser.add_argument("--no-pose-graph", action="store_true", help="no backend runs: RViz gets an identity map -> odom")
     args = parser.parse_args(rospy.myargv()[1:])
 
     truth = {}
@@ -43,16 +92,24 @@ def main():
         loops.append(msg)
 
     rospy.init_node("demo_monitor", anonymous=True)
-    # RViz needs the markers' frame in tf: a static identity map -> odom puts it there.
-    import tf2_ros
-    from geometry_msgs.msg import TransformStamped
-    broadcaster = tf2_ros.StaticTransformBroadcaster()
-    static = TransformStamped()
-    static.header.stamp = rospy.Time(0)
-    static.header.frame_id = "map"
-    static.child_frame_id = "odom"
-    static.transform.rotation.w = 1.0
-    broadcaster.sendTransform(static)
+    if args.no_pose_graph:
+        # RViz needs the markers' frame in tf: without the backend's correction, an identity map -> odom.
+        import tf2_ros
+        from geometry_msgs.msg import TransformStamped
+        broadcaster = tf2_ros.StaticTransformBroadcaster()
+        static = TransformStamped()
+        static.header.stamp = rospy.Time(0)
+        static.header.frame_id = "map"
+        static.child_frame_id = "odom"
+        static.transform.rotation.w = 1.0
+        broadcaster.sendTransform(static)
+    paths = {}
+
+    def keep(name):
+        return lambda msg: paths.__setitem__(name, msg)
+
+    rospy.Subscriber("corrected_path", Path, keep("corrected"), queue_size=2)
+    rospy.Subscriber("odometry_path", Path, keep("odometry"), queue_size=2)
     rospy.Subscriber("loop_closures", LoopClosure, on_loop, queue_size=1000)
     start = time.time()
     # The node's markers carry the stamp of the newest keyframe: watch them to know when it is done.
@@ -98,7 +155,18 @@ def main():
     print("\n%d loops published, %d true (within %.0f m, or verified with a pose within 1 m and 2 deg of the "
           "truth), %d false; %d keyframes in the bag" % (len(loops), correct, args.radius, len(loops) - correct,
                                                          len(truth)))
-    return 0 if loops and correct == len(loops) else 1
+    ate = None
+    if not args.no_pose_graph:
+        # The backend publishes its path once it has every keyframe and the last solve is done.
+        deadline = time.time() + 60.0
+        while time.time() < deadline and not rospy.is_shutdown():
+            if all(len(paths.get(n, Path()).poses) >= len(truth) for n in ("corrected", "odometry")):
+                break
+            time.sleep(0.5)
+        time.sleep(1.0)  # a solve that was due may still be going out
+        ate = report_trajectory_error(paths, truth)
+    ok = loops and correct == len(loops) and (args.no_pose_graph or (ate is not None and ate[1] < ate[0]))
+    return 0 if ok else 1
 
 
 if __name__ == "__main__":

@@ -2,15 +2,18 @@
 """Draws OUT_DIR/pr.png (precision-recall curve), OUT_DIR/map.png (trajectory with the detected
 loops: true positives green, false positives red, missed revisits marked) and, when the evaluator
 corrected the trajectory, OUT_DIR/correction.png (the truth, the drifting odometry and the trajectory
-corrected by the loops, each aligned to the truth) from the evaluator's files.
+corrected by the loops, each aligned to the truth) from the evaluator's files. Given the sequence too,
+map.png is the map before and after: the keyframe scans placed at the odometry's poses beside the same
+scans at the corrected poses, with the loops drawn on both.
 
-usage: plot_evaluation.py OUT_DIR"""
+usage: plot_evaluation.py OUT_DIR [SEQUENCE_DIR]"""
 import csv
 import json
 import os
 import sys
 
 import matplotlib
+import numpy as np
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
@@ -45,6 +48,20 @@ def main():
     plt.close(fig)
 
     threshold = metrics["threshold"]
+    corrected = os.path.join(out, "trajectory_corrected.csv")
+    sequence = sys.argv[2] if len(sys.argv) > 2 else ""
+    if os.path.exists(corrected) and os.path.isdir(os.path.join(sequence, "velodyne")):
+        plot_map_before_after(out, sequence, rows, corrected, threshold, metrics)
+    else:
+        plot_loops(out, rows, trajectory, threshold, metrics)
+    written = [os.path.join(out, "pr.png"), os.path.join(out, "map.png")]
+    if os.path.exists(corrected):
+        written.append(plot_correction(out, trajectory, corrected))
+    print(*written)
+
+
+def plot_loops(out, rows, trajectory, threshold, metrics):
+    """map.png without the scans: the true trajectory with the loops detected and the revisits missed."""
     fig, ax = plt.subplots(figsize=(10, 9))
     xs = [p[0] for p in trajectory.values()]
     ys = [p[1] for p in trajectory.values()]
@@ -77,11 +94,71 @@ def main():
     ax.legend(loc="best")
     fig.savefig(os.path.join(out, "map.png"), dpi=100, bbox_inches="tight")
     plt.close(fig)
-    written = [os.path.join(out, "pr.png"), os.path.join(out, "map.png")]
-    corrected = os.path.join(out, "trajectory_corrected.csv")
-    if os.path.exists(corrected):
-        written.append(plot_correction(out, trajectory, corrected))
-    print(*written)
+
+
+def scan_points(sequence, frame, rng, share=0.03, max_range=40.0):
+    """A random share of a keyframe scan's points (sensor frame, x y), within max_range and above the
+    ground near the sensor's height band, so walls, poles and trees show and the road does not."""
+    path = os.path.join(sequence, "velodyne", "%06d.bin" % frame)
+    if not os.path.exists(path):
+        return np.zeros((0, 2))
+    points = np.fromfile(path, dtype=np.float32).reshape(-1, 4)
+    r = np.hypot(points[:, 0], points[:, 1])
+    keep = (r > 3.0) & (r < max_range) & (points[:, 2] > -1.0) & (points[:, 2] < 3.0)
+    points = points[keep]
+    if len(points):
+        points = points[rng.random(len(points)) < share]
+    return points[:, :2].astype(np.float64)
+
+
+def plot_map_before_after(out, sequence, rows, corrected_csv, threshold, metrics):
+    """map.png: the scans at the odometry's poses (left) and at the corrected poses (right), both aligned
+    to the truth, with the loops the detector reported (true green, false red) between the keyframes."""
+    with open(corrected_csv) as f:
+        poses = {int(r["frame"]): r for r in csv.DictReader(f)}
+    with open(os.path.join(out, "trajectory_error.json")) as f:
+        errors = json.load(f)
+    rng = np.random.default_rng(1)
+    local = {frame: scan_points(sequence, frame, rng) for frame in poses}
+    fig, axes = plt.subplots(1, 2, figsize=(20, 9), sharex=True, sharey=True)
+    for ax, key, title in ((axes[0], "odom", "odometry: ATE %.2f m (max %.2f)" % (
+            errors["odometry"]["rmse_m"], errors["odometry"]["max_m"])),
+                           (axes[1], "corrected", "corrected with %d loops: ATE %.2f m (max %.2f)" % (
+            errors["loops"], errors["corrected"]["rmse_m"], errors["corrected"]["max_m"]))):
+        at = {}
+        world = []
+        for frame, r in poses.items():
+            x, y, yaw = float(r[key + "_x"]), float(r[key + "_y"]), float(r[key + "_yaw"])
+            at[frame] = (x, y)
+            c, s_ = np.cos(yaw), np.sin(yaw)
+            p = local[frame]
+            if len(p):
+                world.append(np.column_stack((x + c * p[:, 0] - s_ * p[:, 1], y + s_ * p[:, 0] + c * p[:, 1])))
+        if world:
+            world = np.vstack(world)
+            ax.scatter(world[:, 0], world[:, 1], s=0.05, c="0.25", alpha=0.35, linewidths=0, rasterized=True)
+        frames = sorted(at)
+        ax.plot([at[f][0] for f in frames], [at[f][1] for f in frames], "-", color="tab:blue", lw=0.8,
+                label="keyframe path")
+        shown = set()
+        for r in rows:
+            q, m = int(r["query"]), int(r["match"])
+            if m < 0 or float(r["distance"]) >= threshold or q not in at or m not in at:
+                continue
+            good = int(r["correct"])
+            label = "loop (true)" if good else "loop (false)"
+            ax.plot([at[q][0], at[m][0]], [at[q][1], at[m][1]], "-", color="g" if good else "r", lw=1.5,
+                    label=None if label in shown else label)
+            shown.add(label)
+        ax.set_aspect("equal")
+        ax.set_xlabel("x [m]")
+        ax.set_title(title)
+        ax.legend(loc="best")
+    axes[0].set_ylabel("y [m]")
+    fig.suptitle("the scans placed at the keyframe poses, before and after the pose graph (threshold %.3f: "
+                 "precision %.3f, recall %.3f)" % (threshold, metrics["precision"], metrics["recall"]))
+    fig.savefig(os.path.join(out, "map.png"), dpi=90, bbox_inches="tight")
+    plt.close(fig)
 
 
 def plot_correction(out, trajectory, corrected_csv):

@@ -152,13 +152,19 @@ bool writeCorrectedTrajectoryCsv(const std::string& path, const Sequence& s, con
     *error = "cannot create " + path;
     return false;
   }
-  out << "frame,odom_x,odom_y,odom_z,corrected_x,corrected_y,corrected_z\n";
+  out << "frame,odom_x,odom_y,odom_z,odom_yaw,corrected_x,corrected_y,corrected_z,corrected_yaw\n";
+  // Heading [rad] of a pose's x axis in the truth frame, for top-down drawings.
+  const auto yaw = [](const Eigen::Isometry3d& pose) {
+    const Eigen::Matrix3d r = pose.rotation();
+    return std::atan2(r(1, 0), r(0, 0));
+  };
   for (std::size_t k = 0; k < s.frames.size() && k < c.corrected_poses.size(); ++k) {
     // In the truth's frame: the alignment the trajectory error found for each.
     const Eigen::Vector3d o = c.odometry.alignment * s.odometry[k].translation();
     const Eigen::Vector3d r = c.corrected.alignment * c.corrected_poses[k].translation();
-    out << s.frames[k] << ',' << o.x() << ',' << o.y() << ',' << o.z() << ',' << r.x() << ',' << r.y() << ','
-        << r.z() << '\n';
+    out << s.frames[k] << ',' << o.x() << ',' << o.y() << ',' << o.z() << ','
+        << yaw(c.odometry.alignment * s.odometry[k]) << ',' << r.x() << ',' << r.y() << ',' << r.z() << ','
+        << yaw(c.corrected.alignment * c.corrected_poses[k]) << '\n';
   }
   return out.good();
 }

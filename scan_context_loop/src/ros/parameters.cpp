@@ -63,17 +63,11 @@ std::vector<std::string> readParameters(const ros::NodeHandle& pnh, Config* c, R
   readTable(pnh, configSettings(), c, &problems);
   readTable(pnh, nodeSettings(), o, &problems);
 
-  // A private parameter that is no key is a misspelling (or a setting of another version).
-  std::vector<std::string> names;
-  const std::string prefix = pnh.getNamespace() + "/";
-  if (pnh.getParamNames(names)) {
-    for (const std::string& name : names) {
-      if (name.compare(0, prefix.size(), prefix) != 0) continue;
-      const std::string key = name.substr(prefix.size());
-      if (findSetting(configSettings(), key) == nullptr && findSetting(nodeSettings(), key) == nullptr) {
-        problems.push_back(key + ": unknown parameter (see config/default.yaml for the keys)");
-      }
-    }
+  const auto known = [](const std::string& key) {
+    return findSetting(configSettings(), key) != nullptr || findSetting(nodeSettings(), key) != nullptr;
+  };
+  for (const auto& key : unknownPrivateParameters(pnh, known)) {
+    problems.push_back(key + ": unknown parameter (see config/default.yaml for the keys)");
   }
 
   for (const auto& p : c->validate()) problems.push_back(p);
@@ -86,6 +80,19 @@ std::vector<std::string> readParameters(const ros::NodeHandle& pnh, Config* c, R
   check(!(o->pose_source == "tf" && c->cloud_in_world_frame && o->sensor_frame.empty()),
         "sensor_frame must name the sensor's tf frame when pose_source is tf and cloud_in_world_frame is true");
   return problems;
+}
+
+std::vector<std::string> unknownPrivateParameters(const ros::NodeHandle& pnh,
+                                                  const std::function<bool(const std::string&)>& known) {
+  std::vector<std::string> unknown, names;
+  const std::string prefix = pnh.getNamespace() + "/";
+  if (!pnh.getParamNames(names)) return unknown;
+  for (const std::string& name : names) {
+    if (name.compare(0, prefix.size(), prefix) != 0) continue;
+    const std::string key = name.substr(prefix.size());
+    if (!known(key)) unknown.push_back(key);
+  }
+  return unknown;
 }
 
 }  // namespace scan_context_loop

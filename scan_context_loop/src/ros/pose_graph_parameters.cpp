@@ -7,6 +7,8 @@
 
 #include <xmlrpcpp/XmlRpcValue.h>
 
+#include "scan_context_loop/ros/parameters.h"
+
 namespace scan_context_loop {
 
 namespace {
@@ -82,14 +84,8 @@ std::vector<std::string> readPoseGraphParameters(const ros::NodeHandle& pnh, Pos
     if (!reader.take(value)) problems.push_back(key + ": expected " + reader.type_name + ", got " + value.toXml());
   }
   // A private parameter that is no key is a misspelling.
-  std::vector<std::string> names;
-  const std::string prefix = pnh.getNamespace() + "/";
-  if (pnh.getParamNames(names)) {
-    for (const std::string& name : names) {
-      if (name.compare(0, prefix.size(), prefix) != 0) continue;
-      const std::string key = name.substr(prefix.size());
-      if (keys.count(key) == 0) problems.push_back(key + ": unknown parameter (see launch/pose_graph.launch)");
-    }
+  for (const auto& key : unknownPrivateParameters(pnh, [&](const std::string& k) { return keys.count(k) > 0; })) {
+    problems.push_back(key + ": unknown parameter (see the README's pose_graph section)");
   }
   for (const auto& p : g->validate()) problems.push_back(p);
   for (const auto& p : m->validate()) problems.push_back(p);

@@ -1,6 +1,7 @@
 // PoseGraphRos's worker: the only thread that touches the graph and the map.
 #include <algorithm>
 #include <chrono>
+#include <cstring>
 
 #include <nav_msgs/Path.h>
 #include <pcl_conversions/pcl_conversions.h>
@@ -34,14 +35,6 @@ nav_msgs::Path makePath(const std::vector<Eigen::Isometry3d>& poses, const std::
     path.poses[i].pose = tf2::toMsg(poses[i]);
   }
   return path;
-}
-
-geometry_msgs::Point point(const Eigen::Vector3d& p) {
-  geometry_msgs::Point out;
-  out.x = p.x();
-  out.y = p.y();
-  out.z = p.z();
-  return out;
 }
 
 }  // namespace
@@ -263,15 +256,15 @@ void PoseGraphRos::solveAndPublish(bool solve) {
     lines.type = visualization_msgs::Marker::LINE_LIST;
     lines.action = visualization_msgs::Marker::ADD;
     lines.pose.orientation.w = 1.0;
-    lines.scale.x = 0.4;
+    lines.scale.x = 1.5;
     lines.color.a = 1.0;
     lines.color.r = verified ? 0.1f : 1.0f;
     lines.color.g = verified ? 0.9f : 0.55f;
     lines.color.b = 0.1f;
     for (const auto& loop : used_) {
       if (loop.verified != verified) continue;
-      lines.points.push_back(point(poses[loop.query].translation()));
-      lines.points.push_back(point(poses[loop.match].translation()));
+      lines.points.push_back(tf2::toMsg(Eigen::Vector3d(poses[loop.query].translation())));
+      lines.points.push_back(tf2::toMsg(Eigen::Vector3d(poses[loop.match].translation())));
     }
     if (lines.points.empty()) lines.action = visualization_msgs::Marker::DELETE;
     markers.markers.push_back(lines);

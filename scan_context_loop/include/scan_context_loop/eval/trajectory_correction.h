@@ -42,7 +42,8 @@ TrajectoryCorrection correctTrajectory(const Sequence& sequence, const Evaluatio
 
 /// trajectory_error.json: the four trajectory errors (RMSE, mean, max) and the loop counts, or the note.
 bool writeTrajectoryErrorJson(const std::string& path, const TrajectoryCorrection& correction, std::string* error);
-/// trajectory_corrected.csv: per keyframe, its frame and the odometry's and the corrected positions.
+/// trajectory_corrected.csv: per keyframe, its frame and the odometry's and the corrected positions and headings
+/// (yaw of the x axis, radians), each in the truth's frame by its own alignment.
 bool writeCorrectedTrajectoryCsv(const std::string& path, const Sequence& sequence,
                                  const TrajectoryCorrection& correction, std::string* error);
 
