@@ -113,51 +113,72 @@ def scan_points(sequence, frame, rng, share=0.03, max_range=40.0):
 
 def plot_map_before_after(out, sequence, rows, corrected_csv, threshold, metrics):
     """map.png: the scans at the odometry's poses (left) and at the corrected poses (right), both aligned
-    to the truth, with the loops the detector reported (true green, false red) between the keyframes."""
+    to the truth, with the loops the detector reported (true green, false red) between the keyframes;
+    above, the whole drive; below, 120 m around the loop whose two ends the odometry put farthest apart
+    (where its map shows the same walls twice)."""
     with open(corrected_csv) as f:
         poses = {int(r["frame"]): r for r in csv.DictReader(f)}
     with open(os.path.join(out, "trajectory_error.json")) as f:
         errors = json.load(f)
     rng = np.random.default_rng(1)
     local = {frame: scan_points(sequence, frame, rng) for frame in poses}
-    fig, axes = plt.subplots(1, 2, figsize=(20, 9), sharex=True, sharey=True)
-    for ax, key, title in ((axes[0], "odom", "odometry: ATE %.2f m (max %.2f)" % (
-            errors["odometry"]["rmse_m"], errors["odometry"]["max_m"])),
-                           (axes[1], "corrected", "corrected with %d loops: ATE %.2f m (max %.2f)" % (
-            errors["loops"], errors["corrected"]["rmse_m"], errors["corrected"]["max_m"]))):
-        at = {}
-        world = []
+    at = {key: {f: (float(r[key + "_x"]), float(r[key + "_y"])) for f, r in poses.items()} for key in ("odom", "corrected")}
+    world = {}
+    for key in ("odom", "corrected"):
+        parts = []
         for frame, r in poses.items():
             x, y, yaw = float(r[key + "_x"]), float(r[key + "_y"]), float(r[key + "_yaw"])
-            at[frame] = (x, y)
             c, s_ = np.cos(yaw), np.sin(yaw)
             p = local[frame]
             if len(p):
-                world.append(np.column_stack((x + c * p[:, 0] - s_ * p[:, 1], y + s_ * p[:, 0] + c * p[:, 1])))
-        if world:
-            world = np.vstack(world)
-            ax.scatter(world[:, 0], world[:, 1], s=0.05, c="0.25", alpha=0.35, linewidths=0, rasterized=True)
-        frames = sorted(at)
-        ax.plot([at[f][0] for f in frames], [at[f][1] for f in frames], "-", color="tab:blue", lw=0.8,
-                label="keyframe path")
-        shown = set()
-        for r in rows:
-            q, m = int(r["query"]), int(r["match"])
-            if m < 0 or float(r["distance"]) >= threshold or q not in at or m not in at:
-                continue
-            good = int(r["correct"])
-            label = "loop (true)" if good else "loop (false)"
-            ax.plot([at[q][0], at[m][0]], [at[q][1], at[m][1]], "-", color="g" if good else "r", lw=1.5,
-                    label=None if label in shown else label)
-            shown.add(label)
-        ax.set_aspect("equal")
-        ax.set_xlabel("x [m]")
-        ax.set_title(title)
-        ax.legend(loc="best")
-    axes[0].set_ylabel("y [m]")
-    fig.suptitle("the scans placed at the keyframe poses, before and after the pose graph (threshold %.3f: "
+                parts.append(np.column_stack((x + c * p[:, 0] - s_ * p[:, 1], y + s_ * p[:, 0] + c * p[:, 1])))
+        world[key] = np.vstack(parts) if parts else np.zeros((0, 2))
+    loops = [(int(r["query"]), int(r["match"]), int(r["correct"])) for r in rows
+             if int(r["match"]) >= 0 and float(r["distance"]) < threshold
+             and int(r["query"]) in poses and int(r["match"]) in poses]
+    # The detail: where the odometry disagrees most with itself across a true loop.
+    centre, gap = None, -1.0
+    for q, m, good in loops:
+        d = np.hypot(at["odom"][q][0] - at["odom"][m][0], at["odom"][q][1] - at["odom"][m][1])
+        if good and d > gap:
+            gap, centre = d, at["corrected"][q]
+    titles = {"odom": "odometry: ATE %.2f m (max %.2f)" % (errors["odometry"]["rmse_m"], errors["odometry"]["max_m"]),
+              "corrected": "corrected with %d loops: ATE %.2f m (max %.2f)" % (
+                  errors["loops"], errors["corrected"]["rmse_m"], errors["corrected"]["max_m"])}
+    detail = centre is not None
+    fig, axes = plt.subplots(2 if detail else 1, 2, figsize=(14, 20 if detail else 10), squeeze=False)
+    for row in range(axes.shape[0]):
+        for col, key in enumerate(("odom", "corrected")):
+            ax = axes[row][col]
+            pts = world[key]
+            size = 0.05 if row == 0 else 1.0
+            ax.scatter(pts[:, 0], pts[:, 1], s=size, c="0.25", alpha=0.35, linewidths=0, rasterized=True)
+            frames = sorted(at[key])
+            ax.plot([at[key][f][0] for f in frames], [at[key][f][1] for f in frames], "-", color="tab:blue", lw=0.8,
+                    label="keyframe path")
+            shown = set()
+            for q, m, good in loops:
+                label = "loop (true)" if good else "loop (false)"
+                ax.plot([at[key][q][0], at[key][m][0]], [at[key][q][1], at[key][m][1]], "-",
+                        color="g" if good else "r", lw=1.5, label=None if label in shown else label)
+                shown.add(label)
+            ax.set_aspect("equal")
+            ax.set_xlabel("x [m]")
+            if row == 0:
+                ax.set_title(titles[key])
+                if detail:
+                    ax.add_patch(plt.Rectangle((centre[0] - 60, centre[1] - 60), 120, 120, fill=False, color="tab:orange"))
+            else:
+                ax.set_xlim(centre[0] - 60, centre[0] + 60)
+                ax.set_ylim(centre[1] - 60, centre[1] + 60)
+                ax.set_title("the orange box: %s" % ("odometry (the loop's ends %.1f m apart)" % gap if key == "odom"
+                                                    else "corrected"))
+            ax.legend(loc="best")
+        axes[row][0].set_ylabel("y [m]")
+    fig.suptitle("the scans placed at the keyframe poses, before and after the pose graph\n(threshold %.3f: "
                  "precision %.3f, recall %.3f)" % (threshold, metrics["precision"], metrics["recall"]))
-    fig.savefig(os.path.join(out, "map.png"), dpi=90, bbox_inches="tight")
+    fig.tight_layout(rect=(0, 0, 1, 0.97))
+    fig.savefig(os.path.join(out, "map.png"), dpi=70, bbox_inches="tight")
     plt.close(fig)
 
 

@@ -151,7 +151,8 @@ TEST_F(PoseGraphNode, CorrectsTheDriftPublishesTheTfAndTheMapAndHoldsOffAFalseLo
   EXPECT_LT(cloud.width * cloud.height, n * harness.cloud(*drive_, 0).width / 4) << "the map is not thinned";
 
   // A confident false loop (keyframe 5 said to lie on the far side of the block, 0.1 m standard deviation)
-  // and bad inputs: the robust loss holds the graph, the rest is counted and skipped.
+  // and bad inputs (a loop at stamps of no keyframe, one with a zero covariance, a keyframe stamped before
+  // the last, one with a NaN position): the robust loss holds the graph, the rest is counted and skipped.
   scan_context_loop::LoopClosure false_loop = harness.loops().front();
   false_loop.query_stamp = harness.base + ros::Duration(drive_->times[n / 2]);
   false_loop.match_stamp = harness.base + ros::Duration(drive_->times[5]);
@@ -164,6 +165,8 @@ TEST_F(PoseGraphNode, CorrectsTheDriftPublishesTheTfAndTheMapAndHoldsOffAFalseLo
   unknown.query_stamp = harness.base + ros::Duration(0.05);  // between two keyframes
   scan_context_loop::LoopClosure bad_covariance = harness.loops().back();
   bad_covariance.covariance.fill(0.0);
+  nav_msgs::Odometry back_in_time = harness.odom(*drive_, n - 1);
+  back_in_time.header.stamp -= ros::Duration(0.05);  // between the last two keyframes
   nav_msgs::Odometry nan_pose = harness.odom(*drive_, n - 1);
   nan_pose.header.stamp += ros::Duration(1.0);
   nan_pose.pose.pose.position.x = std::numeric_limits<double>::quiet_NaN();
@@ -171,6 +174,7 @@ TEST_F(PoseGraphNode, CorrectsTheDriftPublishesTheTfAndTheMapAndHoldsOffAFalseLo
   loop_pub.publish(false_loop);
   loop_pub.publish(unknown);
   loop_pub.publish(bad_covariance);
+  harness.odom_pub.publish(back_in_time);
   harness.odom_pub.publish(nan_pose);
   ASSERT_TRUE(markers.waitFor([&](const visualization_msgs::MarkerArray& m) {
     return !m.markers.empty() && m.markers[0].points.size() == 2 * (loops + 1); }, 10.0, &shown));
@@ -179,7 +183,7 @@ TEST_F(PoseGraphNode, CorrectsTheDriftPublishesTheTfAndTheMapAndHoldsOffAFalseLo
   EXPECT_LT(held.rmse, 0.5 * before.rmse) << "the false loop pulled the graph: " << held.rmse << " m";
   std::printf("ATE RMSE with a confident false loop added: %.2f m\n", held.rmse);
   const ros::WallTime now = ros::WallTime::now();
-  EXPECT_EQ(diagnostics.value("inputs rejected", now, 10.0), 3);
+  EXPECT_EQ(diagnostics.value("inputs rejected", now, 10.0), 4);
   EXPECT_EQ(diagnostics.value("keyframes", now, 10.0), static_cast<long>(n));
   EXPECT_EQ(diagnostics.value("loops in the graph", now, 10.0), static_cast<long>(loops + 1));
 }
