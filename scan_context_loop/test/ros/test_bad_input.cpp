@@ -159,7 +159,18 @@ TEST(LoopClosureNode, AFullQueueDropsKeyframesCountedAndTheNodeGoesOn) {
   const std::size_t burst = 120;
   const std::size_t paced = 20;
   ASSERT_GT(drive.truth.size(), burst + paced);
-  harness.publish(drive, 0, burst, 1000.0);
+  // The messages are made first (simulating a scan takes longer than the worker takes to process one),
+  // then sent back to back: they arrive far faster than the worker can take them.
+  std::vector<sensor_msgs::PointCloud2> clouds;
+  std::vector<nav_msgs::Odometry> poses;
+  for (std::size_t k = 0; k < burst; ++k) {
+    clouds.push_back(harness.cloud(drive, k));
+    poses.push_back(harness.odom(drive, k));
+  }
+  for (std::size_t k = 0; k < burst; ++k) {
+    harness.cloud_pub.publish(clouds[k]);
+    harness.odom_pub.publish(poses[k]);
+  }
   const auto [kept, dropped] = settledCounts(diagnostics, 60.0);
   EXPECT_GT(dropped, 0) << "the burst never filled a queue of one";
   EXPECT_GT(kept, 0);
