@@ -1,25 +1,11 @@
-// The pose_graph nodelet: a few lines around the adapter.
-#include <memory>
-
-#include <nodelet/nodelet.h>
+// The pose_graph nodelet: the reference backend's adapter in a nodelet.
 #include <pluginlib/class_list_macros.hpp>
 
+#include "scan_context_loop/ros/adapter_nodelet.h"
 #include "scan_context_loop/ros/pose_graph_ros.h"
 
 namespace scan_context_loop {
-
-class PoseGraphNodelet : public nodelet::Nodelet {
- private:
-  void onInit() override {
-    adapter_ = std::make_unique<PoseGraphRos>(getNodeHandle(), getPrivateNodeHandle(), getName());
-    if (!adapter_->start()) {
-      NODELET_FATAL("configuration rejected; the nodelet stays idle");
-      adapter_.reset();
-    }
-  }
-  std::unique_ptr<PoseGraphRos> adapter_;
-};
-
+using PoseGraphNodelet = AdapterNodelet<PoseGraphRos>;
 }  // namespace scan_context_loop
 
 PLUGINLIB_EXPORT_CLASS(scan_context_loop::PoseGraphNodelet, nodelet::Nodelet)
