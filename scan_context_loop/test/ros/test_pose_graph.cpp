@@ -28,6 +28,8 @@ class Latest {
  public:
   Latest(ros::NodeHandle nh, const std::string& topic)
       : sub_(nh.subscribe(topic, 2, &Latest::on, this)) {}
+  /// Unsubscribes first (waiting for a callback in progress): the message it writes is declared after.
+  ~Latest() { sub_.shutdown(); }
   /// The latest message once `ready` holds for it; false after `seconds` (with the latest in `out`).
   bool waitFor(const std::function<bool(const M&)>& ready, double seconds, M* out) const {
     const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(seconds);
