@@ -51,6 +51,12 @@ Harness::Harness(ros::NodeHandle nh) : nh_(nh) {
       });
 }
 
+Harness::~Harness() {
+  // The subscribers are declared before the data their callbacks fill, so they would otherwise be shut
+  // down last, while a spinner thread may still be writing to the vectors and maps being freed.
+  for (auto* sub : {&loop_sub_, &marker_sub_, &lio_sub_, &pair_sub_, &timing_sub_}) sub->shutdown();
+}
+
 bool Harness::waitForNode(double seconds, bool poses) {
   const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(seconds);
   while (ros::ok() && ros::WallTime::now() < end) {
@@ -114,6 +120,8 @@ void Harness::publishTfAndWorldClouds(const Drive& drive, double rate) {
 
 DiagnosticsWatch::DiagnosticsWatch(ros::NodeHandle nh, std::string node, std::string status)
     : node_(std::move(node)), status_(std::move(status)), sub_(nh.subscribe("/diagnostics", 10, &DiagnosticsWatch::onDiagnostics, this)) {}
+
+DiagnosticsWatch::~DiagnosticsWatch() { sub_.shutdown(); }
 
 long DiagnosticsWatch::value(const std::string& key, const ros::WallTime& after, double seconds) const {
   const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(seconds);

@@ -25,6 +25,9 @@ namespace test {
 class Harness {
  public:
   explicit Harness(ros::NodeHandle nh);
+  /// Unsubscribes first (waiting for a callback in progress), so that no callback runs on the members
+  /// below while they are destroyed.
+  ~Harness();
 
   /// Waits until the node subscribes to the clouds (and the poses, unless `poses` is false); false
   /// after `seconds`.
@@ -82,6 +85,8 @@ class DiagnosticsWatch {
   /// Watches the status of the node named `node` (its full name without the leading slash, "ns/name", as
   /// the diagnostics name it; any loop-closure node's when empty).
   explicit DiagnosticsWatch(ros::NodeHandle nh, std::string node = "", std::string status = "loop closure");
+  /// Unsubscribes first (waiting for a callback in progress), as ~Harness does.
+  ~DiagnosticsWatch();
   /// The integer value of `key` from a status that arrived after `after`; -1 if none within `seconds`.
   long value(const std::string& key, const ros::WallTime& after, double seconds) const;
 
