@@ -1,6 +1,7 @@
 // rostest: malformed clouds, broken poses (NaN, unusable quaternions), stamps going backwards and unpaired clouds among good
 // keyframes; the node must keep running and still find the loops that follow.
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <limits>
 #include <utility>
@@ -172,6 +173,7 @@ TEST(LoopClosureNode, AFullQueueDropsKeyframesCountedAndTheNodeGoesOn) {
     harness.odom_pub.publish(poses[k]);
   }
   const auto [kept, dropped] = settledCounts(diagnostics, 60.0);
+  std::printf("burst of %zu: %ld kept, %ld dropped by the queue\n", burst, kept, dropped);
   EXPECT_GT(dropped, 0) << "the burst never filled a queue of one";
   EXPECT_GT(kept, 0);
   // Some of the burst may be lost before the node (the transport's own queue); what reaches it is kept or counted.
