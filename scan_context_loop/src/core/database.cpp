@@ -8,15 +8,20 @@
 
 namespace scan_context_loop {
 
-/// Exact k-nearest ring keys over a growing prefix of the database: a balanced FLANN kd-tree (single
-/// tree, bounding-box pruning, leaves of up to 10 keys) over the keys it was last built with, plus a
-/// brute-force scan over the keys added since. When that tail reaches max(kMinTail, built / 16) keys
-/// the tree is rebuilt over everything, so a query never scans more than a small tail and a rebuild
-/// happens once every few thousand keyframes at 100k (its cost shows in the benchmark's max column).
+/// k-nearest ring keys over a growing prefix of the database: a FLANN index over the keys it was last
+/// built with, plus a brute-force scan over the keys added since. When that tail reaches
+/// max(kMinTail, built / 16) keys the index is rebuilt over everything, so a query never scans more than
+/// a small tail and a rebuild happens once every few thousand keyframes at 100k (its cost shows in the
+/// benchmark's max column). Up to `exact_limit` keys the index is one balanced kd-tree (leaves of up to
+/// 10 keys) searched exactly; above it, kTrees randomized kd-trees searched until kChecks keys have
+/// been compared, a cost that no longer grows with the database. The randomized trees are built from a
+/// fixed seed, so a run gives the same candidates every time.
 struct Database::Tree {
   static constexpr std::size_t kMinTail = 1024;
+  static constexpr int kTrees = 2;
+  static constexpr int kChecks = 128;
 
-  explicit Tree(int dims) : dims(dims) {}
+  Tree(int dims, std::size_t exact_limit) : dims(dims), exact_limit(exact_limit) {}
 
   /// Takes the keys of the keyframes now eligible; rebuilds at most once, whether one key came or many.
   void add(const std::vector<const float*>& added) {
@@ -24,13 +29,20 @@ struct Database::Tree {
     if (keys.size() - built >= std::max(kMinTail, built / 16)) rebuild();
   }
 
+  bool approximate() const { return built > exact_limit; }
+
   void rebuild() {
     data.resize(keys.size() * dims);
     for (std::size_t i = 0; i < keys.size(); ++i) std::copy(keys[i], keys[i] + dims, &data[i * dims]);
     flann::Matrix<float> matrix(data.data(), keys.size(), dims);
-    index.reset(new flann::Index<flann::L2<float>>(matrix, flann::KDTreeSingleIndexParams(10)));
-    index->buildIndex();
     built = keys.size();
+    if (approximate()) {
+      flann::seed_random(1);  // the trees' random split choices (std::rand)
+      index.reset(new flann::Index<flann::L2<float>>(matrix, flann::KDTreeIndexParams(kTrees)));
+    } else {
+      index.reset(new flann::Index<flann::L2<float>>(matrix, flann::KDTreeSingleIndexParams(10)));
+    }
+    index->buildIndex();
   }
 
   /// The `want` nearest keys as (squared distance, index), nearest first.
@@ -40,7 +52,7 @@ struct Database::Tree {
       std::vector<std::vector<std::size_t>> indices;
       std::vector<std::vector<float>> dists;
       std::vector<float> q(query, query + dims);
-      flann::SearchParams params(flann::FLANN_CHECKS_UNLIMITED);
+      flann::SearchParams params(approximate() ? kChecks : flann::FLANN_CHECKS_UNLIMITED);
       params.sorted = true;
       index->knnSearch(flann::Matrix<float>(q.data(), 1, dims), indices, dists, std::min(want, built), params);
       for (std::size_t i = 0; i < indices[0].size(); ++i) found.emplace_back(dists[0][i], indices[0][i]);
@@ -60,13 +72,15 @@ struct Database::Tree {
   }
 
   int dims;
+  std::size_t exact_limit;
   std::vector<const float*> keys;  // ring keys in database order (owned by the keyframes)
-  std::vector<float> data;         // contiguous copy the kd-tree was built over
+  std::vector<float> data;         // contiguous copy the index was built over
   std::size_t built = 0;
   std::unique_ptr<flann::Index<flann::L2<float>>> index;
 };
 
-Database::Database(const Config& config) : config_(config), tree_(new Tree(config.num_rings)) {}
+Database::Database(const Config& config)
+    : config_(config), tree_(new Tree(config.num_rings, static_cast<std::size_t>(config.exact_search_limit))) {}
 
 Database::~Database() = default;
 
@@ -290,8 +304,12 @@ std::size_t Database::bytesPerKeyframe() const {
                         config_.num_rings + config_.num_sectors) * sizeof(float) +
                        config_.num_sectors;
   }
+  // FLANN's share: the single exact tree ~32 bytes a key; the randomized trees of a larger database a
+  // point pointer plus, per tree, two 32-byte nodes (leaves hold one key) and an index.
+  const std::size_t index_bytes =
+      tree_->approximate() ? sizeof(float*) + Tree::kTrees * (2 * 32 + sizeof(int)) : 32;
   return descriptor_bytes + sizeof(Keyframe) + sizeof(float*) +
-         static_cast<std::size_t>(config_.num_rings) * sizeof(float) + 32;
+         static_cast<std::size_t>(config_.num_rings) * sizeof(float) + index_bytes;
 }
 
 }  // namespace scan_context_loop

@@ -204,6 +204,8 @@ std::vector<Setting<Config>> makeConfigSettings() {
                          "auto levelling: a pose tilted more than this is not trusted [deg]"),
       // search
       live(intSetting<Cfg>("num_candidates", C(num_candidates), closed(1, 10000), "ring-key neighbours scored in full")),
+      intSetting<Cfg>("exact_search_limit", C(exact_search_limit), atLeast(0, " (0: always approximate)"),
+                      "databases up to this many keyframes are searched exactly, larger ones approximately"),
       live(doubleSetting<Cfg>("search_ratio", C(search_ratio), closed(0, 1), "column search width around the coarse shift")),
       live(doubleSetting<Cfg>("distance_threshold", C(distance_threshold), {0, 2, true, false},
                          "a descriptor match is below this distance")),

@@ -143,6 +143,71 @@ TEST(Database, KdTreeReturnsTheBruteForceNearestRingKeys) {
   EXPECT_EQ(db.size(), 3000u);
 }
 
+/// Ring keys of `places` places each visited `visits` times (a key per place, every visit a little
+/// off it), in visit order: the shape of a long run that keeps driving the same streets.
+std::vector<std::vector<float>> revisitedKeys(int places, int visits, int dims, std::mt19937* rng) {
+  std::vector<std::vector<float>> centres;
+  for (int p = 0; p < places; ++p) centres.push_back(randomKey(rng, dims));
+  std::normal_distribution<float> noise(0.0f, 0.02f);
+  std::vector<std::vector<float>> keys;
+  for (int v = 0; v < visits; ++v) {
+    for (const auto& centre : centres) {
+      keys.push_back(centre);
+      for (float& value : keys.back()) value += noise(*rng);
+    }
+  }
+  return keys;
+}
+
+TEST(Database, ApproximateSearchAboveTheLimitFindsWhatTheExactOneFinds) {
+  // 300 places visited 40 times: 12,000 keys. One database searches them exactly, one approximately
+  // (limit 0), one approximately again from the same keys; queries are new visits of the places.
+  Config exact_config;
+  exact_config.exclude_recent_frames = 0;
+  exact_config.num_candidates = 10;
+  Config approximate_config = exact_config;
+  approximate_config.exact_search_limit = 0;
+  Database exact(exact_config), approximate(approximate_config), again(approximate_config);
+  std::mt19937 rng(99);
+  const auto keys = revisitedKeys(300, 40, exact_config.num_rings, &rng);
+  for (std::size_t i = 0; i < keys.size(); ++i) {
+    for (Database* db : {&exact, &approximate, &again}) {
+      ASSERT_TRUE(db->add(at(static_cast<double>(i)), descriptorWithKey(keys[i], exact_config)));
+    }
+  }
+  std::normal_distribution<float> noise(0.0f, 0.02f);
+  int same_nearest = 0, shared = 0, queries = 0;
+  for (int q = 0; q < 200; ++q) {
+    // A new visit of place q: its key as the database holds it plus fresh noise.
+    std::vector<float> key = keys[static_cast<std::size_t>(q)];
+    for (float& value : key) value += noise(rng);
+    const KeyframeInfo info = at(static_cast<double>(keys.size() + q));
+    const QueryResult e = exact.query(descriptorWithKey(key, exact_config), info);
+    const QueryResult a = approximate.query(descriptorWithKey(key, exact_config), info);
+    const QueryResult b = again.query(descriptorWithKey(key, exact_config), info);
+    ASSERT_EQ(e.candidates.size(), 10u);
+    ASSERT_EQ(a.candidates.size(), 10u);
+    EXPECT_EQ(candidateSet(a), candidateSet(b)) << "the same keys gave other candidates (query " << q << ")";
+    const std::set<std::size_t> es = candidateSet(e), as = candidateSet(a);
+    std::size_t common = 0;
+    for (std::size_t index : as) common += es.count(index);
+    shared += static_cast<int>(common);
+    // The candidates come sorted by descriptor distance: the nearest ring key is the least of theirs.
+    const auto nearest = std::min_element(e.candidates.begin(), e.candidates.end(), [](const auto& x, const auto& y) {
+      return x.ring_key_distance < y.ring_key_distance;
+    });
+    same_nearest += static_cast<int>(as.count(nearest->index));
+    for (const auto& c : a.candidates) {
+      EXPECT_EQ(c.index % 300, static_cast<std::size_t>(q)) << "a candidate of another place (query " << q << ")";
+    }
+    ++queries;
+  }
+  std::printf("approximate search: the exact nearest key among the candidates in %d of %d queries, %.2f of the 10 candidates shared\n",
+              same_nearest, queries, shared / (10.0 * queries));
+  EXPECT_GE(same_nearest, queries * 95 / 100);
+  EXPECT_GE(shared, queries * 10 * 80 / 100);
+}
+
 TEST(Database, OdometryGateDropsFarCandidates) {
   Config config = windows(0, 0.0, 0.0);
   config.gate_odometry_drift = 0.0;  // a fixed radius here; the drift allowance has its own test
@@ -274,13 +339,9 @@ std::size_t heapInUse() {
   return info.uordblks + info.hblkhd;
 }
 
-TEST(Database, MeasuredHeapPerKeyframeMatchesTheStatedBytes) {
-  // The heap growth of a database of real street descriptors, measured by the allocator, against
-  // bytesPerKeyframe() (what the README and the node's memory figures rest on) and the 6 KB budget.
-#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
-  GTEST_SKIP() << "a sanitizer's allocator replaces glibc's, whose count this reads";
-#endif
-  Config config;
+/// The heap growth of a database of 20,000 real street descriptors, measured by the allocator, against
+/// bytesPerKeyframe() (what the README and the node's memory figures rest on) and the 6 KB budget.
+void expectHeapPerKeyframeAsStated(const Config& config) {
   std::vector<Descriptor> scenes;
   for (std::uint32_t seed = 1; seed <= 4; ++seed) scenes.push_back(makeDescriptor(test::streetScene(seed), config));
   constexpr std::size_t kKeyframes = 20000;
@@ -303,6 +364,22 @@ TEST(Database, MeasuredHeapPerKeyframeMatchesTheStatedBytes) {
   }
   // Everything is returned with the database.
   EXPECT_LE(heapInUse(), before + 64 * 1024);
+}
+
+TEST(Database, MeasuredHeapPerKeyframeMatchesTheStatedBytes) {
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+  GTEST_SKIP() << "a sanitizer's allocator replaces glibc's, whose count this reads";
+#endif
+  expectHeapPerKeyframeAsStated(Config());
+}
+
+TEST(Database, MeasuredHeapPerKeyframeMatchesTheStatedBytesWithApproximateSearch) {
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+  GTEST_SKIP() << "a sanitizer's allocator replaces glibc's, whose count this reads";
+#endif
+  Config config;
+  config.exact_search_limit = 0;
+  expectHeapPerKeyframeAsStated(config);
 }
 
 }  // namespace

@@ -60,7 +60,8 @@ struct Keyframe {
 /// Keyframes enter the ring-key index the moment they leave the exclusion windows (all three rules are
 /// monotonic in arrival order, so the eligible keyframes are always a prefix of the database). The index
 /// is a FLANN kd-tree plus a brute-force tail of the keys added since its last build (see Tree in
-/// database.cpp), so there is no window in which recent keyframes are unsearchable. Search is exact.
+/// database.cpp), so there is no window in which recent keyframes are unsearchable. Search is exact up to
+/// Config::exact_search_limit searchable keyframes and approximate, at a bounded cost, above it.
 class Database {
  public:
   explicit Database(const Config& config);
