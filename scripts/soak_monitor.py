@@ -198,6 +198,11 @@ class Monitor:
                 "failed": self.diag_int("keyframes and service calls failed (exception)"),
                 "unaccounted": fed - self.processed - self.diag_int("keyframes dropped")
                 - self.diag_int("keyframes rejected"),
+                # Where the unaccounted ones went: lost before the node (roscpp's subscriber queue), or
+                # received without their pose ever pairing with them.
+                "clouds_received": self.diag_int("clouds received"),
+                "lost_before_the_node": fed - self.diag_int("clouds received"),
+                "received_never_paired": self.diag_int("clouds received") - self.diag_int("clouds paired with a pose"),
                 "database_size": self.diag.get("database size", ""),
                 "database_bytes_per_keyframe": self.diag.get("database bytes per keyframe", ""),
                 "registration_bytes_end": self.diag.get("registration data [bytes]", ""),

@@ -145,6 +145,7 @@ bool LoopClosureRos::start() {
 // ---- callbacks: copy the message pointers into the queue and return ----------------------------
 
 void LoopClosureRos::onAnyCloud(const sensor_msgs::PointCloud2ConstPtr&) {
+  ++clouds_received_;
   const double now = wallNow();
   last_cloud_wall_ = now;
   if (first_unpaired_wall_.load() == 0.0) first_unpaired_wall_ = now;
@@ -152,6 +153,7 @@ void LoopClosureRos::onAnyCloud(const sensor_msgs::PointCloud2ConstPtr&) {
 
 void LoopClosureRos::onCloudAndOdom(const sensor_msgs::PointCloud2ConstPtr& cloud,
                                     const nav_msgs::OdometryConstPtr& odom) {
+  ++clouds_paired_;
   last_pair_wall_ = wallNow();
   first_unpaired_wall_ = 0.0;
   Item item;
@@ -170,6 +172,8 @@ void LoopClosureRos::onCloudAndOdom(const sensor_msgs::PointCloud2ConstPtr& clou
 }
 
 void LoopClosureRos::onCloudOnly(const sensor_msgs::PointCloud2ConstPtr& cloud) {
+  ++clouds_received_;
+  ++clouds_paired_;
   Item item;
   item.cloud = cloud;
   item.pose_frame = options_.fixed_frame;
@@ -562,6 +566,8 @@ void LoopClosureRos::diagnose(diagnostic_updater::DiagnosticStatusWrapper& statu
   status.add("longest keyframe time [ms]", max_keyframe_ms_.load());
   status.add("loops found", loops_found_.load());
   status.add("verified loops waiting for support", loops_waiting_.load());
+  status.add("clouds received", clouds_received_.load());
+  status.add("clouds paired with a pose", clouds_paired_.load());
   status.add("keyframes dropped", dropped);
   status.add("keyframes rejected", rejected_.load());
   status.add("keyframes and service calls failed (exception)", failures);

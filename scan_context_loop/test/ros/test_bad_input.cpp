@@ -83,7 +83,7 @@ TEST(LoopClosureNode, SurvivesBadInputAndStillFindsTheLoopsThatFollow) {
   const std::size_t half = drive.truth.size() / 2;
   ros::WallRate rate(15.0);
   int kind = 0;
-  std::size_t expected_rejected = 0, expected_kept = 0;
+  std::size_t expected_rejected = 0, expected_kept = 0, expected_ignored = 0;
   for (std::size_t k = 0; k < half && ros::ok(); ++k) {
     harness.cloud_pub.publish(harness.cloud(drive, k));
     harness.odom_pub.publish(harness.odom(drive, k));
@@ -93,6 +93,7 @@ TEST(LoopClosureNode, SurvivesBadInputAndStillFindsTheLoopsThatFollow) {
       const Outcome outcome = expectedOutcome(kind % kBadKinds);
       expected_rejected += outcome == Outcome::kRejected;
       expected_kept += outcome == Outcome::kKept;
+      expected_ignored += outcome == Outcome::kIgnored;
       ++kind;
       rate.sleep();
     }
@@ -119,6 +120,11 @@ TEST(LoopClosureNode, SurvivesBadInputAndStillFindsTheLoopsThatFollow) {
   EXPECT_EQ(diagnostics.value("keyframes rejected", now, 10.0), static_cast<long>(expected_rejected));
   EXPECT_EQ(diagnostics.value("keyframes dropped", now, 10.0), 0);
   EXPECT_EQ(diagnostics.value("sessions", now, 10.0), 1);
+  // Every cloud sent reached the node (the drive's, one per bad variant, the one back in time), and the
+  // unpaired ones are counted as never paired.
+  const long received = diagnostics.value("clouds received", now, 10.0);
+  EXPECT_EQ(received, static_cast<long>(drive.truth.size() + kind + 1));
+  EXPECT_EQ(received - diagnostics.value("clouds paired with a pose", now, 10.0), static_cast<long>(expected_ignored));
 
   const auto loops = harness.loops();
   std::size_t after_bad_input = 0;

@@ -153,6 +153,10 @@ class LoopClosureRos {
   std::atomic<std::size_t> dropped_{0}, rejected_{0}, loops_found_{0}, database_size_{0}, queue_length_{0},
       loops_waiting_{0}, lio_skipped_{0}, sessions_count_{1}, failures_{0}, registration_bytes_{0},
       database_bytes_per_keyframe_{0};
+  // Clouds that reached the node, and those that became keyframes (paired with a pose, or taken alone
+  // with tf poses): a cloud lost before the node (roscpp's subscriber queue of sync_queue_size) is in
+  // neither; one whose pose never came is in the first only.
+  std::atomic<std::size_t> clouds_received_{0}, clouds_paired_{0};
   std::atomic<double> last_query_ms_{0.0}, last_keyframe_ms_{0.0}, max_keyframe_ms_{0.0};
   std::atomic<double> last_cloud_wall_{0.0}, last_pair_wall_{0.0}, first_unpaired_wall_{0.0};
 
