@@ -40,6 +40,22 @@ def rss_kb(pid):
     return None
 
 
+def worker_schedstat(pid):
+    """(ns on a CPU, ns runnable but waiting for one) of the node's worker thread (named scl_loop_worker),
+    from /proc/PID/task/TID/schedstat, or None."""
+    try:
+        for tid in os.listdir("/proc/%d/task" % pid):
+            with open("/proc/%d/task/%s/comm" % (pid, tid)) as f:
+                if f.read().strip() != "scl_loop_worker":
+                    continue
+            with open("/proc/%d/task/%s/schedstat" % (pid, tid)) as f:
+                run_ns, wait_ns = f.read().split()[:2]
+            return int(run_ns), int(wait_ns)
+    except (OSError, ValueError):
+        return None
+    return None
+
+
 def read_progress(path):
     try:
         with open(path) as f:
@@ -76,7 +92,11 @@ class Monitor:
             "latency_max_ms", "total_p50_ms", "total_p99_ms", "describe_query_p50_ms", "describe_query_p99_ms",
             "verify_p50_ms", "verify_p99_ms", "queue_length_max", "dropped", "rejected", "failed", "loops",
             "loops_verified", "markers_shown", "marker_messages", "registration_bytes", "database_bytes_per_keyframe",
-            "heap_allocated_bytes", "heap_free_bytes", "load1", "load5", "load15"])
+            "heap_allocated_bytes", "heap_free_bytes", "load1", "load5", "load15",
+            # The worker thread's CPU time and its time runnable but waiting for a CPU (preempted), per
+            # keyframe of the window [ms]: tells the node's own cost from the machine's.
+            "worker_cpu_ms_per_keyframe", "worker_runqueue_wait_ms_per_keyframe"])
+        self.last_schedstat = None
         base, ext = os.path.splitext(args.csv)
         self.rss_csv = open(base + "_rss" + ext, "w", newline="")
         self.rss_writer = csv.writer(self.rss_csv)
@@ -152,12 +172,20 @@ class Monitor:
                self.diag_int("database bytes per keyframe"), self.diag_int("heap allocated [bytes]"),
                self.diag_int("heap free [bytes]"), "%.2f" % load[0], "%.2f" % load[1],
                "%.2f" % load[2]]
+        sched = worker_schedstat(self.args.pid)
+        if sched and self.last_schedstat:
+            row += ["%.3f" % ((sched[0] - self.last_schedstat[0]) / 1e6 / len(w)),
+                    "%.3f" % ((sched[1] - self.last_schedstat[1]) / 1e6 / len(w))]
+        else:
+            row += ["", ""]
+        self.last_schedstat = sched
         self.writer.writerow(row)
         self.csv.flush()
         self.rows.append(row)
         sys.stderr.write("soak: %6d keyframes, fed %6d, RSS %7.1f MiB, p50 %.1f ms, p99 %.1f ms, loops %d, dropped %d, "
-                         "load %.2f\n" % (self.processed, fed, (rss or 0) / 1024.0, p(1, 50), p(1, 99), self.loops,
-                                          self.diag_int("keyframes dropped"), load[0]))
+                         "load %.2f, worker cpu / wait %s / %s ms\n" % (
+                             self.processed, fed, (rss or 0) / 1024.0, p(1, 50), p(1, 99), self.loops,
+                             self.diag_int("keyframes dropped"), load[0], row[-2] or "-", row[-1] or "-"))
 
     def sample_rss(self):
         while not rospy.is_shutdown():

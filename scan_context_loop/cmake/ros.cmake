@@ -7,6 +7,7 @@ add_library(scan_context_loop_nodelet
   src/ros/loop_pair.cpp
   src/ros/pose_input.cpp
   src/ros/exception_barrier.cpp
+  src/ros/heap_statistics.cpp
   src/ros/database_services.cpp
   src/ros/loop_closure_ros.cpp
   src/ros/loop_closure_nodelet.cpp
@@ -125,9 +126,9 @@ endif()
 
 if(CATKIN_ENABLE_TESTING)
   # The dynamic_reconfigure description, the standard-type loops, cloud and pose input and the worker's
-  # exception barrier: no ROS master needed.
+  # exception barrier and heap statistics: no ROS master needed.
   catkin_add_gtest(test_ros_units test/ros/test_live_settings.cpp test/ros/test_pose_input.cpp
-    test/ros/test_cloud_input.cpp test/ros/test_exception_barrier.cpp)
+    test/ros/test_cloud_input.cpp test/ros/test_exception_barrier.cpp test/ros/test_heap_statistics.cpp)
   target_link_libraries(test_ros_units scan_context_loop_nodelet ${catkin_LIBRARIES})
 endif()
 

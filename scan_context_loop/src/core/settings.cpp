@@ -281,6 +281,8 @@ std::vector<Setting<NodeOptions>> makeNodeSettings() {
       boolSetting<O>("approximate_sync", N(approximate_sync), "approximate (true) or exact time synchronisation"),
       intSetting<O>("sync_queue_size", N(sync_queue_size), closed(1, 10000), "message_filters queue per input"),
       intSetting<O>("queue_size", N(queue_size), closed(1, 100000), "keyframes waiting for the worker"),
+      intSetting<O>("heap_statistics_interval", N(heap_statistics_interval), closed(0, 100000000),
+                    "keyframes between reads of malloc's statistics (0: never)"),
       boolSetting<O>("lio_sam_output", N(lio_sam_output), "also publish LIO-SAM's loop message"),
       live(doubleSetting<O>("lio_sam_min_interval", N(lio_sam_min_interval), atLeast(0),
                        "lio_loop: at most one message per this many seconds")),

@@ -4,7 +4,7 @@
 #include <cstdio>
 #include <cmath>
 
-#include <malloc.h>
+#include <pthread.h>
 
 #include <std_msgs/Float64MultiArray.h>
 #include <tf2_eigen/tf2_eigen.h>
@@ -14,6 +14,7 @@
 #include "scan_context_loop/core/settings.h"
 #include "scan_context_loop/ros/cloud_input.h"
 #include "scan_context_loop/ros/exception_barrier.h"
+#include "scan_context_loop/ros/heap_statistics.h"
 #include "scan_context_loop/ros/live_settings.h"
 #include "scan_context_loop/ros/loop_pair.h"
 #include "scan_context_loop/ros/markers.h"
@@ -255,6 +256,9 @@ void LoopClosureRos::takeReconfigured() {
 // ---- worker ------------------------------------------------------------------------------------
 
 void LoopClosureRos::work() {
+  // Named for top -H, perf and the soak's per-thread CPU accounting (/proc/PID/task/TID/comm).
+  pthread_setname_np(pthread_self(), "scl_loop_worker");
+  HeapStatistics heap(options_.heap_statistics_interval);
   while (true) {
     Item item;
     std::function<void()> task;
@@ -288,6 +292,11 @@ void LoopClosureRos::work() {
       char context[64];
       std::snprintf(context, sizeof context, "keyframe at %.3f", item.cloud->header.stamp.toSec());
       runGuarded(context, [&] { process(std::move(item)); });
+      if (heap.afterKeyframe(queue_length_.load() == 0)) {
+        heap_allocated_ = heap.allocatedBytes();
+        heap_free_ = heap.freeBytes();
+        heap_statistics_ms_ = heap.lastMs();
+      }
     }
   }
 }
@@ -552,13 +561,14 @@ void LoopClosureRos::diagnose(diagnostic_updater::DiagnosticStatusWrapper& statu
   status.add("database size", database_size_.load());
   status.add("database bytes per keyframe", database_bytes_per_keyframe_.load());
   status.add("registration data [bytes]", registration_bytes_.load());
-#if defined(__GLIBC__) && (__GLIBC__ > 2 || (__GLIBC__ == 2 && __GLIBC_MINOR__ >= 33))
   // What the process holds allocated through malloc, and what malloc holds free (fragmentation): with the
-  // resident memory, this tells a leak from a heap that keeps freed memory for reuse.
-  const struct mallinfo2 heap = mallinfo2();
-  status.add("heap allocated [bytes]", heap.uordblks + heap.hblkhd);
-  status.add("heap free [bytes]", heap.fordblks);
-#endif
+  // resident memory, this tells a leak from a heap that keeps freed memory for reuse. Read by the worker
+  // (HeapStatistics: reading them here, on another thread, stalled the worker's allocations).
+  if (heap_allocated_.load() >= 0) {
+    status.add("heap allocated [bytes]", heap_allocated_.load());
+    status.add("heap free [bytes]", heap_free_.load());
+    status.add("heap statistics read in [ms]", heap_statistics_ms_.load());
+  }
   status.add("sessions", sessions_count_.load());
   status.add("queue length", queue_length_.load());
   status.add("last query time [ms]", last_query_ms_.load());

@@ -1,5 +1,6 @@
 // rostest: malformed clouds, broken poses (NaN, unusable quaternions), stamps going backwards and unpaired clouds among good
 // keyframes; the node must keep running and still find the loops that follow.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -13,6 +14,13 @@
 namespace scan_context_loop {
 namespace test {
 namespace {
+
+/// How many times slower than a normal build the node runs here (the test's `~slowdown`, set under TSan):
+/// rates are divided by it and waits multiplied.
+double slowdown() {
+  static const double factor = std::max(1.0, ros::NodeHandle("~").param("slowdown", 1.0));
+  return factor;
+}
 
 /// The number of bad variants publishBad knows.
 constexpr int kBadKinds = 9;
@@ -81,7 +89,7 @@ TEST(LoopClosureNode, SurvivesBadInputAndStillFindsTheLoopsThatFollow) {
   ASSERT_TRUE(harness.waitForNode(30.0));
   const Drive drive = blockDrive(true, 7);
   const std::size_t half = drive.truth.size() / 2;
-  ros::WallRate rate(15.0);
+  ros::WallRate rate(15.0 / slowdown());
   int kind = 0;
   std::size_t expected_rejected = 0, expected_kept = 0, expected_ignored = 0;
   for (std::size_t k = 0; k < half && ros::ok(); ++k) {
@@ -109,8 +117,8 @@ TEST(LoopClosureNode, SurvivesBadInputAndStillFindsTheLoopsThatFollow) {
       rate.sleep();
     }
   }
-  harness.publish(drive, half, drive.truth.size(), 15.0);
-  harness.settle(3.0, 30.0);
+  harness.publish(drive, half, drive.truth.size(), 15.0 / slowdown());
+  harness.settle(3.0 * slowdown(), 30.0 * slowdown());
   ASSERT_GE(kind, 2 * kBadKinds) << "every bad variant twice";
 
   // Each bad keyframe did what it must: the refused ones are counted and never enter the database, the
@@ -120,6 +128,9 @@ TEST(LoopClosureNode, SurvivesBadInputAndStillFindsTheLoopsThatFollow) {
   EXPECT_EQ(diagnostics.value("keyframes rejected", now, 10.0), static_cast<long>(expected_rejected));
   EXPECT_EQ(diagnostics.value("keyframes dropped", now, 10.0), 0);
   EXPECT_EQ(diagnostics.value("sessions", now, 10.0), 1);
+  // heap_statistics_interval 10: the worker read malloc's statistics, and the diagnostics report them.
+  EXPECT_GT(diagnostics.value("heap allocated [bytes]", now, 10.0), 0);
+  EXPECT_GE(diagnostics.value("heap free [bytes]", now, 10.0), 0);
   // Every cloud sent reached the node (the drive's, one per bad variant, the one back in time), and the
   // unpaired ones are counted as never paired.
   const long received = diagnostics.value("clouds received", now, 10.0);
@@ -151,7 +162,7 @@ std::pair<long, long> settledCounts(const DiagnosticsWatch& diagnostics, double 
                                        diagnostics.value("keyframes dropped", now, 10.0)};
     if (counts == last && counts.first >= 0) return counts;
     last = counts;
-    ros::WallDuration(1.5).sleep();
+    ros::WallDuration(1.5 * slowdown()).sleep();
   }
   return {-1, -1};
 }
@@ -178,7 +189,7 @@ TEST(LoopClosureNode, AFullQueueDropsKeyframesCountedAndTheNodeGoesOn) {
     harness.cloud_pub.publish(clouds[k]);
     harness.odom_pub.publish(poses[k]);
   }
-  const auto [kept, dropped] = settledCounts(diagnostics, 60.0);
+  const auto [kept, dropped] = settledCounts(diagnostics, 60.0 * slowdown());
   std::printf("burst of %zu: %ld kept, %ld dropped by the queue\n", burst, kept, dropped);
   EXPECT_GT(dropped, 0) << "the burst never filled a queue of one";
   EXPECT_GT(kept, 0);
@@ -186,8 +197,8 @@ TEST(LoopClosureNode, AFullQueueDropsKeyframesCountedAndTheNodeGoesOn) {
   EXPECT_LE(kept + dropped, static_cast<long>(burst));
   // Then keyframes at a pace the worker normally keeps. On a loaded machine one may still find the queue full;
   // either way each is kept or counted as dropped, none vanishes, and the node goes on adding to its database.
-  harness.publish(drive, burst, burst + paced, 4.0);
-  const auto [kept_after, dropped_after] = settledCounts(diagnostics, 60.0);
+  harness.publish(drive, burst, burst + paced, 4.0 / slowdown());
+  const auto [kept_after, dropped_after] = settledCounts(diagnostics, 60.0 * slowdown());
   EXPECT_EQ(kept_after + dropped_after, kept + dropped + static_cast<long>(paced)) << "a keyframe vanished uncounted";
   EXPECT_GE(kept_after, kept + static_cast<long>(paced) / 2) << "the node stopped taking keyframes after the burst";
 }

@@ -17,6 +17,9 @@ struct NodeOptions {
   bool approximate_sync = true;         ///< approximate (true) or exact time synchronisation
   int sync_queue_size = 20;             ///< message_filters queue per input
   int queue_size = 20;                  ///< keyframes waiting for the worker; more are dropped and counted
+  /// Keyframes between reads of malloc's statistics for the diagnostics (on the worker, when its queue
+  /// is empty; glibc's mallinfo2 walks the whole heap); 0 never.
+  int heap_statistics_interval = 1000;
   bool lio_sam_output = false;          ///< also publish std_msgs/Float64MultiArray [query, match stamps]
   double lio_sam_min_interval = 1.0;    ///< lio_loop: at most one message per this many seconds
   double unsynchronised_warning = 5.0;  ///< warn when clouds come without poses for this long [s]

@@ -157,6 +157,8 @@ class LoopClosureRos {
   // with tf poses): a cloud lost before the node (roscpp's subscriber queue of sync_queue_size) is in
   // neither; one whose pose never came is in the first only.
   std::atomic<std::size_t> clouds_received_{0}, clouds_paired_{0};
+  std::atomic<long long> heap_allocated_{-1}, heap_free_{-1};  // malloc's statistics at the worker's last read
+  std::atomic<double> heap_statistics_ms_{0.0};
   std::atomic<double> last_query_ms_{0.0}, last_keyframe_ms_{0.0}, max_keyframe_ms_{0.0};
   std::atomic<double> last_cloud_wall_{0.0}, last_pair_wall_{0.0}, first_unpaired_wall_{0.0};
 
