@@ -43,7 +43,7 @@ if(CATKIN_ENABLE_TESTING)
   add_rostest(test/ros/consistent_loops.test DEPENDENCIES test_ros_loops scan_context_loop_nodelet)
   add_dependencies(test_ros_loops scan_context_loop_nodelet)
   add_rostest_gtest(test_ros_bad_input test/ros/bad_input.test test/ros/test_bad_input.cpp)
-  target_link_libraries(test_ros_bad_input scan_context_loop_ros_harness)
+  target_link_libraries(test_ros_bad_input scan_context_loop_ros_harness scan_context_loop_nodelet)
   add_dependencies(test_ros_bad_input scan_context_loop_nodelet)
 
   roslaunch_add_file_check(launch)

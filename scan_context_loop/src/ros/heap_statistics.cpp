@@ -2,7 +2,18 @@
 
 #include <chrono>
 
-#if defined(__GLIBC__)
+#if defined(__has_feature)
+#if __has_feature(address_sanitizer) || __has_feature(thread_sanitizer)
+#define SCL_SANITIZED_MALLOC 1
+#endif
+#endif
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+#define SCL_SANITIZED_MALLOC 1
+#endif
+
+// Under ASan or TSan the sanitizer's allocator serves malloc and glibc's mallinfo2 reports zeros: no
+// statistics rather than wrong ones.
+#if defined(__GLIBC__) && !defined(SCL_SANITIZED_MALLOC)
 #include <malloc.h>
 #define SCL_HAVE_MALLINFO2 (__GLIBC__ > 2 || (__GLIBC__ == 2 && __GLIBC_MINOR__ >= 33))
 #else

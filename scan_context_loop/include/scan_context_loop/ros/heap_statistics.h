@@ -26,7 +26,8 @@ class HeapStatistics {
   /// free; -1 before the first read.
   long long allocatedBytes() const { return allocated_; }
   long long freeBytes() const { return free_; }
-  /// Whether this platform's malloc reports them (glibc 2.33 or later); elsewhere nothing is read.
+  /// Whether this platform's malloc reports them (glibc 2.33 or later, not under ASan or TSan, whose
+  /// allocator glibc does not see); elsewhere nothing is read and the diagnostics leave them out.
   static bool available();
 
  private:
