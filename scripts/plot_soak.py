@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Draws the soak's plot from scripts/soak's CSV: per-keyframe processing time (p50 and p99 of each
-1,000-keyframe window, and the p99 with the queue wait) and the nodelet manager's resident memory over
+1,000-keyframe window, the p99 with the queue wait, and the p99 of the worker's own CPU time) and the nodelet manager's resident memory over
 the keyframes, beside the registration data the node holds, the rest (RSS minus that), and the growth the
 database's own bytes per keyframe predict for the rest from 10,000 keyframes on.
 
@@ -24,15 +24,22 @@ def main():
     col = lambda key: [float(r[key]) for r in rows]  # noqa: E731
     rss = [x / 1024.0 for x in col("rss_kb")]
     store = [x / 2**20 for x in col("registration_bytes")]
-    # Freed registration data stay in the heap for reuse (RSS does not fall when the store halves): the
-    # rest is RSS minus the most the store has held so far.
-    peak = [max(store[:i + 1]) for i in range(len(store))]
-    rest = [a - b for a, b in zip(rss, peak)]
+    if rows[0].get("registration_memory_bytes"):
+        # The store's arenas are outside the heap and go back to the system when a halving drops a level:
+        # the rest is RSS minus the memory they hold now.
+        held = [x / 2**20 for x in col("registration_memory_bytes")]
+    else:
+        # Before the arenas, freed registration data stayed in the heap for reuse (RSS did not fall when
+        # the store halved): the rest is RSS minus the most the store has held so far.
+        held = [max(store[:i + 1]) for i in range(len(store))]
+    rest = [a - b for a, b in zip(rss, held)]
 
     fig, (top, bottom) = plt.subplots(2, 1, figsize=(10, 8), sharex=True)
     top.plot(n, col("latency_p50_ms"), label="processing p50", color="tab:blue")
     top.plot(n, col("latency_p99_ms"), label="processing p99", color="tab:red")
     top.plot(n, col("total_p99_ms"), label="queue wait + processing p99", color="tab:orange", linestyle=":")
+    if rows[0].get("cpu_p99_ms"):
+        top.plot(n, col("cpu_p99_ms"), label="worker CPU time p99", color="tab:gray", linestyle="--")
     top.set_ylabel("per-keyframe time [ms]\n(each 1,000-keyframe window)")
     top.set_ylim(bottom=0)
     top.grid(alpha=0.3)
@@ -45,7 +52,7 @@ def main():
 
     bottom.plot(n, rss, label="manager RSS", color="black")
     bottom.plot(n, store, label="registration data held (verify_max_bytes: 1 GiB)", color="tab:green")
-    bottom.plot(n, rest, label="RSS minus the most registration data held so far", color="tab:purple")
+    bottom.plot(n, rest, label="RSS minus the registration data's memory", color="tab:purple")
     bpk = col("database_bytes_per_keyframe")
     anchor = next((i for i, k in enumerate(n) if k >= 10000), None)
     if anchor is not None and bpk[-1] > 0:

@@ -4,12 +4,14 @@ what the soak measures.
 
 - Subscribes to loop_markers (visualization_msgs/MarkerArray) and keeps every marker by (namespace, id),
   as RViz does, so the node builds and sends its markers all through the run.
-- keyframe_timing (scan_context_loop/KeyframeTiming): every keyframe's queue wait and processing time.
+- keyframe_timing (scan_context_loop/KeyframeTiming): every keyframe's queue wait and processing time,
+  and the worker's own CPU time, preemptions and page faults over it.
 - loop_closures: the loops published. /diagnostics: the node's counters (dropped, rejected, failed).
 - /proc/PID/status of the nodelet manager: VmRSS, sampled every 2 s and at every 1,000 keyframes.
 
 Writes CSV (one row per 1,000 keyframes processed: latency percentiles of that window, resident memory,
-counters, load average), CSV with "_rss" before its extension (every RSS sample), with "_loops" (every
+counters, load average, the machine's busy fraction), CSV with "_rss" before its extension (every RSS
+sample), with "_keyframes" (every keyframe's timing message), with "_loops" (every
 loop: ids, verified, distance, relative pose; scripts/soak_check_loops.py scores it), and, when the feeder's
 PROGRESS file says all KEYFRAMES were fed and the node has processed all it accounts for (or nothing has
 moved for --quiet seconds), SUMMARY (key: value lines). Exits 0, or 1 when the manager died.
@@ -56,6 +58,17 @@ def worker_schedstat(pid):
     return None
 
 
+def cpu_jiffies():
+    """(busy, total) jiffies of all CPUs from /proc/stat, or None."""
+    try:
+        with open("/proc/stat") as f:
+            values = [int(v) for v in f.readline().split()[1:]]
+    except (OSError, ValueError):
+        return None
+    idle = values[3] + (values[4] if len(values) > 4 else 0)
+    return sum(values) - idle, sum(values)
+
+
 def read_progress(path):
     try:
         with open(path) as f:
@@ -78,8 +91,10 @@ class Monitor:
         self.processed = 0
         self.last_id = -1
         self.out_of_order = 0
-        self.window = []  # (queue_ms, processing_ms, describe_query_ms, verify_ms, queue_length)
+        # (queue_ms, processing_ms, describe_query_ms, verify_ms, queue_length, cpu_ms, preemptions, page_faults)
+        self.window = []
         self.all_processing = []
+        self.all_cpu = []
         self.all_total = []
         self.start = time.time()
         self.last_activity = time.time()
@@ -95,12 +110,24 @@ class Monitor:
             "heap_allocated_bytes", "heap_free_bytes", "load1", "load5", "load15",
             # The worker thread's CPU time and its time runnable but waiting for a CPU (preempted), per
             # keyframe of the window [ms]: tells the node's own cost from the machine's.
-            "worker_cpu_ms_per_keyframe", "worker_runqueue_wait_ms_per_keyframe"])
+            "worker_cpu_ms_per_keyframe", "worker_runqueue_wait_ms_per_keyframe",
+            # From the timing messages: the worker's CPU time per keyframe (p50, p99), the fraction of
+            # keyframes preempted at least once, the processing p99 of the keyframes never preempted; and
+            # the fraction of the machine's CPU time busy over the window (every process).
+            "cpu_p50_ms", "cpu_p99_ms", "preempted_fraction", "unpreempted_latency_p99_ms", "machine_busy",
+            # The memory the registration data's arenas hold (their bytes plus each level's unused block end).
+            "registration_memory_bytes"])
         self.last_schedstat = None
+        self.last_jiffies = cpu_jiffies()
         base, ext = os.path.splitext(args.csv)
         self.rss_csv = open(base + "_rss" + ext, "w", newline="")
         self.rss_writer = csv.writer(self.rss_csv)
         self.rss_writer.writerow(["elapsed_s", "keyframes", "rss_kb"])
+        self.keyframes_csv = open(base + "_keyframes" + ext, "w", newline="")
+        self.keyframes_writer = csv.writer(self.keyframes_csv)
+        self.keyframes_writer.writerow(["keyframe_id", "database_size", "queue_ms", "processing_ms",
+                                        "describe_query_ms", "verify_ms", "cpu_ms", "preemptions", "page_faults",
+                                        "queue_length"])
         self.loops_csv = open(base + "_loops" + ext, "w", newline="")
         self.loops_writer = csv.writer(self.loops_csv)
         self.loops_writer.writerow(["query_id", "match_id", "verified", "distance", "x", "y", "z", "qx", "qy", "qz",
@@ -141,8 +168,13 @@ class Monitor:
             self.processed += 1
             self.last_activity = time.time()
             self.window.append((msg.queue_ms, msg.processing_ms, msg.describe_query_ms, msg.verify_ms,
-                                msg.queue_length))
+                                msg.queue_length, msg.cpu_ms, msg.preemptions, msg.page_faults))
+            self.keyframes_writer.writerow([msg.keyframe_id, msg.database_size, "%.3f" % msg.queue_ms,
+                                            "%.3f" % msg.processing_ms, "%.3f" % msg.describe_query_ms,
+                                            "%.3f" % msg.verify_ms, "%.3f" % msg.cpu_ms, msg.preemptions,
+                                            msg.page_faults, msg.queue_length])
             self.all_processing.append(msg.processing_ms)
+            self.all_cpu.append(msg.cpu_ms)
             self.all_total.append(msg.queue_ms + msg.processing_ms)
             if len(self.window) >= self.args.window:
                 self.write_row(msg.database_size)
@@ -179,13 +211,23 @@ class Monitor:
         else:
             row += ["", ""]
         self.last_schedstat = sched
+        unpreempted = w[w[:, 6] == 0, 1]
+        jiffies = cpu_jiffies()
+        busy = ""
+        if jiffies and self.last_jiffies and jiffies[1] > self.last_jiffies[1]:
+            busy = "%.3f" % ((jiffies[0] - self.last_jiffies[0]) / (jiffies[1] - self.last_jiffies[1]))
+        self.last_jiffies = jiffies
+        row += ["%.3f" % p(5, 50), "%.3f" % p(5, 99), "%.3f" % float(np.mean(w[:, 6] > 0)),
+                "%.3f" % np.percentile(unpreempted, 99) if len(unpreempted) else "", busy,
+                self.diag_int("registration memory [bytes]")]
         self.writer.writerow(row)
         self.csv.flush()
         self.rows.append(row)
         sys.stderr.write("soak: %6d keyframes, fed %6d, RSS %7.1f MiB, p50 %.1f ms, p99 %.1f ms, loops %d, dropped %d, "
-                         "load %.2f, worker cpu / wait %s / %s ms\n" % (
+                         "load %.2f, cpu p99 %.1f ms, preempted %.1f%%, busy %s\n" % (
                              self.processed, fed, (rss or 0) / 1024.0, p(1, 50), p(1, 99), self.loops,
-                             self.diag_int("keyframes dropped"), load[0], row[-2] or "-", row[-1] or "-"))
+                             self.diag_int("keyframes dropped"), load[0], p(5, 99), 100.0 * float(np.mean(w[:, 6] > 0)),
+                             busy or "-"))
 
     def sample_rss(self):
         while not rospy.is_shutdown():
@@ -215,6 +257,7 @@ class Monitor:
             if self.window:
                 self.write_row(self.last_id + 1)
             processing = np.array(self.all_processing) if self.all_processing else np.zeros(1)
+            cpu = np.array(self.all_cpu) if self.all_cpu else np.zeros(1)
             lines = {
                 "fed": fed,
                 "feed_seconds": "%.1f" % feed_seconds,
@@ -243,6 +286,8 @@ class Monitor:
                 "latency_p50_ms_all": "%.3f" % np.percentile(processing, 50),
                 "latency_p99_ms_all": "%.3f" % np.percentile(processing, 99),
                 "latency_max_ms_all": "%.3f" % processing.max(),
+                "cpu_p50_ms_all": "%.3f" % np.percentile(cpu, 50),
+                "cpu_p99_ms_all": "%.3f" % np.percentile(cpu, 99),
                 "manager_died": int(self.manager_died),
                 "manager_rss_kb_end": rss_kb(self.args.pid) or "",
                 "diagnostics_level": self.diag.get("level", ""),
@@ -253,6 +298,7 @@ class Monitor:
                 f.write("%s: %s\n" % (key, value))
         self.csv.close()
         self.rss_csv.close()
+        self.keyframes_csv.close()
         self.loops_csv.close()
         return lines
 

@@ -59,6 +59,13 @@ void* BlockArena::do_allocate(std::size_t bytes, std::size_t alignment) {
   return blocks_.back().begin + offset;
 }
 
+std::size_t BlockArena::mappedBytes() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  std::size_t total = 0;
+  for (const Block& b : blocks_) total += b.size;
+  return total;
+}
+
 void BlockArena::do_deallocate(void*, std::size_t, std::size_t) { unref(); }
 
 }  // namespace scan_context_loop

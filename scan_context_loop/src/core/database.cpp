@@ -54,6 +54,7 @@ struct Database::Tree {
   /// The `want` nearest keys as (squared distance, index), nearest first.
   std::vector<std::pair<float, std::size_t>> nearest(const float* query, std::size_t want) const {
     std::vector<std::pair<float, std::size_t>> found;
+    found.reserve(want + 1);
     if (index && built > 0) {
       std::vector<std::vector<std::size_t>> indices;
       std::vector<std::vector<float>> dists;
@@ -63,6 +64,11 @@ struct Database::Tree {
       index->knnSearch(flann::Matrix<float>(q.data(), 1, dims), indices, dists, std::min(want, built), params);
       for (std::size_t i = 0; i < indices[0].size(); ++i) found.emplace_back(dists[0][i], indices[0][i]);
     }
+    // The tail streams through a max-heap of the `want` nearest so far (by distance, then index: the
+    // same keys a full sort would keep): no list of every tail key to sort, which cost 0.1-0.2 ms a
+    // query at a 6,000-key tail.
+    if (found.size() > want) found.resize(want);
+    std::make_heap(found.begin(), found.end());
     const float* key = tail.data();
     for (std::size_t i = built; i < size(); ++i, key += dims) {
       float d2 = 0.0f;
@@ -70,11 +76,17 @@ struct Database::Tree {
         const float d = key[r] - query[r];
         d2 += d * d;
       }
-      found.emplace_back(d2, i);
+      const std::pair<float, std::size_t> entry(d2, i);
+      if (found.size() < want) {
+        found.push_back(entry);
+        std::push_heap(found.begin(), found.end());
+      } else if (want > 0 && entry < found.front()) {
+        std::pop_heap(found.begin(), found.end());
+        found.back() = entry;
+        std::push_heap(found.begin(), found.end());
+      }
     }
-    const std::size_t keep = std::min(want, found.size());
-    std::partial_sort(found.begin(), found.begin() + keep, found.end());
-    found.resize(keep);
+    std::sort_heap(found.begin(), found.end());
     return found;
   }
 

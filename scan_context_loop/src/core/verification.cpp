@@ -235,15 +235,21 @@ VerificationResult verify(const VoxelCloud& query, const VoxelCloud& match, cons
   return verifier.verify(match, {initial});
 }
 
-void CloudStore::add(std::size_t index, VoxelCloud cloud) {
+int CloudStore::levelOf(std::size_t index) {
+  return index == 0 ? std::numeric_limits<std::size_t>::digits : __builtin_ctzll(index);
+}
+
+void CloudStore::add(std::size_t index, const VoxelCloud& cloud) {
   // Free a few of the clouds the last halving dropped (freeing half of 50,000 at once stalled the
   // keyframe that triggered it for 0.3 s, and at 100,000 for 0.7 s, in scripts/soak).
   for (std::size_t n = 0; n < kReleasedPerAdd && !releasing_.empty(); ++n) releasing_.pop_back();
   if (index % stride_ != 0) return;  // between the kept keyframes at the current density
   const std::size_t size = cloud.bytes();
   while (bytes_ + size > max_bytes_ && stride_ < (std::size_t(1) << 30)) {
-    // Halve the density everywhere: keep only multiples of the doubled stride. The others leave the
-    // store now and are freed over the next adds.
+    // Halve the density everywhere: keep only multiples of the doubled stride, which drops the level
+    // log2(stride_) whole. Its clouds leave the store now and are freed over the next adds; its arena
+    // lives until the last of them is gone.
+    const auto dropped_level = static_cast<std::size_t>(levelOf(stride_));
     stride_ *= 2;
     for (std::size_t i = 0; i < clouds_.size(); ++i) {
       if (clouds_[i] && i % stride_ != 0) {
@@ -252,14 +258,22 @@ void CloudStore::add(std::size_t index, VoxelCloud cloud) {
         ++dropped_;
       }
     }
+    if (dropped_level < levels_.size()) levels_[dropped_level].reset();
     if (index % stride_ != 0) return;
   }
   if (clouds_.size() <= index) clouds_.resize(index + 1);
-  // The budget counts the voxels; the memory is the arrays' capacity: make them the same.
-  cloud.means.shrink_to_fit();
-  cloud.normals.shrink_to_fit();
+  const auto level = static_cast<std::size_t>(levelOf(index));
+  if (levels_.size() <= level) levels_.resize(level + 1);
+  if (!levels_[level]) levels_[level] = BlockArena::create(kLevelBlockBytes);
+  // The copy's arrays are exactly as long as the voxels, so the budget counts what they take.
+  clouds_[index] = std::make_unique<VoxelCloud>(cloud, levels_[level].get());
   bytes_ += size;
-  clouds_[index].reset(new VoxelCloud(std::move(cloud)));
+}
+
+std::size_t CloudStore::memoryBytes() const {
+  std::size_t total = 0;
+  for (const auto& level : levels_) total += level ? level->mappedBytes() : 0;
+  return total;
 }
 
 const VoxelCloud* CloudStore::get(std::size_t index) const {

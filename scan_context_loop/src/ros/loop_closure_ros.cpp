@@ -1,10 +1,13 @@
 #include "scan_context_loop/ros/loop_closure_ros.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <cmath>
 
 #include <pthread.h>
+#include <sys/resource.h>
+#include <time.h>
 
 #include <std_msgs/Float64MultiArray.h>
 #include <tf2_eigen/tf2_eigen.h>
@@ -371,8 +374,31 @@ void LoopClosureRos::applyExtrinsic(Item* item) {
   item->pose = item->pose * extrinsic_;
 }
 
+namespace {
+
+/// The calling thread's CPU time [ms], involuntary context switches and page faults so far.
+struct ThreadUsage {
+  double cpu_ms = 0.0;
+  long preemptions = 0, page_faults = 0;
+
+  static ThreadUsage now() {
+    ThreadUsage u;
+    timespec cpu{};
+    if (clock_gettime(CLOCK_THREAD_CPUTIME_ID, &cpu) == 0) u.cpu_ms = cpu.tv_sec * 1e3 + cpu.tv_nsec * 1e-6;
+    rusage r{};
+    if (getrusage(RUSAGE_THREAD, &r) == 0) {
+      u.preemptions = r.ru_nivcsw;
+      u.page_faults = r.ru_minflt + r.ru_majflt;
+    }
+    return u;
+  }
+};
+
+}  // namespace
+
 void LoopClosureRos::process(Item item) {
   const auto started = std::chrono::steady_clock::now();
+  const ThreadUsage usage_at_start = ThreadUsage::now();
   const sensor_msgs::PointCloud2& msg = *item.cloud;
   if (!item.has_pose && !lookUpPose(&item)) return;
   applyExtrinsic(&item);
@@ -419,6 +445,7 @@ void LoopClosureRos::process(Item item) {
   stamps_.push_back(msg.header.stamp);
   database_size_ = pipeline_->detector().database().size();
   registration_bytes_ = pipeline_->detector().cloudStore().bytes();
+  registration_memory_ = pipeline_->detector().cloudStore().memoryBytes();
   database_bytes_per_keyframe_ = pipeline_->detector().database().bytesPerKeyframe();
   last_query_ms_ = (detection.descriptor_seconds + detection.query_seconds) * 1e3;
   loops_waiting_ = pipeline_->detector().consistency().waiting();
@@ -444,6 +471,10 @@ void LoopClosureRos::process(Item item) {
     timing.describe_query_ms = (detection.descriptor_seconds + detection.query_seconds) * 1e3;
     timing.verify_ms = detection.verify_seconds * 1e3;
     timing.queue_length = static_cast<std::uint32_t>(item.queue_length);
+    const ThreadUsage usage = ThreadUsage::now();
+    timing.cpu_ms = usage.cpu_ms - usage_at_start.cpu_ms;
+    timing.preemptions = static_cast<std::uint32_t>(std::max(0L, usage.preemptions - usage_at_start.preemptions));
+    timing.page_faults = static_cast<std::uint32_t>(std::max(0L, usage.page_faults - usage_at_start.page_faults));
     timing_pub_.publish(timing);
   }
 }
@@ -561,6 +592,8 @@ void LoopClosureRos::diagnose(diagnostic_updater::DiagnosticStatusWrapper& statu
   status.add("database size", database_size_.load());
   status.add("database bytes per keyframe", database_bytes_per_keyframe_.load());
   status.add("registration data [bytes]", registration_bytes_.load());
+  // The memory the registration data's arenas hold (outside the heap; see CloudStore).
+  status.add("registration memory [bytes]", registration_memory_.load());
   // What the process holds allocated through malloc, and what malloc holds free (fragmentation): with the
   // resident memory, this tells a leak from a heap that keeps freed memory for reuse. Read by the worker
   // (HeapStatistics: reading them here, on another thread, stalled the worker's allocations).

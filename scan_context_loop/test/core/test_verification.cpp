@@ -1,5 +1,6 @@
 // Geometric verification on real scans from ../shared/data and on degenerate input.
 #include <cmath>
+#include <fstream>
 #include <limits>
 
 #include <gtest/gtest.h>
@@ -299,6 +300,49 @@ TEST(CloudStore, HalvingFreesTheDroppedCloudsAFewAtATime) {
     EXPECT_EQ(before - store.releasing(), std::min(before, CloudStore::kReleasedPerAdd));
   }
   EXPECT_EQ(adds, (500 + CloudStore::kReleasedPerAdd - 1) / CloudStore::kReleasedPerAdd);
+}
+
+/// The process's resident memory [bytes], from /proc/self/statm.
+long residentBytes() {
+  std::ifstream statm("/proc/self/statm");
+  long size = 0, resident = 0;
+  statm >> size >> resident;
+  return resident * 4096;
+}
+
+TEST(CloudStore, LevelsAreTheHalvingsThatKeepAKeyframe) {
+  EXPECT_EQ(CloudStore::levelOf(1), 0);
+  EXPECT_EQ(CloudStore::levelOf(7), 0);
+  EXPECT_EQ(CloudStore::levelOf(2), 1);
+  EXPECT_EQ(CloudStore::levelOf(12), 2);
+  EXPECT_EQ(CloudStore::levelOf(1024), 10);
+  EXPECT_GT(CloudStore::levelOf(0), 60);  // kept at every density
+}
+
+TEST(CloudStore, AHalvingGivesTheDroppedLevelsMemoryBackToTheSystem) {
+  // 4,096 clouds of 16 KB fill a 64 MB budget; the next one halves the density and drops the odd
+  // keyframes, 32 MB. Freed in place on the heap, they left a hole between every two kept clouds and
+  // the process stayed as large; in an arena of their own the memory goes back once they are freed.
+  const std::size_t per_cloud = cloudOf(1000).bytes();
+  CloudStore store(4096 * per_cloud);
+  for (std::size_t i = 0; i < 4096; ++i) store.add(i, cloudOf(1000));
+  // What the arenas hold: the voxels, plus at most one part-filled 2 MB block for each of the 13 levels.
+  EXPECT_GE(store.memoryBytes(), store.bytes());
+  EXPECT_LE(store.memoryBytes(), store.bytes() + 13 * CloudStore::kLevelBlockBytes);
+  const long full = residentBytes();
+  std::size_t next = 4096;
+  store.add(next++, cloudOf(1000));
+  ASSERT_EQ(store.dropped(), 2048u);
+  while (store.releasing() > 0) store.add(next++, cloudOf(1000));
+  EXPECT_LE(store.memoryBytes(), store.bytes() + 13 * CloudStore::kLevelBlockBytes);
+  const long after = residentBytes();
+  EXPECT_GE(full - after, 24L << 20) << "resident " << full << " bytes before the halving, " << after << " after";
+  // The kept ones are intact.
+  for (std::size_t i = 0; i < next; i += 2) {
+    ASSERT_NE(store.get(i), nullptr) << i;
+    EXPECT_EQ(store.get(i)->size(), 1000u);
+    EXPECT_EQ(store.get(i)->normals.back()[2], 127);
+  }
 }
 
 TEST(CloudStore, HoldsNoMoreMemoryThanItsBudgetCounts) {

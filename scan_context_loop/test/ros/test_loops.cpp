@@ -133,6 +133,9 @@ TEST(LoopClosureNode, PublishesTrueRevisitsWithTheirYawAndMarkers) {
     // The whole keyframe includes its parts (and the cloud checks, the registration data, publishing).
     EXPECT_GE(t.processing_ms, t.describe_query_ms + t.verify_ms) << "keyframe " << k;
     EXPECT_LT(t.processing_ms, 10000.0) << "keyframe " << k;
+    // The worker's own CPU time is some of that wall time, never more (the clocks read apart by a few us).
+    EXPECT_GT(t.cpu_ms, 0.0) << "keyframe " << k;
+    EXPECT_LE(t.cpu_ms, t.processing_ms + 0.05) << "keyframe " << k;
   }
 
   ASSERT_GT(harness.markerMessages(), 0u);

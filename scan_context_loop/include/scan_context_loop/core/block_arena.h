@@ -33,6 +33,9 @@ class BlockArena final : public std::pmr::memory_resource {
   /// that gets a block of its own.
   static Handle create(std::size_t block_bytes);
 
+  /// Bytes of the blocks it has mapped so far.
+  std::size_t mappedBytes() const;
+
  private:
   explicit BlockArena(std::size_t block_bytes) : block_bytes_(block_bytes) {}
   ~BlockArena() override;
@@ -47,7 +50,7 @@ class BlockArena final : public std::pmr::memory_resource {
     std::size_t size;
   };
   const std::size_t block_bytes_;
-  std::mutex mutex_;  // guards blocks_ and used_
+  mutable std::mutex mutex_;  // guards blocks_ and used_
   std::vector<Block> blocks_;
   std::size_t used_ = 0;  // bytes handed out of blocks_.back()
   /// The handle plus the pieces not given back.

@@ -10,6 +10,7 @@
 
 #include <array>
 #include <cstdint>
+#include <memory_resource>
 #include <vector>
 
 #include <Eigen/Geometry>
@@ -18,15 +19,23 @@
 
 namespace scan_context_loop {
 
-/// The prepared registration data of one keyframe, in its (levelled) sensor frame.
+/// The prepared registration data of one keyframe, in its (levelled) sensor frame. Its arrays are on
+/// the heap unless it was made with another memory resource (CloudStore keeps its clouds in arenas of
+/// their own); a plain copy is always on the heap.
 struct VoxelCloud {
+  VoxelCloud() = default;
+  /// A copy of `other` whose arrays, exactly as long as its voxels, are in `memory`.
+  VoxelCloud(const VoxelCloud& other, std::pmr::memory_resource* memory)
+      : resolution(other.resolution), max_range(other.max_range), means(other.means, memory),
+        normals(other.normals, memory) {}
+
   float resolution = 1.0f;
   /// Horizontal crop radius the voxels were made with [m].
   float max_range = 40.0f;
-  std::vector<Eigen::Vector3f> means;
+  std::pmr::vector<Eigen::Vector3f> means;
   /// Unit normal of the voxel's points (the direction of least spread, towards the sensor), quantised
   /// to int8 (x, y, z), and in [3] the shape of the points (VoxelShape).
-  std::vector<std::array<std::int8_t, 4>> normals;
+  std::pmr::vector<std::array<std::int8_t, 4>> normals;
 
   /// How a voxel's points spread, from the eigenvalues l0 <= l1 <= l2 of their covariance.
   enum Shape : std::int8_t {

@@ -10,6 +10,7 @@
 
 #include <Eigen/Geometry>
 
+#include "scan_context_loop/core/block_arena.h"
 #include "scan_context_loop/core/coarse_search.h"
 #include "scan_context_loop/core/descriptor.h"
 #include "scan_context_loop/core/free_space.h"
@@ -60,21 +61,37 @@ VoxelOptions voxelOptions(const VerificationConfig& config);
 /// of its oldest part vanishing, which matters because loop candidates are old keyframes. A candidate
 /// whose data is not kept is reported as unverifiable. At 1 m voxels and 40 m an HDL-64E keyframe keeps
 /// about 8,000 voxels (130 KB): the default 1 GiB holds about 8,000 keyframes at full density.
+///
+/// The clouds' arrays are not on the heap: each keyframe's go into the arena of its level, the number
+/// of halvings that keep it (the trailing zero bits of its index: odd keyframes are level 0, the first
+/// to go). A halving drops one whole level, so its arena goes back to the system whole once its clouds
+/// are freed, and the heap never holds the holes that freeing half the store in place left (scripts/soak:
+/// after the first halving at 49,500 keyframes the describe + query and verification medians rose by a
+/// quarter and stayed there, and the freed memory stayed resident). An arena takes 2 MB blocks on huge
+/// pages where the system offers them, so the memory held exceeds bytes() by less than 2 MB a level.
 class CloudStore {
  public:
   explicit CloudStore(std::size_t max_bytes) : max_bytes_(max_bytes) {}
   /// Stores keyframe `index` (indices arrive in increasing order) if the current density keeps it.
-  void add(std::size_t index, VoxelCloud cloud);
+  void add(std::size_t index, const VoxelCloud& cloud);
   /// The data of keyframe `index`, or nullptr when it was never stored or was dropped.
   const VoxelCloud* get(std::size_t index) const;
+  /// Bytes of the voxels kept (what the budget counts).
   std::size_t bytes() const { return bytes_; }
+  /// Bytes of memory the kept keyframes' arenas hold (bytes() plus each level's unused block end).
+  std::size_t memoryBytes() const;
   std::size_t stored() const;
   std::size_t dropped() const { return dropped_; }
-  /// Dropped clouds whose memory is still to be freed: halving the density takes them out at once
-  /// (get() no longer serves them, bytes() no longer counts them) but frees at most
-  /// kReleasedPerAdd of them in each later add(), so no single keyframe pays for freeing half the store.
+  /// Dropped clouds still to be freed: halving the density takes them out at once (get() no longer
+  /// serves them, bytes() no longer counts them) but frees at most kReleasedPerAdd of them in each later
+  /// add(), so no single keyframe pays for freeing half the store; their level's memory goes back to the
+  /// system with the last of them.
   std::size_t releasing() const { return releasing_.size(); }
   static constexpr std::size_t kReleasedPerAdd = 64;
+  /// The level of keyframe `index`: its data stay while the stride is at most 2^level.
+  static int levelOf(std::size_t index);
+  /// The block size of each level's arena.
+  static constexpr std::size_t kLevelBlockBytes = std::size_t(2) << 20;
 
  private:
   std::size_t max_bytes_;
@@ -82,6 +99,7 @@ class CloudStore {
   std::size_t dropped_ = 0;
   std::size_t stride_ = 1;  // data are kept for keyframe numbers that are multiples of this
   std::vector<std::unique_ptr<VoxelCloud>> clouds_;  // by keyframe index; null = none
+  std::vector<BlockArena::Handle> levels_;  // by level; null before its first cloud and once dropped
   std::vector<std::unique_ptr<VoxelCloud>> releasing_;  // dropped, memory not yet freed
 };
 

@@ -152,7 +152,7 @@ class LoopClosureRos {
   // Counters read by diagnostics and the synchronisation check; written by callbacks and the worker.
   std::atomic<std::size_t> dropped_{0}, rejected_{0}, loops_found_{0}, database_size_{0}, queue_length_{0},
       loops_waiting_{0}, lio_skipped_{0}, sessions_count_{1}, failures_{0}, registration_bytes_{0},
-      database_bytes_per_keyframe_{0};
+      registration_memory_{0}, database_bytes_per_keyframe_{0};
   // Clouds that reached the node, and those that became keyframes (paired with a pose, or taken alone
   // with tf poses): a cloud lost before the node (roscpp's subscriber queue of sync_queue_size) is in
   // neither; one whose pose never came is in the first only.
