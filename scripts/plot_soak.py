@@ -25,9 +25,10 @@ def main():
     rss = [x / 1024.0 for x in col("rss_kb")]
     store = [x / 2**20 for x in col("registration_bytes")]
     if rows[0].get("registration_memory_bytes"):
-        # The store's arenas are outside the heap and go back to the system when a halving drops a level:
-        # the rest is RSS minus the memory they hold now.
-        held = [x / 2**20 for x in col("registration_memory_bytes")]
+        # The store's arenas are outside the heap, resident as far as they are filled, and go back to the
+        # system when a halving drops a level (over the few hundred keyframes that free its clouds): the
+        # rest is RSS minus the data held now.
+        held = store
     else:
         # Before the arenas, freed registration data stayed in the heap for reuse (RSS did not fall when
         # the store halved): the rest is RSS minus the most the store has held so far.
@@ -52,7 +53,7 @@ def main():
 
     bottom.plot(n, rss, label="manager RSS", color="black")
     bottom.plot(n, store, label="registration data held (verify_max_bytes: 1 GiB)", color="tab:green")
-    bottom.plot(n, rest, label="RSS minus the registration data's memory", color="tab:purple")
+    bottom.plot(n, rest, label="RSS minus the registration data", color="tab:purple")
     bpk = col("database_bytes_per_keyframe")
     anchor = next((i for i, k in enumerate(n) if k >= 10000), None)
     if anchor is not None and bpk[-1] > 0:

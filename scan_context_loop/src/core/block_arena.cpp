@@ -14,8 +14,9 @@ constexpr std::size_t kHugePage = std::size_t(2) << 20;
 
 std::size_t roundUp(std::size_t n, std::size_t to) { return (n + to - 1) / to * to; }
 
-/// `size` bytes of fresh memory at a 2 MB boundary (so that all of it can be on huge pages), or null.
-char* mapHugeAligned(std::size_t size) {
+/// `size` bytes of fresh memory at a 2 MB boundary (so that all of it can be on huge pages), or null;
+/// marked for huge pages when `huge`, for ordinary ones otherwise.
+char* mapHugeAligned(std::size_t size, bool huge) {
   const std::size_t padded = size + kHugePage;
   void* p = ::mmap(nullptr, padded, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
   if (p == MAP_FAILED) return nullptr;
@@ -24,14 +25,14 @@ char* mapHugeAligned(std::size_t size) {
   if (begin > raw) ::munmap(raw, static_cast<std::size_t>(begin - raw));
   if (char* end = begin + size; end < raw + padded) ::munmap(end, static_cast<std::size_t>(raw + padded - end));
   // Only a hint: where transparent huge pages are off the memory works the same on 4 KB pages.
-  ::madvise(begin, size, MADV_HUGEPAGE);
+  ::madvise(begin, size, huge ? MADV_HUGEPAGE : MADV_NOHUGEPAGE);
   return begin;
 }
 
 }  // namespace
 
-BlockArena::Handle BlockArena::create(std::size_t block_bytes) {
-  return Handle(new BlockArena(roundUp(std::max<std::size_t>(block_bytes, 1), kHugePage)));
+BlockArena::Handle BlockArena::create(std::size_t block_bytes, Pages pages) {
+  return Handle(new BlockArena(roundUp(std::max<std::size_t>(block_bytes, 1), kHugePage), pages));
 }
 
 BlockArena::~BlockArena() {
@@ -49,7 +50,7 @@ void* BlockArena::do_allocate(std::size_t bytes, std::size_t alignment) {
   std::size_t offset = blocks_.empty() ? 0 : roundUp(used_, alignment);
   if (blocks_.empty() || offset + bytes > blocks_.back().size) {
     const std::size_t size = std::max(block_bytes_, roundUp(bytes, kHugePage));
-    char* begin = mapHugeAligned(size);
+    char* begin = mapHugeAligned(size, pages_ == Pages::kHuge);
     if (begin == nullptr) throw std::bad_alloc();
     blocks_.push_back({begin, size});
     offset = 0;

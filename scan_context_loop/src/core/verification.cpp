@@ -264,7 +264,7 @@ void CloudStore::add(std::size_t index, const VoxelCloud& cloud) {
   if (clouds_.size() <= index) clouds_.resize(index + 1);
   const auto level = static_cast<std::size_t>(levelOf(index));
   if (levels_.size() <= level) levels_.resize(level + 1);
-  if (!levels_[level]) levels_[level] = BlockArena::create(kLevelBlockBytes);
+  if (!levels_[level]) levels_[level] = BlockArena::create(kLevelBlockBytes, BlockArena::Pages::kOrdinary);
   // The copy's arrays are exactly as long as the voxels, so the budget counts what they take.
   clouds_[index] = std::make_unique<VoxelCloud>(cloud, levels_[level].get());
   bytes_ += size;

@@ -11,8 +11,8 @@
 
 namespace scan_context_loop {
 
-/// A memory resource that hands out pieces of large blocks, each block mapped on its own and marked for
-/// transparent huge pages (madvise MADV_HUGEPAGE). A process touching hundreds of megabytes for the
+/// A memory resource that hands out pieces of large blocks, each block mapped on its own and (by default)
+/// marked for transparent huge pages (madvise MADV_HUGEPAGE). A process touching hundreds of megabytes for the
 /// first time then takes a page fault per 2 MB instead of one per 4 KB, which on a virtual machine is
 /// most of what loading a large database costs. A piece given back is not reused: the blocks are
 /// unmapped when every piece has come back.
@@ -29,15 +29,21 @@ class BlockArena final : public std::pmr::memory_resource {
   };
   using Handle = std::unique_ptr<BlockArena, Release>;
 
+  /// Whether the blocks are marked for transparent huge pages. Worth it for memory touched all at once
+  /// (a database loaded), not for memory filled a little at a time: where the kernel compacts memory
+  /// to find a huge page, the first touch of each 2 MB can stall for milliseconds (scripts/soak: the
+  /// cloud store's verification p99 rose from 3.4 to 5.2 ms), so such blocks ask for ordinary pages.
+  enum class Pages { kHuge, kOrdinary };
+
   /// A new arena whose blocks hold at least `block_bytes` (rounded up to 2 MB); a request larger than
   /// that gets a block of its own.
-  static Handle create(std::size_t block_bytes);
+  static Handle create(std::size_t block_bytes, Pages pages = Pages::kHuge);
 
   /// Bytes of the blocks it has mapped so far.
   std::size_t mappedBytes() const;
 
  private:
-  explicit BlockArena(std::size_t block_bytes) : block_bytes_(block_bytes) {}
+  BlockArena(std::size_t block_bytes, Pages pages) : block_bytes_(block_bytes), pages_(pages) {}
   ~BlockArena() override;
   void unref();
 
@@ -50,6 +56,7 @@ class BlockArena final : public std::pmr::memory_resource {
     std::size_t size;
   };
   const std::size_t block_bytes_;
+  const Pages pages_;
   mutable std::mutex mutex_;  // guards blocks_ and used_
   std::vector<Block> blocks_;
   std::size_t used_ = 0;  // bytes handed out of blocks_.back()

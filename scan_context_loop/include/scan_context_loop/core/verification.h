@@ -67,8 +67,9 @@ VoxelOptions voxelOptions(const VerificationConfig& config);
 /// to go). A halving drops one whole level, so its arena goes back to the system whole once its clouds
 /// are freed, and the heap never holds the holes that freeing half the store in place left (scripts/soak:
 /// after the first halving at 49,500 keyframes the describe + query and verification medians rose by a
-/// quarter and stayed there, and the freed memory stayed resident). An arena takes 2 MB blocks on huge
-/// pages where the system offers them, so the memory held exceeds bytes() by less than 2 MB a level.
+/// quarter and stayed there, and the freed memory stayed resident). An arena maps 2 MB blocks of
+/// ordinary pages, so what is resident exceeds bytes() by less than a page a level (memoryBytes(), what
+/// is mapped, by less than 2 MB a level).
 class CloudStore {
  public:
   explicit CloudStore(std::size_t max_bytes) : max_bytes_(max_bytes) {}
