@@ -42,28 +42,25 @@ scl_install_deps() {
   DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
 }
 
-# The repository's catkin packages, each a folder at its root. The workspace's src/ links to each.
-SCL_PACKAGES_IN_REPO=(scan_context_common scan_context_sim scan_context_loop)
-
+# The repository is one catkin package (package.xml at its root): the workspace's src/ links to it.
 scl_make_workspace() {
-  local name link
+  local link="$SCL_WS/src/scan_context_loop" entry
   mkdir -p "$SCL_WS/src"
-  for name in "${SCL_PACKAGES_IN_REPO[@]}"; do
-    link="$SCL_WS/src/$name"
-    # A workspace made before the packages had their own folders holds a folder of links here.
-    if [ -d "$link" ] && [ ! -L "$link" ]; then rm -rf "$link"; fi
-    [ "$(readlink "$link" 2>/dev/null)" = "$SCL_ROOT/$name" ] || ln -sfn "$SCL_ROOT/$name" "$link"
+  # A workspace made when the repository held several packages links to those too.
+  for entry in "$SCL_WS"/src/*; do
+    case "$(basename "$entry")" in
+      scan_context_loop|CMakeLists.txt) ;;
+      *) rm -rf "$entry" ;;
+    esac
   done
+  if [ -d "$link" ] && [ ! -L "$link" ]; then rm -rf "$link"; fi
+  [ "$(readlink "$link" 2>/dev/null)" = "$SCL_ROOT" ] || ln -sfn "$SCL_ROOT" "$link"
   return 0
 }
 
 # What the build reads from the repository: a change to any of these (a file's or a folder's mtime, so
 # added and removed files count too) makes the next scl_build run catkin_make.
-SCL_BUILD_INPUTS=(
-  scan_context_common/{CMakeLists.txt,package.xml,include,src}
-  scan_context_sim/{CMakeLists.txt,package.xml,include,src,tools,test}
-  scan_context_loop/{CMakeLists.txt,cmake,package.xml,nodelets.xml,include,src,tools,test,msg,launch,config}
-)
+SCL_BUILD_INPUTS=(CMakeLists.txt cmake package.xml nodelets.xml include src tools test msg srv cfg launch config sim)
 
 # True when TARGET ("all" for the default target) was built after the last change to the inputs: its
 # stamp (or, for a tool, the "all" stamp) is newer than every input, the workspace is configured, and a
@@ -136,12 +133,9 @@ scl_source_ws() {
   set -u
 }
 
-# The path of a tool's binary (scan_context_simulate is in scan_context_sim, the others in scan_context_loop).
+# The path of a tool's binary in the workspace's devel space.
 scl_bin() {
-  case "$1" in
-    scan_context_simulate) echo "$SCL_WS/devel/lib/scan_context_sim/$1" ;;
-    *) echo "$SCL_WS/devel/lib/scan_context_loop/$1" ;;
-  esac
+  echo "$SCL_WS/devel/lib/scan_context_loop/$1"
 }
 
 SCL_SHARED_DATA="${SCL_SHARED_DATA:-$SCL_ROOT/../shared/data}"

@@ -4,7 +4,7 @@
 fuzz_corpus.py pack DIR FILE     every file in DIR (sorted by name) into FILE
 fuzz_corpus.py unpack FILE DIR   FILE's inputs into DIR, one file each (named by index)
 
-The packed form is what scan_context_loop/test/fuzz_corpus/<target>.corpus holds: a sequence of
+The packed form is what test/fuzz_corpus/<target>.corpus holds: a sequence of
 records, each a 4-byte little-endian length followed by that many bytes. test_fuzz_inputs replays it.
 """
 import os

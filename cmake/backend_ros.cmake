@@ -1,0 +1,24 @@
+# The reference pose-graph backend's nodelet (a plugin library of its own, beside the loop-closure
+# nodelet's, in the same nodelets.xml) and its standalone node; built with the backend.
+if(NOT SCL_WITH_BACKEND)
+  return()
+endif()
+add_library(scan_context_loop_pose_graph_nodelet
+  src/ros/pose_graph_parameters.cpp
+  src/ros/pose_graph_ros.cpp
+  src/ros/pose_graph_worker.cpp
+  src/ros/pose_graph_nodelet.cpp)
+target_link_libraries(scan_context_loop_pose_graph_nodelet scan_context_loop_ros scan_context_loop_graph)
+add_executable(pose_graph_node src/ros/pose_graph_node.cpp)
+target_include_directories(pose_graph_node PRIVATE include ${catkin_INCLUDE_DIRS})
+target_link_libraries(pose_graph_node ${catkin_LIBRARIES})
+install(TARGETS scan_context_loop_pose_graph_nodelet pose_graph_node
+  ARCHIVE DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
+  LIBRARY DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
+  RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
+
+if(CATKIN_ENABLE_TESTING)
+  add_rostest_gtest(test_ros_pose_graph test/ros/pose_graph.test test/ros/test_pose_graph.cpp)
+  target_link_libraries(test_ros_pose_graph scan_context_loop_ros_harness scan_context_loop_eval)
+  add_dependencies(test_ros_pose_graph scan_context_loop_nodelet scan_context_loop_pose_graph_nodelet pose_graph_node)
+endif()

@@ -1,0 +1,69 @@
+# ROS-free core: Eigen, PCL, FLANN and the standard library only.
+add_library(scan_context_loop_core
+  src/core/config.cpp
+  src/core/keyframes.cpp
+  src/core/settings.cpp
+  src/core/descriptor.cpp
+  src/core/alignment.cpp
+  src/core/database.cpp
+  src/core/detector.cpp
+  src/core/registration.cpp
+  src/core/coarse_search.cpp
+  src/core/free_space.cpp
+  src/core/pcl_refinement.cpp
+  src/core/verification.cpp
+  src/core/consistency.cpp
+  src/core/loop_tracking.cpp
+  src/core/levelling.cpp
+  src/core/crc32.cpp
+  src/core/file_io.cpp
+  src/core/block_arena.cpp
+  src/core/database_file.cpp
+)
+target_include_directories(scan_context_loop_core PUBLIC
+  include ${EIGEN3_INCLUDE_DIRS} ${PCL_INCLUDE_DIRS} ${FLANN_INCLUDE_DIRS})
+# FLANN's C++ index is header-only; it needs lz4 for its serialisation code.
+target_link_libraries(scan_context_loop_core PUBLIC ${PCL_COMMON_LIBRARIES} ${PCL_FILTERS_LIBRARIES}
+  ${PCL_KDTREE_LIBRARIES} ${PCL_SEARCH_LIBRARIES} ${PCL_REGISTRATION_LIBRARIES} lz4)
+target_compile_definitions(scan_context_loop_core PUBLIC ${PCL_DEFINITIONS})
+# Lets the compiler vectorise the binning loop (if-conversion of float selects, sqrt without errno);
+# the core neither reads errno nor traps on floating-point exceptions. NaN/Inf handling is unchanged.
+target_compile_options(scan_context_loop_core PRIVATE -fno-math-errno -fno-trapping-math)
+
+install(TARGETS scan_context_loop_core
+  ARCHIVE DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
+  LIBRARY DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION})
+install(DIRECTORY include/${PROJECT_NAME}/ DESTINATION ${CATKIN_PACKAGE_INCLUDE_DESTINATION})
+
+if(CATKIN_ENABLE_TESTING)
+  catkin_add_gtest(test_core
+    test/test_main.cpp
+    test/core/test_descriptor.cpp
+    test/core/test_alignment.cpp
+    test/core/test_database.cpp
+    test/core/test_bad_input.cpp
+    test/core/test_real_data.cpp
+    test/core/test_scenes.cpp
+    test/core/test_verification.cpp
+    test/core/test_free_space.cpp
+    test/core/test_consistency.cpp
+    test/core/test_loop_tracking.cpp
+    test/core/test_viewpoints.cpp
+    test/core/test_levelling.cpp
+    test/core/test_keyframes.cpp
+    test/core/test_reconfigure.cpp
+    test/core/test_sessions.cpp
+    test/core/test_relocalization.cpp
+    test/core/test_kitti_io.cpp
+    test/core/test_simulated_places.cpp
+    test/core/test_hard_revisits.cpp
+    test/core/test_database_file.cpp
+    test/core/test_file_io.cpp
+    test/core/test_block_arena.cpp
+  )
+  # The real-data tests read KITTI scans (eval/kitti_io.h); the simulated-data tests cast scans with the
+  # simulator.
+  target_link_libraries(test_core scan_context_loop_eval scan_context_sim ${PCL_IO_LIBRARIES})
+  target_compile_definitions(test_core PRIVATE SCL_SHARED_DATA="${SCL_SHARED_DATA}")
+
+endif()

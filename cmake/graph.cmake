@@ -1,0 +1,21 @@
+# The reference pose-graph backend (Ceres) and its keyframe map: ROS-free, in a library of its own that
+# only the backend's nodelet and the evaluator's trajectory correction link, built when Ceres is found
+# (scl_find_backend in settings.cmake). graph/ceres_compat.h bridges the Ceres versions.
+if(NOT SCL_WITH_BACKEND)
+  return()
+endif()
+add_library(scan_context_loop_graph src/graph/pose_graph.cpp src/graph/keyframe_map.cpp)
+target_include_directories(scan_context_loop_graph PUBLIC include ${EIGEN3_INCLUDE_DIRS} ${PCL_INCLUDE_DIRS})
+# Ceres 1.14 exports no Ceres::ceres target: its CMake package names its library in CERES_LIBRARIES.
+target_include_directories(scan_context_loop_graph PRIVATE ${CERES_INCLUDE_DIRS})
+target_link_libraries(scan_context_loop_graph PUBLIC ${PCL_FILTERS_LIBRARIES} ${PCL_COMMON_LIBRARIES}
+  PRIVATE ${CERES_LIBRARIES})
+
+install(TARGETS scan_context_loop_graph
+  ARCHIVE DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
+  LIBRARY DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION})
+
+if(CATKIN_ENABLE_TESTING)
+  catkin_add_gtest(test_graph test/test_main.cpp test/graph/test_pose_graph.cpp test/graph/test_keyframe_map.cpp)
+  target_link_libraries(test_graph scan_context_loop_graph scan_context_loop_eval)
+endif()

@@ -1,0 +1,51 @@
+// What the loops do to the map: the sequence's odometry keyframe poses and the evaluation's loops go
+// into the reference pose graph (graph/pose_graph.h), and the corrected trajectory is scored against
+// the truth (absolute trajectory error), next to the odometry's own.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <Eigen/Geometry>
+
+#include "scan_context_loop/core/config.h"
+#include "scan_context_loop/eval/evaluation.h"
+#include "scan_context_loop/graph/pose_graph.h"
+#include "scan_context_loop/eval/trajectory_error.h"
+
+namespace scan_context_loop {
+namespace eval {
+
+struct TrajectoryCorrection {
+  bool computed = false;
+  std::string note;  ///< why nothing was computed, when so
+  TrajectoryError odometry;   ///< the odometry's keyframe poses as they are
+  /// The loops the detector reported (verified ones when verification is on), each with the covariance
+  /// the node publishes.
+  TrajectoryError corrected;
+  std::size_t loops = 0;
+  /// Plain Scan Context: every query whose best descriptor candidate is under the threshold, as a loop
+  /// with the descriptor's yaw prior and the prior covariance (what the node publishes without verify).
+  TrajectoryError plain;
+  std::size_t plain_loops = 0, plain_false_loops = 0;
+  /// The reported loops plus one false loop (two keyframes 40-100 m apart claimed to be at the same
+  /// place, with a verified loop's covariance at its floors): what the robust loss holds off.
+  TrajectoryError with_false_loop;
+  double false_loop_gap = -1.0;  ///< the false loop's true length [m]; -1 when no pair was that far apart
+  std::vector<Eigen::Isometry3d> corrected_poses;  ///< per sequence keyframe, from the reported loops
+};
+
+/// Builds and solves the three graphs. Needs odometry (odom_poses.txt) and no prior map; otherwise
+/// returns computed = false with the reason in `note`.
+TrajectoryCorrection correctTrajectory(const Sequence& sequence, const Evaluation& evaluation, const Config& config,
+                                       const PoseGraphConfig& graph_config = PoseGraphConfig());
+
+/// trajectory_error.json: the four trajectory errors (RMSE, mean, max) and the loop counts, or the note.
+bool writeTrajectoryErrorJson(const std::string& path, const TrajectoryCorrection& correction, std::string* error);
+/// trajectory_corrected.csv: per keyframe, its frame and the odometry's and the corrected positions and headings
+/// (yaw of the x axis, radians), each in the truth's frame by its own alignment.
+bool writeCorrectedTrajectoryCsv(const std::string& path, const Sequence& sequence,
+                                 const TrajectoryCorrection& correction, std::string* error);
+
+}  // namespace eval
+}  // namespace scan_context_loop

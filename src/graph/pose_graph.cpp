@@ -1,0 +1,219 @@
+#include "scan_context_loop/graph/pose_graph.h"
+
+#include <chrono>
+#include <cmath>
+#include <deque>
+
+#include <Eigen/Cholesky>
+
+#include "ceres_compat.h"
+
+namespace scan_context_loop {
+
+namespace {
+
+/// The residual of a factor measuring T_a<-b (see the header for its form), whitened.
+struct RelativePoseError {
+  RelativePoseError(const Eigen::Isometry3d& measured, const Matrix6d& sqrt_information)
+      : p_measured(measured.translation()), q_measured(measured.linear()), sqrt_information(sqrt_information) {}
+
+  template <typename T>
+  bool operator()(const T* pa, const T* qa, const T* pb, const T* qb, T* residual) const {
+    const Eigen::Map<const Eigen::Matrix<T, 3, 1>> p_a(pa), p_b(pb);
+    const Eigen::Map<const Eigen::Quaternion<T>> q_a(qa), q_b(qb);
+    const Eigen::Quaternion<T> q_a_inverse = q_a.conjugate();
+    const Eigen::Quaternion<T> q_ab = q_a_inverse * q_b;
+    const Eigen::Matrix<T, 3, 1> p_ab = q_a_inverse * (p_b - p_a);
+    const Eigen::Quaternion<T> delta = q_measured.cast<T>().conjugate() * q_ab;
+    Eigen::Map<Eigen::Matrix<T, 6, 1>> r(residual);
+    r.template head<3>() = p_ab - p_measured.cast<T>();
+    r.template tail<3>() = T(2.0) * delta.vec();
+    r.applyOnTheLeft(sqrt_information.cast<T>());
+    return true;
+  }
+
+  static ceres::CostFunction* create(const Eigen::Isometry3d& measured, const Matrix6d& sqrt_information) {
+    return new ceres::AutoDiffCostFunction<RelativePoseError, 6, 3, 4, 3, 4>(
+        new RelativePoseError(measured, sqrt_information));
+  }
+
+  Eigen::Vector3d p_measured;
+  Eigen::Quaterniond q_measured;
+  Matrix6d sqrt_information;
+};
+
+bool isRotation(const Eigen::Matrix3d& r) {
+  return r.allFinite() && (r.transpose() * r - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() < 1e-3 &&
+         r.determinant() > 0.0;
+}
+
+/// S with S^T S = covariance^-1, or false if the covariance is not symmetric positive definite.
+bool sqrtInformation(const Matrix6d& covariance, Matrix6d* out) {
+  if (!covariance.allFinite() || !covariance.isApprox(covariance.transpose(), 1e-9)) return false;
+  const Eigen::LLT<Matrix6d> llt(covariance);
+  if (llt.info() != Eigen::Success) return false;
+  const Matrix6d information = llt.solve(Matrix6d::Identity());
+  const Eigen::LLT<Matrix6d> info_llt(0.5 * (information + information.transpose()));
+  if (info_llt.info() != Eigen::Success) return false;
+  *out = info_llt.matrixU();  // U^T U = information
+  return out->allFinite();
+}
+
+}  // namespace
+
+std::vector<std::string> PoseGraphConfig::validate() const {
+  std::vector<std::string> problems;
+  const auto positive = [&](const char* key, double value) {
+    if (!(value > 0.0) || !std::isfinite(value)) problems.push_back(std::string(key) + " must be > 0");
+  };
+  const auto non_negative = [&](const char* key, double value) {
+    if (!(value >= 0.0) || !std::isfinite(value)) problems.push_back(std::string(key) + " must be >= 0");
+  };
+  positive("odometry_translation_floor", odometry_translation_floor);
+  non_negative("odometry_translation_per_metre", odometry_translation_per_metre);
+  positive("odometry_rotation_floor", odometry_rotation_floor);
+  non_negative("odometry_rotation_per_metre", odometry_rotation_per_metre);
+  non_negative("loop_robust_scale", loop_robust_scale);
+  if (max_iterations < 1) problems.push_back("max_iterations must be >= 1");
+  return problems;
+}
+
+Matrix6d odometryCovariance(const Eigen::Isometry3d& step, const PoseGraphConfig& config) {
+  const double length = step.translation().norm();
+  const double t = config.odometry_translation_floor + config.odometry_translation_per_metre * length;
+  const double r = config.odometry_rotation_floor + config.odometry_rotation_per_metre * length;
+  Eigen::Matrix<double, 6, 1> diagonal;
+  diagonal << t * t, t * t, t * t, r * r, r * r, r * r;
+  return diagonal.asDiagonal();
+}
+
+struct PoseGraph::Impl {
+  Impl() {
+    ceres::Problem::Options options;
+    ceres_compat::keepQuaternionOwnership(&options);
+    options.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+    problem = std::make_unique<ceres::Problem>(options);
+  }
+  // deques: blocks never move once Ceres holds their addresses.
+  std::deque<Eigen::Vector3d> positions;
+  std::deque<Eigen::Quaterniond> rotations;
+  std::vector<ceres::ResidualBlockId> loop_blocks;
+  ceres_compat::EigenQuaternion quaternion_parameterization;
+  /// The loops' loss: switched between none (least squares) and the Cauchy loss by optimize().
+  std::unique_ptr<ceres::LossFunctionWrapper> loop_loss =
+      std::make_unique<ceres::LossFunctionWrapper>(nullptr, ceres::TAKE_OWNERSHIP);
+  std::unique_ptr<ceres::Problem> problem;
+};
+
+PoseGraph::PoseGraph(const PoseGraphConfig& config) : config_(config), impl_(std::make_unique<Impl>()) {}
+
+PoseGraph::~PoseGraph() = default;
+
+long PoseGraph::addKeyframe(const Eigen::Isometry3d& odometry_pose) {
+  if (!odometry_pose.translation().allFinite() || !isRotation(odometry_pose.linear())) return -1;
+  Impl& g = *impl_;
+  Eigen::Isometry3d estimate = odometry_pose;
+  if (!odometry_.empty()) {
+    const Eigen::Isometry3d step = odometry_.back().inverse() * odometry_pose;
+    estimate = pose(odometry_.size() - 1) * step;
+  }
+  g.positions.push_back(estimate.translation());
+  g.rotations.push_back(Eigen::Quaterniond(estimate.linear()).normalized());
+  double* p = g.positions.back().data();
+  double* q = g.rotations.back().coeffs().data();
+  g.problem->AddParameterBlock(p, 3);
+  g.problem->AddParameterBlock(q, 4, &g.quaternion_parameterization);
+  if (odometry_.empty()) {
+    g.problem->SetParameterBlockConstant(p);  // the gauge
+    g.problem->SetParameterBlockConstant(q);
+  } else {
+    const std::size_t a = odometry_.size() - 1;
+    const Eigen::Isometry3d step = odometry_.back().inverse() * odometry_pose;
+    Matrix6d sqrt_information;
+    sqrtInformation(odometryCovariance(step, config_), &sqrt_information);  // diagonal, positive: always
+    g.problem->AddResidualBlock(RelativePoseError::create(step, sqrt_information), nullptr, g.positions[a].data(),
+                                g.rotations[a].coeffs().data(), p, q);
+  }
+  odometry_.push_back(odometry_pose);
+  return static_cast<long>(odometry_.size()) - 1;
+}
+
+bool PoseGraph::addLoop(std::size_t query, std::size_t match, const Eigen::Isometry3d& query_from_match,
+                        const Matrix6d& covariance, std::string* error) {
+  const auto fail = [&](const std::string& why) {
+    if (error) *error = why;
+    return false;
+  };
+  if (query >= size() || match >= size()) return fail("unknown keyframe");
+  if (query == match) return fail("a loop from a keyframe to itself");
+  if (!query_from_match.translation().allFinite() || !isRotation(query_from_match.linear())) {
+    return fail("the relative pose is not finite or not a rotation");
+  }
+  Matrix6d sqrt_information;
+  if (!sqrtInformation(covariance, &sqrt_information)) {
+    return fail("the covariance is not symmetric positive definite");
+  }
+  Impl& g = *impl_;
+  const ceres::ResidualBlockId id = g.problem->AddResidualBlock(
+      RelativePoseError::create(query_from_match, sqrt_information), g.loop_loss.get(), g.positions[query].data(),
+      g.rotations[query].coeffs().data(), g.positions[match].data(), g.rotations[match].coeffs().data());
+  g.loop_blocks.push_back(id);
+  ++loop_count_;
+  return true;
+}
+
+PoseGraphResult PoseGraph::optimize() {
+  PoseGraphResult result;
+  if (size() < 2) {
+    result.solved = true;
+    result.message = "nothing to solve";
+    return result;
+  }
+  ceres::Solver::Options options;
+  options.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
+  options.max_num_iterations = config_.max_iterations;
+  options.num_threads = 1;
+  options.logging_type = ceres::SILENT;
+  // Two passes. Least squares first: from drifted estimates every loop, true or not, starts many
+  // standard deviations off, where a robust loss would give the true ones no pull either. Then the
+  // Cauchy loss from there: a loop that the others and the odometry disagree with stays far off and
+  // loses its weight; the true ones, now close, keep theirs.
+  const auto start = std::chrono::steady_clock::now();
+  ceres::Solver::Summary summary;
+  impl_->loop_loss->Reset(nullptr, ceres::TAKE_OWNERSHIP);
+  ceres::Solve(options, impl_->problem.get(), &summary);
+  result.initial_cost = summary.initial_cost;
+  result.iterations = static_cast<int>(summary.iterations.size());
+  if (config_.loop_robust_scale > 0.0 && loop_count_ > 0 && summary.IsSolutionUsable()) {
+    impl_->loop_loss->Reset(new ceres::CauchyLoss(config_.loop_robust_scale), ceres::TAKE_OWNERSHIP);
+    ceres::Solve(options, impl_->problem.get(), &summary);
+    result.iterations += static_cast<int>(summary.iterations.size());
+  }
+  result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  result.solved = summary.IsSolutionUsable();
+  result.final_cost = summary.final_cost;
+  result.message = summary.BriefReport();
+  for (auto& q : impl_->rotations) q.normalize();
+  return result;
+}
+
+Eigen::Isometry3d PoseGraph::pose(std::size_t i) const {
+  Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
+  t.linear() = impl_->rotations[i].normalized().toRotationMatrix();
+  t.translation() = impl_->positions[i];
+  return t;
+}
+
+std::vector<Eigen::Isometry3d> PoseGraph::poses() const {
+  std::vector<Eigen::Isometry3d> out;
+  out.reserve(size());
+  for (std::size_t i = 0; i < size(); ++i) out.push_back(pose(i));
+  return out;
+}
+
+Eigen::Isometry3d PoseGraph::correction() const {
+  if (odometry_.empty()) return Eigen::Isometry3d::Identity();
+  return pose(size() - 1) * odometry_.back().inverse();
+}
+
+}  // namespace scan_context_loop

@@ -1,0 +1,310 @@
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+
+#include <gtest/gtest.h>
+#include <yaml-cpp/yaml.h>
+
+#include "scan_context_loop/core/pcl_adapters.h"
+#include "scan_context_loop/core/verification.h"
+#include "scan_context_loop/eval/config_file.h"
+#include "scan_context_loop/eval/evaluation.h"
+#include "scan_context_loop/eval/trajectory_correction.h"
+#include "scan_context_loop/eval/kitti_io.h"
+#include "scan_context_loop/core/settings.h"
+#include "scan_context_sim/sequence_writer.h"
+#include "scan_context_sim/trajectory.h"
+#include "../common/sim_drive.h"
+
+namespace scan_context_loop {
+namespace eval {
+namespace {
+
+std::string temp(const std::string& name) { return testing::TempDir() + "/scl_eval_" + name; }
+
+TEST(ConfigFile, ReadsNodeKeysIgnoresRosKeysAndRejectsBadValues) {
+  std::ofstream(temp("good.yaml")) << "# comment\nnum_sectors: 90\ndistance_threshold: 0.3\nring_key: mean_height\n"
+                                      "pose_source: odom\nvoxel_leaf: 0.4\nverify_min_inlier_ratio: 0.6\n";
+  Config config;
+  std::string error;
+  ASSERT_TRUE(loadConfigFile(temp("good.yaml"), &config, &error)) << error;
+  EXPECT_EQ(config.num_sectors, 90);
+  EXPECT_DOUBLE_EQ(config.distance_threshold, 0.3);
+  EXPECT_EQ(config.ring_key, RingKeyType::kMeanHeight);
+  EXPECT_DOUBLE_EQ(config.verification.min_inlier_ratio, 0.6);
+  // A key that is neither the core's nor the node's is an error that names it, like the node's.
+  std::ofstream(temp("mystery.yaml")) << "num_sectors: 90\nmystery: 1\n";
+  Config before;
+  EXPECT_FALSE(loadConfigFile(temp("mystery.yaml"), &before, &error));
+  EXPECT_NE(error.find("mystery"), std::string::npos) << error;
+  EXPECT_EQ(before.num_sectors, Config().num_sectors);
+
+  std::ofstream(temp("bad.yaml")) << "num_rings: twenty\n";
+  Config untouched;
+  EXPECT_FALSE(loadConfigFile(temp("bad.yaml"), &untouched, &error));
+  EXPECT_NE(error.find("num_rings"), std::string::npos) << error;
+  EXPECT_EQ(untouched.num_rings, Config().num_rings);
+  EXPECT_FALSE(loadConfigFile(temp("absent.yaml"), &untouched, &error));
+  std::ofstream(temp("list.yaml")) << "- 1\n- 2\n";
+  EXPECT_FALSE(loadConfigFile(temp("list.yaml"), &untouched, &error));
+
+  EXPECT_TRUE(applyOverride("search_ratio=1.0", &config, &error));
+  EXPECT_DOUBLE_EQ(config.search_ratio, 1.0);
+  EXPECT_FALSE(applyOverride("search_ratio", &config, &error));
+}
+
+/// Checks that the file's keys are exactly the table's and that each value is the table's default.
+template <typename T>
+void expectDefaults(const YAML::Node& file, const std::vector<Setting<T>>& table, std::vector<std::string>* seen) {
+  const T defaults;
+  for (const auto& s : table) {
+    seen->push_back(s.key);
+    ASSERT_TRUE(file[s.key]) << s.key << " is missing from config/default.yaml";
+    T parsed;
+    ASSERT_TRUE(s.set(&parsed, file[s.key].template as<std::string>())) << s.key;
+    EXPECT_EQ(s.get(parsed), s.get(defaults)) << s.key << ": config/default.yaml disagrees with the code";
+    EXPECT_EQ(s.check(defaults), "") << s.key << ": the default breaks its own rule";
+  }
+}
+
+TEST(ConfigFile, DefaultsFileListsEveryKeyWithTheCodesDefault) {
+  const YAML::Node file = YAML::LoadFile(std::string(SCL_PACKAGE_DIR) + "/config/default.yaml");
+  std::vector<std::string> keys;
+  expectDefaults(file, configSettings(), &keys);
+  expectDefaults(file, nodeSettings(), &keys);
+  for (const auto& item : file) {
+    const std::string key = item.first.as<std::string>();
+    EXPECT_NE(std::find(keys.begin(), keys.end(), key), keys.end()) << key << " in config/default.yaml is no key";
+  }
+  EXPECT_TRUE(Config().validate().empty());
+}
+
+/// True when the key is in the table and `text` parses to a value other than the table's default.
+template <typename T>
+bool differsFromDefault(const std::vector<Setting<T>>& table, const std::string& key, const std::string& text) {
+  const Setting<T>* s = findSetting(table, key);
+  T parsed;
+  return s != nullptr && s->set(&parsed, text) && s->get(parsed) != s->get(T());
+}
+
+TEST(ConfigFile, SensorPresetsHoldOnlyKeysThatDifferFromTheDefaultsEachWithAComment) {
+  const std::string dir = std::string(SCL_PACKAGE_DIR) + "/config/sensors/";
+  for (const std::string name : {"velodyne_hdl64", "velodyne_vlp16", "ouster_os1_64", "livox_avia", "livox_mid360"}) {
+    const std::string path = dir + name + ".yaml";
+    // Loaded on top of the defaults, as the evaluator's --config and the launch files do.
+    Config config;
+    std::string error;
+    ASSERT_TRUE(loadConfigFile(path, &config, &error)) << error;
+    EXPECT_TRUE(config.validate().empty()) << name;
+    const YAML::Node file = YAML::LoadFile(path);
+    ASSERT_TRUE(file.IsNull() || file.IsMap()) << name;
+    std::ifstream text(path);
+    std::string line, previous;
+    for (; std::getline(text, line); previous = line) {
+      if (line.empty() || line[0] == '#') continue;
+      const std::string key = line.substr(0, line.find(':'));
+      ASSERT_TRUE(file[key]) << name << ": '" << line << "' is not a key: value line";
+      const std::string value = file[key].as<std::string>();
+      EXPECT_TRUE(differsFromDefault(configSettings(), key, value) || differsFromDefault(nodeSettings(), key, value))
+          << name << ": " << key << " is no key or repeats config/default.yaml";
+      EXPECT_EQ(previous.rfind("#", 0), 0u) << name << ": " << key << " has no comment saying why";
+    }
+  }
+}
+
+TEST(Sequence, TimesShorterThanPosesIsALoadError) {
+  const std::string dir = temp("short_times");
+  ASSERT_EQ(std::system(("mkdir -p " + dir + "/velodyne").c_str()), 0);
+  std::ofstream poses(dir + "/poses.txt");
+  for (int f = 0; f < 4; ++f) {
+    poses << "1 0 0 " << f << " 0 1 0 0 0 0 1 0\n";
+    std::ofstream(kitti::scanPath(dir, f), std::ios::binary);
+  }
+  poses.close();
+  std::ofstream(dir + "/calib.txt") << "Tr: 1 0 0 0 0 1 0 0 0 0 1 0\n";
+  std::ofstream(dir + "/times.txt") << "0.0\n0.1\n0.2\n";
+  Sequence sequence;
+  std::string error;
+  EXPECT_FALSE(loadSequence(dir, SequenceOptions(), &sequence, &error));
+  EXPECT_NE(error.find(dir + "/times.txt"), std::string::npos) << error;
+  EXPECT_NE(error.find("3 stamps"), std::string::npos) << error;
+  EXPECT_NE(error.find("4 poses"), std::string::npos) << error;
+  std::ofstream(dir + "/times.txt", std::ios::app) << "0.3\n";
+  Sequence complete;
+  EXPECT_TRUE(loadSequence(dir, SequenceOptions(), &complete, &error)) << error;
+  EXPECT_EQ(complete.frames.size(), 4u);
+}
+
+/// Twice around a block, the second lap in reverse: every keyframe of lap 2 revisits lap 1. Written
+/// once, in the KITTI layout with a drifting odometry.
+const Sequence& simulatedLoop() {
+  static Sequence sequence;
+  if (!sequence.frames.empty()) return sequence;
+  const std::string dir = temp("loop");
+  const test::Drive drive = test::blockDrive(true, 5);
+  sim::SequenceData data;
+  data.truth = drive.truth;
+  data.times = drive.times;
+  data.odometry = sim::driftedOdometry(data.truth, sim::DriftOptions());
+  std::string error;
+  EXPECT_GT(sim::writeSequence(dir, drive.world, drive.sensor, data, 0.0, 1, 2, &error), 1000.0) << error;
+  EXPECT_TRUE(loadSequence(dir, SequenceOptions(), &sequence, &error)) << error;
+  EXPECT_TRUE(sequence.odometry_from_file);
+  EXPECT_EQ(sequence.frames.size(), data.truth.size());
+  return sequence;
+}
+
+TEST(Evaluation, SimulatedLoopEndToEnd) {
+  const Sequence& sequence = simulatedLoop();
+  ASSERT_FALSE(sequence.frames.empty());
+  std::string error;
+  Config config;
+  config.exclude_recent_frames = 30;
+  const Evaluation e = evaluate(sequence, config, 5.0);
+  EXPECT_EQ(e.rejected, 0u);
+  EXPECT_EQ(e.outcomes.size(), sequence.frames.size() - 1);
+  // The whole second lap revisits the first (in reverse).
+  EXPECT_GT(e.metrics.revisits, 80u);
+  EXPECT_GE(e.metrics.f1_max, 0.8);
+  EXPECT_GE(e.metrics.recall_at_full_precision, 0.5);
+  EXPECT_LT(e.metrics.yaw_error_median, 3.0);
+
+  ASSERT_TRUE(writeResultsCsv(temp("results.csv"), e, &error));
+  std::ifstream csv(temp("results.csv"));
+  std::string header;
+  std::getline(csv, header);
+  EXPECT_EQ(header.rfind("query,match,distance,yaw_rad", 0), 0u);
+  ASSERT_TRUE(writeMetricsJson(temp("metrics.json"), e, sequence, config, 5.0, &error));
+  std::stringstream json;
+  json << std::ifstream(temp("metrics.json")).rdbuf();
+  EXPECT_NE(json.str().find("\"recall_at_100_precision\""), std::string::npos);
+}
+
+TEST(Evaluation, VerifiedLoopsAreScoredOnTheirOwnQueriesWhenReportedLate) {
+  const Sequence& sequence = simulatedLoop();
+  ASSERT_FALSE(sequence.frames.empty());
+  Config config;
+  config.exclude_recent_frames = 30;
+  config.verification.enabled = true;  // with the consistency check (on by default)
+  const Evaluation e = evaluate(sequence, config, 5.0);
+  ASSERT_TRUE(e.verification);
+  const VerifiedMetrics& v = e.verified;
+  EXPECT_GE(v.recall, 0.5);
+  EXPECT_EQ(v.false_positives, 0u);
+  EXPECT_LT(v.translation_error_median, 0.3);
+  EXPECT_LT(v.yaw_error_median, 1.0);
+  // The first loop of the revisit waits for the second and is scored on its own query.
+  EXPECT_GE(v.reported_late, 1u);
+  std::size_t late = 0;
+  for (const auto& o : e.outcomes) {
+    if (!o.reported_late) continue;
+    ++late;
+    EXPECT_GE(o.verified_match, 0);
+    EXPECT_TRUE(o.verified_correct) << "query " << o.query;
+  }
+  EXPECT_EQ(late, v.reported_late);
+  std::string error;
+  ASSERT_TRUE(writeMetricsJson(temp("verified.json"), e, sequence, config, 5.0, &error));
+  std::stringstream json;
+  json << std::ifstream(temp("verified.json")).rdbuf();
+  EXPECT_NE(json.str().find("\"reported_late\""), std::string::npos);
+  EXPECT_NE(json.str().find("\"dropped_by_consistency\""), std::string::npos);
+}
+
+TEST(Evaluation, VerifiedLoopsCorrectTheDriftedTrajectoryAndHoldOffAFalseOne) {
+  // The reference pose graph over the simulated loop's drifting odometry and its verified loops.
+  const Sequence& sequence = simulatedLoop();
+  ASSERT_FALSE(sequence.frames.empty());
+  Config config;
+  config.exclude_recent_frames = 30;
+  config.verification.enabled = true;
+  const Evaluation e = evaluate(sequence, config, 5.0);
+  const TrajectoryCorrection c = correctTrajectory(sequence, e, config);
+  ASSERT_TRUE(c.computed) << c.note;
+  std::printf("ATE RMSE: odometry %.3f m, corrected %.3f m (%zu loops), plain Scan Context %.3f m (%zu loops), "
+              "with a false loop %.3f m\n", c.odometry.rmse, c.corrected.rmse, c.loops, c.plain.rmse, c.plain_loops,
+              c.with_false_loop.rmse);
+  EXPECT_EQ(c.loops, e.verified.true_positives + e.verified.false_positives);
+  EXPECT_GT(c.odometry.rmse, 0.15) << "the simulated odometry should drift";
+  EXPECT_LT(c.corrected.rmse, 0.6 * c.odometry.rmse);
+  EXPECT_GE(c.false_loop_gap, 40.0) << "a false loop was added";
+  EXPECT_LT(c.with_false_loop.rmse, c.corrected.rmse + 0.2 * c.odometry.rmse);
+  ASSERT_EQ(c.corrected_poses.size(), sequence.frames.size());
+
+  std::string error;
+  ASSERT_TRUE(writeTrajectoryErrorJson(temp("trajectory_error.json"), c, &error)) << error;
+  std::stringstream json;
+  json << std::ifstream(temp("trajectory_error.json")).rdbuf();
+  for (const char* key : {"\"odometry\"", "\"corrected\"", "\"plain_scan_context\"", "\"with_one_false_loop\""}) {
+    EXPECT_NE(json.str().find(key), std::string::npos) << key;
+  }
+  ASSERT_TRUE(writeCorrectedTrajectoryCsv(temp("trajectory_corrected.csv"), sequence, c, &error)) << error;
+  std::ifstream csv(temp("trajectory_corrected.csv"));
+  std::string line;
+  std::size_t rows = 0;
+  while (std::getline(csv, line)) ++rows;
+  EXPECT_EQ(rows, sequence.frames.size() + 1);
+
+  // Without odometry of its own there is nothing to correct, and the reason says so.
+  Sequence truth_only = sequence;
+  truth_only.odometry_from_file = false;
+  const TrajectoryCorrection none = correctTrajectory(truth_only, e, config);
+  EXPECT_FALSE(none.computed);
+  EXPECT_NE(none.note.find("odom_poses.txt"), std::string::npos);
+}
+
+TEST(Evaluation, CandidatesWhoseDataWasDroppedLeaveTheirTurnToKeptOnes) {
+  // On a long run the cloud store keeps one keyframe's registration data in two, four, ... With one
+  // registration per keyframe (verify_max_candidates 1), a best candidate without data must not take
+  // the turn of the next one with data, or verified recall fades as the store thins.
+  const Sequence& sequence = simulatedLoop();
+  ASSERT_FALSE(sequence.frames.empty());
+  Config config;
+  config.exclude_recent_frames = 30;
+  config.track_distance = 0.0;  // the descriptor's candidates alone
+  config.verification.max_candidates = 1;
+  const Evaluation full = evaluate(sequence, config, 5.0);
+  pcl::PointCloud<pcl::PointXYZI> scan;
+  std::string error;
+  ASSERT_TRUE(kitti::readScan(kitti::scanPath(sequence.dir, sequence.frames.front()), &scan, &error)) << error;
+  const double bytes = static_cast<double>(prepareCloud(viewOf(scan), config.verification).bytes());
+  config.verification.max_bytes = std::max(1e6, bytes * static_cast<double>(sequence.frames.size()) / 3.0);
+  const Evaluation thinned = evaluate(sequence, config, 5.0);
+  std::size_t unverifiable = 0;
+  for (const VerificationAttempt& a : thinned.attempts) {
+    unverifiable += a.result.reason.find("unverifiable") != std::string::npos;
+  }
+  EXPECT_GT(unverifiable, 10u);  // the store did thin, and the best candidates were often dropped ones
+  EXPECT_EQ(thinned.verified.false_positives, 0u);
+  EXPECT_GE(full.verified.recall, 0.5);
+  EXPECT_GE(thinned.verified.recall, 0.8 * full.verified.recall);
+}
+
+TEST(Evaluation, RealKittiFramesThatExist) {
+  const char* env = std::getenv("SCL_SHARED_DATA");
+  const std::string data = env ? env : SCL_SHARED_DATA;
+  Sequence sequence;
+  std::string error;
+  SequenceOptions options;
+  options.first = 700;
+  options.last = 1600;
+  ASSERT_TRUE(loadSequence(data + "/kitti/08", options, &sequence, &error)) << error;
+  ASSERT_EQ(sequence.frames, (std::vector<int>{720, 1500}));
+  EXPECT_EQ(sequence.missing_scans, 901u - 2u);
+  Config config;
+  config.exclude_recent_frames = 0;
+  const Evaluation e = evaluate(sequence, config, 5.0);
+  ASSERT_EQ(e.outcomes.size(), 1u);
+  EXPECT_EQ(e.outcomes[0].query, 1500);
+  EXPECT_EQ(e.outcomes[0].match, 720);
+  EXPECT_TRUE(e.outcomes[0].revisit);
+  EXPECT_TRUE(e.outcomes[0].correct);
+  EXPECT_NEAR(e.outcomes[0].match_gap, 3.09, 0.01);
+  EXPECT_LT(std::fabs(e.outcomes[0].yaw - e.outcomes[0].true_yaw), 6.0 * M_PI / 180.0);
+}
+
+}  // namespace
+}  // namespace eval
+}  // namespace scan_context_loop

@@ -1,0 +1,178 @@
+// scan_context_evaluate: runs the detector online over a KITTI-format sequence and scores it.
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "scan_context_loop/eval/config_file.h"
+#include "scan_context_loop/eval/prior_map.h"
+#include "scan_context_loop/eval/evaluation.h"
+#include "scan_context_loop/eval/trajectory_correction.h"
+#include "cli.h"
+
+namespace scl = scan_context_loop;
+namespace eval = scan_context_loop::eval;
+
+int main(int argc, char** argv) {
+  std::string sequence_dir, out_dir, error;
+  scl::Config config;
+  eval::SequenceOptions options;
+  double radius = 5.0;
+  std::vector<std::string> overrides;
+  std::string config_file, prior_path, prior_truth, save_database;
+  bool save_clouds = false;
+  scl::cli::Parser cli("scan_context_evaluate",
+                       "Runs the Scan Context detector frame by frame over a KITTI-format sequence (velodyne/*.bin, "
+                       "poses.txt, calib.txt, optional times.txt and odom_poses.txt) through the node's own code "
+                       "(KeyframePipeline), and writes OUT_DIR/results.csv, metrics.json and trajectory.csv (scripts/evaluate adds pr.png and "
+                       "map.png); with verification also verifications.csv, one row per candidate registered, scored "
+                       "against the truth; with --prior also relocalization.csv; with --save-database the run's "
+                       "database. Prints a summary, and last the line `output: OUT_DIR`.");
+  cli.positional("SEQUENCE_DIR", "the KITTI-format sequence", &sequence_dir)
+      .positional("OUT_DIR", "where the results go (created with its parents when missing)", &out_dir)
+      .option("--config", "FILE",
+              "YAML with some of the node's configuration keys (config/default.yaml lists them); keys it leaves out "
+              "keep their defaults, so a sensor preset (config/sensors/*.yaml) works as it is",
+              &config_file)
+      .option("--set", "KEY=VALUE", "override one configuration key", &overrides)
+      .option("--keyframe-spacing", "M", "one keyframe every M metres along the truth (default 0: every frame)",
+              &options.keyframe_spacing)
+      .option("--first", "N", "first frame of the window (default 0)", &options.first)
+      .option("--last", "N", "last frame of the window (default: to the end)", &options.last)
+      .option("--revisit-radius", "R", "ground-truth revisit radius [m] (default 5)", &radius)
+      .flag("--truth-odometry", "feed the true poses even when odom_poses.txt exists",
+            [&options] { options.use_odometry_file = false; })
+      .option("--prior", "DIR|FILE",
+              "relocalization in a prior map: run DIR's keyframes (all its frames, the same keyframe spacing and "
+              "odometry source) first as session 0, or load the database FILE (needs --prior-truth), then "
+              "SEQUENCE_DIR's as a new session, and score SEQUENCE_DIR's loops into the prior's keyframes too "
+              "(metrics.json \"relocalization\", relocalization.csv). Both poses.txt must be in one world frame, "
+              "as scripts/simulate --session 2 writes them",
+              &prior_path)
+      .option("--prior-truth", "DIR",
+              "with a database --prior: the sequence it was built from; each keyframe's tag (its frame index, "
+              "as --save-database writes it) picks its true pose from DIR's poses.txt and calib.txt",
+              &prior_truth)
+      .option("--save-database", "FILE",
+              "after the run, save the pipeline's database (the prior's keyframes too) to FILE, the node's "
+              "format (~load_database, database_load reads it); tags are frame indices",
+              &save_database)
+      .flag("--save-clouds", "with --save-database: include the registration data, so that loaded keyframes "
+            "can be verified", &save_clouds);
+  if (const int status = cli.parse(argc, argv); status >= 0) return status;
+  if (save_clouds && save_database.empty()) return cli.fail("--save-clouds goes with --save-database FILE");
+  if (!config_file.empty() && !eval::loadConfigFile(config_file, &config, &error)) {
+    std::fprintf(stderr, "scan_context_evaluate: %s\n", error.c_str());
+    return 2;
+  }
+  for (const auto& o : overrides) {
+    if (!eval::applyOverride(o, &config, &error)) {
+      std::fprintf(stderr, "scan_context_evaluate: --set %s\n", error.c_str());
+      return 2;
+    }
+  }
+  const auto problems = config.validate();
+  if (!problems.empty() || !(radius > 0.0)) {
+    for (const auto& p : problems) std::fprintf(stderr, "scan_context_evaluate: invalid configuration: %s\n", p.c_str());
+    if (!(radius > 0.0)) std::fprintf(stderr, "scan_context_evaluate: --revisit-radius must be positive\n");
+    return 2;
+  }
+
+  eval::Sequence sequence;
+  if (!eval::loadSequence(sequence_dir, options, &sequence, &error)) {
+    std::fprintf(stderr, "scan_context_evaluate: %s\n", error.c_str());
+    return 1;
+  }
+  eval::EvaluationOptions run;
+  run.revisit_radius = radius;
+  run.save_database = save_database;
+  run.save_clouds = save_clouds;
+  eval::PriorMap prior;
+  if (!eval::loadPriorMap(prior_path, prior_truth, options, config, &prior, &error)) {
+    std::fprintf(stderr, "scan_context_evaluate: %s\n", error.c_str());
+    return 1;
+  }
+  if (prior.kind == eval::PriorMap::Kind::kSequence) run.prior = &prior.sequence;
+  if (prior.kind == eval::PriorMap::Kind::kDatabase) run.prior_database = &prior.database;
+  eval::Evaluation result;
+  if (!eval::evaluate(sequence, config, run, &result, &error)) {
+    std::fprintf(stderr, "scan_context_evaluate: %s\n", error.c_str());
+    return 1;
+  }
+  for (std::size_t i = 0; i < result.errors.size() && i < 5; ++i) {
+    std::fprintf(stderr, "scan_context_evaluate: skipped %s\n", result.errors[i].c_str());
+  }
+  if (!scl::cli::makeDirectories(out_dir, &error) ||
+      !eval::writeResultsCsv(out_dir + "/results.csv", result, &error) ||
+      !eval::writeMetricsJson(out_dir + "/metrics.json", result, sequence, config, radius, &error) ||
+      !eval::writeTrajectoryCsv(out_dir + "/trajectory.csv", sequence, &error) ||
+      (result.verification && !eval::writeVerificationsCsv(out_dir + "/verifications.csv", result, &error)) ||
+      (result.has_prior && !eval::writeRelocalizationCsv(out_dir + "/relocalization.csv", result, &error))) {
+    std::fprintf(stderr, "scan_context_evaluate: %s\n", error.c_str());
+    return 1;
+  }
+  // What the loops do to the map: the reference pose graph over the odometry and the loops.
+  const eval::TrajectoryCorrection correction = eval::correctTrajectory(sequence, result, config);
+  if (!eval::writeTrajectoryErrorJson(out_dir + "/trajectory_error.json", correction, &error) ||
+      (correction.computed &&
+       !eval::writeCorrectedTrajectoryCsv(out_dir + "/trajectory_corrected.csv", sequence, correction, &error))) {
+    std::fprintf(stderr, "scan_context_evaluate: %s\n", error.c_str());
+    return 1;
+  }
+  const eval::Metrics& m = result.metrics;
+  if (correction.computed) {
+    std::printf("trajectory error (ATE RMSE / max): odometry %.2f / %.2f m; corrected with the %zu loops %.2f / %.2f m; "
+                "plain Scan Context (%zu loops, %zu false) %.2f / %.2f m; with one false loop added %.2f / %.2f m\n",
+                correction.odometry.rmse, correction.odometry.max, correction.loops, correction.corrected.rmse,
+                correction.corrected.max, correction.plain_loops, correction.plain_false_loops, correction.plain.rmse,
+                correction.plain.max, correction.with_false_loop.rmse, correction.with_false_loop.max);
+  }
+  std::printf("%s: %zu keyframes (%zu missing scans), %zu queries, %zu true revisits (R = %.1f m)\n",
+              sequence_dir.c_str(), sequence.frames.size(), sequence.missing_scans, m.queries, m.revisits, radius);
+  std::printf("at threshold %.3f: precision %.3f, recall %.3f (%zu TP, %zu FP)\n", m.threshold, m.precision, m.recall,
+              m.true_positives, m.false_positives);
+  std::printf("F1-max %.3f at %.3f; recall at 100%% precision %.3f; average precision %.3f\n", m.f1_max,
+              m.f1_max_threshold, m.recall_at_full_precision, m.average_precision);
+  std::printf("yaw error over true positives [deg]: median %.2f, p90 %.2f, max %.2f\n", m.yaw_error_median,
+              m.yaw_error_p90, m.yaw_error_max);
+  std::printf("descriptor %.3f ms median, %.3f ms p99; query + insert %.3f ms median, %.3f ms p99\n",
+              eval::percentile(result.descriptor_ms, 0.5), eval::percentile(result.descriptor_ms, 0.99),
+              eval::percentile(result.query_ms, 0.5), eval::percentile(result.query_ms, 0.99));
+  if (result.verification) {
+    const eval::VerifiedMetrics& v = result.verified;
+    std::printf("verified loops: precision %.3f, recall %.3f (%zu TP, %zu FP); relative pose error of true ones: "
+                "translation %.3f m median / %.3f p90, yaw %.2f deg median / %.2f p90\n",
+                v.precision, v.recall, v.true_positives, v.false_positives, v.translation_error_median,
+                v.translation_error_p90, v.yaw_error_median, v.yaw_error_p90);
+    std::printf("verification per keyframe: %.2f candidates on average, %d at most; %.1f ms median, %.1f ms p99, "
+                "%.1f ms max\n",
+                v.candidates_mean, v.candidates_max, eval::percentile(result.verify_ms, 0.5),
+                eval::percentile(result.verify_ms, 0.99), eval::percentile(result.verify_ms, 1.0));
+    if (config.consistency_min_support > 0) {
+      std::printf("consistency check: %zu loops reported after their keyframe, %zu dropped without support\n",
+                  v.reported_late, result.loops_dropped);
+    }
+  }
+  if (result.has_prior) {
+    const eval::RelocalizationMetrics& r = result.relocalization;
+    std::printf("relocalization in %s (%zu keyframes): %zu of %zu query keyframes at a prior place (R = %.1f m); "
+                "loops into the prior: precision %.3f, recall %.3f (%zu TP, %zu FP)\n",
+                result.prior_source.c_str(), r.prior_keyframes, r.prior_places, r.queries, radius, r.precision, r.recall,
+                r.true_positives, r.false_positives);
+    std::printf("relocalization pose error of true ones: translation %.3f m median / %.3f p90, yaw %.3f deg median "
+                "/ %.3f p90\n",
+                r.translation_error_median, r.translation_error_p90, r.yaw_error_median, r.yaw_error_p90);
+    if (r.first_query >= 0) {
+      std::printf("first correct relocalization: %.1f s, %.0f m after the start (frame %d; first prior place at "
+                  "%.1f s, %.0f m); %zu wrong before it\n",
+                  r.first_seconds, r.first_metres, r.first_query, r.first_place_seconds, r.first_place_metres,
+                  r.false_before_first);
+    } else {
+      std::printf("no correct relocalization\n");
+    }
+  }
+  if (!save_database.empty()) {
+    std::printf("database: %s (%s registration data)\n", save_database.c_str(), save_clouds ? "with" : "without");
+  }
+  std::printf("output: %s\n", out_dir.c_str());
+  return 0;
+}
