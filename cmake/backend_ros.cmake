@@ -22,3 +22,9 @@ if(CATKIN_ENABLE_TESTING)
   target_link_libraries(test_ros_pose_graph scan_context_loop_ros_harness scan_context_loop_eval)
   add_dependencies(test_ros_pose_graph scan_context_loop_nodelet scan_context_loop_pose_graph_nodelet pose_graph_node)
 endif()
+
+if(CATKIN_ENABLE_TESTING)
+  # The backend's parameter reader runs in the parameter rostest (cmake/ros.cmake).
+  target_sources(test_ros_parameters PRIVATE test/ros/test_pose_graph_parameters.cpp)
+  target_link_libraries(test_ros_parameters scan_context_loop_pose_graph_nodelet)
+endif()

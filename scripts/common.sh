@@ -85,7 +85,7 @@ scl_build_fresh() {
 
 # Extra CMake arguments for scl_build (scripts/test --sanitize sets the build type and the sanitizer
 # flags here, with SCL_WS pointing at a workspace of its own); empty for a normal Release build.
-SCL_CMAKE_ARGS=(-DCMAKE_BUILD_TYPE=Release)
+SCL_CMAKE_ARGS=(-DCMAKE_BUILD_TYPE=Release -DSCL_TEST_INSTALL_SPACE=ON)
 SCL_BUILD_KIND="Release"
 
 # scl_build [TARGET...]: builds the targets (default: all) in Release unless nothing they depend on

@@ -1,0 +1,51 @@
+// The reference backend's parameter reader (built with the backend, into test_ros_parameters): defaults,
+// types, unknown keys and ranges.
+#include <algorithm>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <ros/ros.h>
+
+#include "scan_context_loop/ros/pose_graph_parameters.h"
+
+namespace scan_context_loop {
+namespace {
+
+TEST(PoseGraphParameters, DefaultsTypesUnknownKeysAndRangesAreChecked) {
+  PoseGraphConfig graph;
+  KeyframeMapConfig map;
+  PoseGraphOptions options;
+  EXPECT_TRUE(readPoseGraphParameters(ros::NodeHandle("/empty"), &graph, &map, &options).empty());
+  EXPECT_EQ(options.map_frame, "map");
+  ros::NodeHandle good("/graph_good");
+  good.setParam("map_voxel", 1);  // an integer where a number is wanted: fine
+  good.setParam("verified_only", false);
+  good.setParam("map_frame", std::string("world"));
+  good.setParam("map_keyframe_stride", 3);
+  auto problems = readPoseGraphParameters(good, &graph, &map, &options);
+  EXPECT_TRUE(problems.empty()) << problems.front();
+  EXPECT_DOUBLE_EQ(map.voxel, 1.0);
+  EXPECT_FALSE(options.verified_only);
+  EXPECT_EQ(options.map_frame, "world");
+  EXPECT_EQ(map.keyframe_stride, 3);
+
+  ros::NodeHandle bad("/graph_bad");
+  bad.setParam("publish_tf", 1);                  // an integer for a boolean
+  bad.setParam("max_iterations", 2.5);            // a number for an integer
+  bad.setParam("map_frame", 3);                   // a number for a string
+  bad.setParam("loop_robust_scal", 1.0);          // misspelt
+  bad.setParam("tf_rate", 0.0);                   // out of range
+  bad.setParam("odometry_translation_floor", -1.0);
+  PoseGraphOptions bad_options;
+  problems = readPoseGraphParameters(bad, &graph, &map, &bad_options);
+  for (const std::string key : {"publish_tf", "max_iterations", "map_frame", "loop_robust_scal", "tf_rate",
+                                "odometry_translation_floor"}) {
+    EXPECT_TRUE(std::any_of(problems.begin(), problems.end(),
+                            [&](const std::string& p) { return p.compare(0, key.size(), key) == 0; }))
+        << key << " not reported";
+  }
+  EXPECT_EQ(problems.size(), 6u);
+}
+
+}  // namespace
+}  // namespace scan_context_loop
