@@ -19,8 +19,10 @@ import socket
 import subprocess
 import sys
 import time
-import xml.etree.ElementTree as ET
 import xmlrpc.client
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "common"))
+from check_report import report  # noqa: E402
 
 LOOP_CLOSURE = {
     "publishes": ["/loop_closures", "/loop_markers", "/loop_closure_pairs", "/keyframe_timing"],
@@ -127,17 +129,6 @@ def launch_case(master, log_dir, name, launch, node, expected, extra=(), manager
         log.close()
 
 
-def write_xunit(path, cases):
-    suite = ET.Element("testsuite", name="install_space", tests=str(len(cases)),
-                       failures=str(sum(1 for _, e in cases if e)), errors="0")
-    for name, errors in cases:
-        case = ET.SubElement(suite, "testcase", classname="install_space", name=name)
-        if errors:
-            ET.SubElement(case, "failure", message=errors[0]).text = "\n".join(errors)
-    os.makedirs(os.path.dirname(os.path.abspath(path)), exist_ok=True)
-    ET.ElementTree(suite).write(path, encoding="utf-8", xml_declaration=True)
-
-
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--install", required=True, help="the install space (holds setup.bash)")
@@ -181,13 +172,7 @@ def main():
             (evaluate.returncode, (evaluate.stdout + evaluate.stderr).strip()[:300])]
         cases.append(("evaluator_runs_with_rosrun", errors))
 
-    for name, errors in cases:
-        print("%-40s %s" % (name, "ok" if not errors else "FAILED"))
-        for e in errors:
-            print("    " + e)
-    if args.xunit:
-        write_xunit(args.xunit, cases)
-    return 1 if any(errors for _, errors in cases) else 0
+    return report("install_space", cases, args.xunit)
 
 
 if __name__ == "__main__":

@@ -17,9 +17,11 @@ import os
 import re
 import sys
 import xml.etree.ElementTree as ET
-from xml.sax.saxutils import escape
 
 import yaml
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "common"))
+from check_report import report  # noqa: E402
 
 DEPENDENCY_TAGS = ("depend", "build_depend", "build_export_depend", "buildtool_depend", "exec_depend",
                    "test_depend", "doc_depend")
@@ -129,22 +131,6 @@ def check_launch_dependencies(dependencies, nodes, self_name):
     return errors
 
 
-def write_xunit(path, cases):
-    lines = ['<?xml version="1.0" encoding="utf-8"?>',
-             '<testsuite name="package_xml" tests="%d" failures="%d" errors="0">'
-             % (len(cases), sum(1 for _, e in cases if e))]
-    for name, errors in cases:
-        if errors:
-            lines.append('  <testcase classname="package_xml" name="%s"><failure message="%s">%s</failure></testcase>'
-                         % (name, escape(errors[0], {'"': "&quot;"}), escape("\n".join(errors))))
-        else:
-            lines.append('  <testcase classname="package_xml" name="%s"/>' % name)
-    lines.append("</testsuite>")
-    os.makedirs(os.path.dirname(os.path.abspath(path)), exist_ok=True)
-    with open(path, "w") as f:
-        f.write("\n".join(lines) + "\n")
-
-
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--package", default=os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", ".."))
@@ -173,13 +159,7 @@ def main():
         ("check_rejects_an_undeclared_component",
          [] if check_build_components(undeclared, components, packages) else ["%s was not missed" % component]),
     ]
-    for case, errors in cases:
-        print("%-45s %s" % (case, "ok" if not errors else "FAILED"))
-        for e in errors:
-            print("    " + e)
-    if args.xunit:
-        write_xunit(args.xunit, cases)
-    return 1 if any(errors for _, errors in cases) else 0
+    return report("package_xml", cases, args.xunit)
 
 
 if __name__ == "__main__":
