@@ -42,20 +42,37 @@ scl_install_deps() {
   DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
 }
 
-# The repository is one catkin package (package.xml at its root): the workspace's src/ links to it.
-scl_make_workspace() {
-  local link="$SCL_WS/src/scan_context_loop" entry
-  mkdir -p "$SCL_WS/src"
-  # A workspace made when the repository held several packages links to those too.
-  for entry in "$SCL_WS"/src/*; do
+# The repository is one catkin package (package.xml at its root). A workspace's src/scan_context_loop is
+# a folder of links to the repository's entries, all but build/ (where the workspaces are) and the
+# dot-files: a link to the root itself would put the workspace inside the package, and roslaunch, which
+# looks for a launch file by walking the package's folder through its links, would walk round that
+# loop forever.
+scl_link_package() {
+  local ws="$1" dir="$1/src/scan_context_loop" entry name
+  mkdir -p "$ws/src"
+  # A workspace made when the repository held several packages links to those too; one made before
+  # this folder of links holds a single link to the root.
+  for entry in "$ws"/src/*; do
     case "$(basename "$entry")" in
       scan_context_loop|CMakeLists.txt) ;;
       *) rm -rf "$entry" ;;
     esac
   done
-  if [ -d "$link" ] && [ ! -L "$link" ]; then rm -rf "$link"; fi
-  [ "$(readlink "$link" 2>/dev/null)" = "$SCL_ROOT" ] || ln -sfn "$SCL_ROOT" "$link"
+  [ -L "$dir" ] && rm -f "$dir"
+  mkdir -p "$dir"
+  for entry in "$dir"/*; do  # entries the repository no longer has
+    [ -L "$entry" ] && [ ! -e "$SCL_ROOT/$(basename "$entry")" ] && rm -f "$entry"
+  done
+  for entry in "$SCL_ROOT"/*; do
+    name="$(basename "$entry")"
+    [ "$name" = build ] && continue
+    [ "$(readlink "$dir/$name" 2>/dev/null)" = "$entry" ] || ln -sfn "$entry" "$dir/$name"
+  done
   return 0
+}
+
+scl_make_workspace() {
+  scl_link_package "$SCL_WS"
 }
 
 # What the build reads from the repository: a change to any of these (a file's or a folder's mtime, so
