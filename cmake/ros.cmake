@@ -78,18 +78,16 @@ if(CATKIN_ENABLE_TESTING)
   # One rostest per stack's launch file: test/ros/stack_bag.test plays a short bag shaped like that
   # stack's output, which the simulator (sim/) writes here when the tests are built (the KITTI folder it reads
   # the scans back from is removed once the bag is written).
-  set(scl_simulate $<TARGET_FILE:scan_context_simulate>)
-  set(scl_simulate_depends scan_context_simulate)
   set(bags ${PROJECT_BINARY_DIR}/stack_bags)
   add_executable(test_ros_stacks EXCLUDE_FROM_ALL test/ros/test_stacks.cpp)
   target_link_libraries(test_ros_stacks scan_context_loop_ros_harness ${GTEST_LIBRARIES})
   add_dependencies(tests test_ros_stacks)
   foreach(stack aloam lego_loam lio_sam fast_lio)
     add_custom_command(OUTPUT ${bags}/${stack}.bag
-      COMMAND ${scl_simulate} ${bags}/${stack} --block --stack ${stack} --sensor vlp16 --voxel 0.2 --threads 2
+      COMMAND scan_context_simulate ${bags}/${stack} --block --stack ${stack} --sensor vlp16 --voxel 0.2 --threads 2
         --bag ${bags}/${stack}.bag
       COMMAND ${CMAKE_COMMAND} -E remove_directory ${bags}/${stack}/velodyne
-      DEPENDS ${scl_simulate_depends}
+      DEPENDS scan_context_simulate
       COMMENT "Simulating a bag shaped like ${stack}'s output"
       VERBATIM)
     add_custom_target(scan_context_loop_${stack}_bag DEPENDS ${bags}/${stack}.bag)
