@@ -7,6 +7,7 @@ add_library(scan_context_loop_core
   src/core/alignment.cpp
   src/core/database.cpp
   src/core/detector.cpp
+  src/core/odometry_trust.cpp
   src/core/registration.cpp
   src/core/coarse_search.cpp
   src/core/free_space.cpp
@@ -57,6 +58,8 @@ if(CATKIN_ENABLE_TESTING)
     test/core/test_kitti_io.cpp
     test/core/test_simulated_places.cpp
     test/core/test_hard_revisits.cpp
+    test/core/test_odometry_trust.cpp
+    test/common/sim_drive.cpp
     test/core/test_database_file.cpp
     test/core/test_file_io.cpp
     test/core/test_block_arena.cpp

@@ -19,6 +19,7 @@
 #include "scan_context_sim/sensor.h"
 #include "scan_context_sim/sequence_writer.h"
 #include "scan_context_sim/stack_shape.h"
+#include "scan_context_sim/odometry_failures.h"
 #include "scan_context_sim/trajectory.h"
 #include "cli.h"
 #include "sim_bag.h"
@@ -44,6 +45,7 @@ struct Options {
   int session = 1;
   sim::SecondSessionOptions second;
   sim::DriftOptions drift;
+  sim::OdometryFailures failures;
   sim::BagOptions bag;
   bool bag_frames = false;  ///< --sensor-frame or --odom-frame given
   int threads = 0;
@@ -132,6 +134,24 @@ void addOptions(scl::cli::Parser* cli, Options* o) {
       .alias("--drift-yaw-per-deg")
       .option("--drift-correlation", "M", "distance over which the odometry's error biases change [m] (default 300)",
               &o->drift.correlation_length)
+      .option("--heading-ramp", "DEG",
+              "odometry that breaks down: a heading error growing with the distance travelled from "
+              "--heading-ramp-start on to DEG at the end (default 0: none)",
+              &o->failures.heading_ramp_deg)
+      .option("--heading-ramp-start", "F", "where the heading ramp starts, a fraction of the path (default 0.5)",
+              &o->failures.ramp_start)
+      .option("--heading-jumps", "N", "sudden odometry heading errors at N random keyframes (default 0)",
+              &o->failures.heading_jumps)
+      .option("--heading-jump", "DEG", "size of each heading jump, random sign (default 15)",
+              &o->failures.heading_jump_deg)
+      .option("--slip-start", "M", "a degenerate stretch from M metres along the path (with --slip-length)",
+              &o->failures.slip_start)
+      .option("--slip-length", "M", "its length: the odometry's forward motion is scaled there (default 0: none)",
+              &o->failures.slip_length)
+      .option("--slip-scale", "F", "the forward motion's scale over the slip (default 0.5)", &o->failures.slip_scale)
+      .option("--odometry-restart", "M",
+              "the odometry restarts from the identity at M metres of path, the stamps going on (default: never)",
+              &o->failures.restart_at)
       .section("rosbag")
       .option("--bag", "FILE",
               "also write a bag (its folder is created when missing): keyframe clouds (PointCloud2, x y z "
@@ -177,6 +197,7 @@ std::string check(const Options& o) {
   if (o.dropout >= 1.0) return "--dropout must be below 1";
   if (o.drift.translation_per_metre < 0 || o.drift.yaw_per_metre < 0 || o.drift.yaw_per_degree < 0)
     return "drift rates must be >= 0";
+  if (const std::string why = sim::checkFailures(o.failures); !why.empty()) return why;
   if (o.voxel < 0.0) return "--voxel must be >= 0";
   if (o.city + o.narrow + o.block + !o.kitti.empty() > 1)
     return "--city, --narrow, --block and --kitti-poses exclude each other";
@@ -305,6 +326,8 @@ int main(int argc, char** argv) {
   }
   o.drift.seed = run_seed;
   data.odometry = sim::driftedOdometry(data.truth, o.drift);
+  o.failures.seed = run_seed;
+  data.odometry = sim::withFailures(data.odometry, o.failures);
   if (o.session == 2) {
     // A run of its own: its odometry starts at the identity, knowing nothing of session 1's frame.
     const Eigen::Isometry3d origin = data.odometry.front().inverse();
@@ -349,6 +372,11 @@ int main(int argc, char** argv) {
        << "\ndrift_yaw_per_deg: " << o.drift.yaw_per_degree
        << "\ndrift_correlation_m: " << o.drift.correlation_length << "\nseconds: " << seconds << "\n";
   if (o.tilt > 0) info << "tilt_deg: " << o.tilt << "\n";
+  const sim::OdometryFailures& f = o.failures;
+  if (f.heading_ramp_deg != 0.0) info << "odometry_heading_ramp_deg: " << f.heading_ramp_deg << " from " << f.ramp_start << "\n";
+  if (f.heading_jumps > 0) info << "odometry_heading_jumps: " << f.heading_jumps << " x " << f.heading_jump_deg << " deg\n";
+  if (f.slip_length > 0.0) info << "odometry_slip: " << f.slip_length << " m from " << f.slip_start << " m, scale " << f.slip_scale << "\n";
+  if (f.restart_at >= 0.0) info << "odometry_restart_m: " << f.restart_at << "\n";
   info << "changed_world: " << o.changed_world << "\nrepeat_templates: " << o.repeat_templates << "\n";
   if (!o.bag.shape.name.empty()) info << "stack: " << o.bag.shape.name << "\n";
   info << "session: " << o.session << "\n";

@@ -7,7 +7,16 @@
 namespace scan_context_loop {
 
 Eigen::Isometry3d Loop::relative() const {
-  return verified || verification.needs_support ? verification.relative : priorPose(alignment.yaw, viewpoint);
+  return verified || verification.needs_support || verification.odometry_contradicted
+             ? verification.relative
+             : priorPose(alignment.yaw, viewpoint);
+}
+
+void Loop::markConfirmed() {
+  verified = true;
+  verification.accepted = true;
+  verification.rejected_by.clear();
+  verification.rejection_value = verification.rejection_limit = 0.0;
 }
 
 bool loopsAgree(const Loop& a, const Loop& b, const Database& database, double* translation_error,
@@ -47,10 +56,20 @@ bool ConsistencyFilter::near(const Entry& a, const Entry& b) const {
   return a.loop.query <= b.loop.query + window && b.loop.query <= a.loop.query + window;
 }
 
+int ConsistencyFilter::supportNeeded(const Loop& loop) const {
+  return config_.consistency_min_support + (loop.verification.odometry_contradicted ? 1 : 0);
+}
+
+bool ConsistencyFilter::supports(const Loop& giver, const Loop& taker) {
+  // A loop the odometry contradicted supports only others like it: while the odometry is broken, the
+  // true loops of a revisit all disagree with it and confirm each other; a loop the odometry agrees with
+  // is not confirmed by one it contradicts.
+  return !giver.verification.odometry_contradicted || taker.verification.odometry_contradicted;
+}
+
 void ConsistencyFilter::confirm(Entry* entry, const Database& database, std::vector<Loop>* confirmed) {
   entry->confirmed = true;
-  entry->loop.verified = true;
-  entry->loop.verification.accepted = true;
+  entry->loop.markConfirmed();
   confirmed->push_back(entry->loop);
   confirmWeak(*entry, database, confirmed);
 }
@@ -60,11 +79,10 @@ void ConsistencyFilter::confirmWeak(const Entry& entry, const Database& database
   // A confirmed loop that passed in full confirms the waiting loops that need support and agree with it.
   for (Entry& other : recent_) {
     if (other.confirmed || !other.loop.verification.needs_support || !near(other, entry)) continue;
-    if (!loopsAgree(other.loop, entry.loop, database, nullptr, nullptr, true)) continue;
+    if (!supports(entry.loop, other.loop) || !loopsAgree(other.loop, entry.loop, database, nullptr, nullptr, true)) continue;
     ++other.loop.support;
     other.confirmed = true;
-    other.loop.verified = true;
-    other.loop.verification.accepted = true;
+    other.loop.markConfirmed();
     confirmed->push_back(other.loop);
   }
 }
@@ -86,17 +104,20 @@ void ConsistencyFilter::offer(const Loop& loop, const Database& database, std::v
     if (other_weak || !near(other, added)) continue;
     if (weak && !other.confirmed) continue;  // confirm(other) looks for `added` if other is confirmed later
     if (!loopsAgree(added.loop, other.loop, database, nullptr, nullptr, weak)) continue;
-    ++added.loop.support;
     if (weak) {
+      if (!supports(other.loop, added.loop)) continue;
+      ++added.loop.support;
       confirm(&added, database, confirmed);
       break;
     }
+    if (supports(other.loop, added.loop)) ++added.loop.support;
+    if (!supports(added.loop, other.loop)) continue;
     ++other.loop.support;
-    if (!other.confirmed && other.loop.support >= config_.consistency_min_support) {
+    if (!other.confirmed && other.loop.support >= supportNeeded(other.loop)) {
       confirm(&other, database, confirmed);
     }
   }
-  if (!weak && !added.confirmed && added.loop.support >= config_.consistency_min_support) {
+  if (!weak && !added.confirmed && added.loop.support >= supportNeeded(added.loop)) {
     confirm(&added, database, confirmed);
   }
 }
@@ -111,8 +132,8 @@ void ConsistencyFilter::add(const Loop& loop, const Database& database, std::vec
   for (std::size_t i = 0; i + 1 < recent_.size(); ++i) {
     Entry& other = recent_[i];
     if (other.confirmed || other.loop.verification.needs_support || !near(other, added)) continue;
-    if (!loopsAgree(added.loop, other.loop, database)) continue;
-    if (++other.loop.support >= config_.consistency_min_support) confirm(&other, database, confirmed);
+    if (!supports(added.loop, other.loop) || !loopsAgree(added.loop, other.loop, database)) continue;
+    if (++other.loop.support >= supportNeeded(other.loop)) confirm(&other, database, confirmed);
   }
   confirmWeak(added, database, confirmed);
 }

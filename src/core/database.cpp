@@ -283,10 +283,11 @@ QueryResult Database::query(const Descriptor& descriptor, const KeyframeInfo& in
   const std::size_t want =
       std::min(indexed_, static_cast<std::size_t>(config_.num_candidates) + surplus);
 
+  const double path = pathLengthAt(info);
   for (const auto& [d2, index] : tree_->nearest(descriptor.ring_key.data(), want)) {
     if (index >= eligible) continue;
     if (result.candidates.size() >= static_cast<std::size_t>(config_.num_candidates)) break;
-    if (!withinOdometryGate(info, index)) continue;
+    if (!withinOdometryGate(info, path, index)) continue;
     Candidate c;
     c.index = index;
     c.ring_key_distance = std::sqrt(std::max(0.0f, d2));
@@ -302,14 +303,14 @@ QueryResult Database::query(const Descriptor& descriptor, const KeyframeInfo& in
   return result;
 }
 
-bool Database::withinOdometryGate(const KeyframeInfo& info, std::size_t index) const {
+bool Database::withinOdometryGate(const KeyframeInfo& info, double path, std::size_t index) const {
   if (!(config_.gate_odometry_distance > 0.0 || config_.gate_odometry_drift > 0.0)) return true;
   const Keyframe& candidate = keyframes_[index];
   // Nothing to gate on: no pose, or another session's odometry frame.
   if (!info.pose || !candidate.info.pose || candidate.session != session_) return true;
-  const double travelled = std::max(0.0, pathLengthAt(info) - candidate.path_length);
-  const double radius = config_.gate_odometry_distance + config_.gate_odometry_drift * travelled;
-  return (info.pose->translation() - candidate.info.pose->translation()).norm() <= radius;
+  // Where the odometry puts the candidate, directly or through the nearest confirmed loop.
+  const OdometryPrediction predicted = trust_.predict(*info.pose, path, session_, candidate);
+  return predicted.relative.translation().norm() <= gateRadius(config_, trust_, predicted.path);
 }
 
 std::size_t Database::bytesPerKeyframe() const {

@@ -254,6 +254,7 @@ bool LoopDetector::verifyOne(const Candidate& c, bool tracked, const std::vector
   const VoxelCloud* stored = store_.get(c.index);
   if (stored == nullptr) {
     v.result.reason = "unverifiable: the candidate's cloud was dropped to stay within verify_max_bytes";
+    v.result.rejected_by = "unverifiable";
   } else if (database_.config().verification.submap > 0) {
     v.result = verifier_.verify(submapOf(c.index, detection->index), guesses);
   } else {
@@ -300,16 +301,25 @@ void LoopDetector::checkOdometryRotation(std::size_t query, std::size_t match, V
   const Keyframe& q = database_.keyframe(query);
   const Keyframe& m = database_.keyframe(match);
   if (!(config.verification.odometry_rotation > 0.0) || !q.info.pose || !m.info.pose || q.session != m.session) return;
-  const Eigen::Matrix3d odometry = (q.info.pose->linear().transpose() * m.info.pose->linear());
+  // The odometry's rotation, directly or through the nearest confirmed loop (odometry_trust.h).
+  const OdometryTrust& trust = database_.odometryTrust();
+  const OdometryPrediction predicted = trust.predict(*q.info.pose, q.path_length, q.session, m);
   const double disagreement =
-      Eigen::AngleAxisd(odometry.transpose() * result->relative.linear()).angle() * 180.0 / M_PI;
-  const double allowed =
-      config.verification.odometry_rotation + config.verification.odometry_rotation_drift * std::fabs(q.path_length - m.path_length);
+      Eigen::AngleAxisd(predicted.relative.linear().transpose() * result->relative.linear()).angle() * 180.0 / M_PI;
+  const double allowed = rotationAllowance(config.verification, trust, predicted.path);
   if (disagreement <= allowed) return;
+  // A registration that passed every test in full may be a true loop of an odometry that broke down:
+  // the consistency check can still confirm it, with one support more than usual. One that needed
+  // support already is rejected.
+  result->odometry_contradicted = result->accepted && config.consistency_min_support > 0;
   result->accepted = false;
   result->needs_support = false;
+  result->rejected_by = "odometry_rotation";
+  result->rejection_value = disagreement;
+  result->rejection_limit = allowed;
   result->reason = "rotation disagrees with the odometry by " + std::to_string(disagreement) + " deg (allowed " +
-                   std::to_string(allowed) + ")";
+                   std::to_string(allowed) + " over " + std::to_string(predicted.path) + " m of odometry" +
+                   (predicted.anchored ? " from a confirmed loop" : "") + ")";
 }
 
 void LoopDetector::toSensorFrames(const Eigen::Matrix3f& query_levelling, std::size_t match,
@@ -343,12 +353,13 @@ void LoopDetector::decide(Detection* detection) {
   if (check) consistency_.advance(detection->index, &detection->dropped);
   // The accepted candidate, else (with the consistency check, which alone can confirm it) the one that
   // needs support with the largest overlap.
+  // A candidate the odometry contradicted (it passed every geometric test) waits like one that needs
+  // support.
   const VerifiedCandidate* chosen = detection->verified ? &detection->verifications.back() : nullptr;
   if (chosen == nullptr && check) {
     for (const VerifiedCandidate& v : detection->verifications) {
-      if (v.result.needs_support && (chosen == nullptr || v.result.inlier_ratio > chosen->result.inlier_ratio)) {
-        chosen = &v;
-      }
+      const bool waits = v.result.needs_support || v.result.odometry_contradicted;
+      if (waits && (chosen == nullptr || v.result.inlier_ratio > chosen->result.inlier_ratio)) chosen = &v;
     }
   }
   if (chosen == nullptr) return;
@@ -358,15 +369,17 @@ void LoopDetector::decide(Detection* detection) {
   } else if (tracker_.agrees(loop, database_, loop.verification.needs_support)) {
     // It lands where the revisit's last confirmed loop and the odometry put it (strictly, for one that
     // needs support): that loop is its support. A tracked loop that lands elsewhere waits like any other.
-    loop.verified = true;
-    loop.verification.accepted = true;
+    loop.markConfirmed();
     loop.support = 1;
     detection->loops.push_back(loop);
     consistency_.add(loop, database_, &detection->loops);
   } else {
     consistency_.offer(loop, database_, &detection->loops);
   }
-  for (const Loop& reported : detection->loops) tracker_.anchor(reported);
+  for (const Loop& reported : detection->loops) {
+    tracker_.anchor(reported);
+    database_.addConfirmedLoop(reported.query, reported.match, reported.relative());
+  }
 }
 
 }  // namespace scan_context_loop

@@ -12,6 +12,9 @@
 
 namespace scan_context_loop {
 
+const char* const kRejectionTests[9] = {"unverifiable", "structure",  "registration", "overlap",    "free_space",
+                                        "fitness",      "degenerate", "odometry_rotation", "consistency"};
+
 VoxelOptions voxelOptions(const VerificationConfig& config) {
   VoxelOptions o;
   o.resolution = static_cast<float>(config.voxel_leaf);
@@ -95,6 +98,12 @@ VerificationResult Verifier::verify(const VoxelCloud& match, const std::vector<E
   const auto finish = [&](VerificationResult result, const std::string& reason) {
     result.reason = reason;
     result.accepted = reason.empty();
+    if (result.accepted) {
+      result.rejected_by.clear();
+      result.rejection_value = result.rejection_limit = 0.0;
+    } else if (result.rejected_by.empty()) {
+      result.rejected_by = "registration";
+    }
     result.seconds = std::chrono::duration<double>(Clock::now() - start).count();
     return result;
   };
@@ -106,6 +115,9 @@ VerificationResult Verifier::verify(const VoxelCloud& match, const std::vector<E
     std::ostringstream why;
     why << "too few points to verify: structure voxels (query " << r.query_points << ", candidate " << r.match_points
         << ", need " << config_.min_structure << ")";
+    r.rejected_by = "structure";
+    r.rejection_value = static_cast<double>(std::min(r.query_points, r.match_points));
+    r.rejection_limit = config_.min_structure;
     return finish(r, why.str());
   }
   std::vector<Eigen::Isometry3d> guesses;
@@ -205,24 +217,35 @@ std::string Verifier::refineAndJudge(const VoxelCloud& match, const Eigen::Isome
   r->constraint_ratio = horizontal.eigenvalues()(0) / std::max(horizontal.eigenvalues()(1), 1e-12);
 
   std::ostringstream why;
+  const auto reject = [r, &why](const char* test, double value, double limit) {
+    r->rejected_by = test;
+    r->rejection_value = value;
+    r->rejection_limit = limit;
+    return &why;
+  };
   if (r->inlier_ratio < config_.supported_inlier_ratio) {
-    why << "inlier ratio (structure overlap) " << r->inlier_ratio << " below " << config_.supported_inlier_ratio
+    *reject("overlap", r->inlier_ratio, config_.supported_inlier_ratio)
+        << "inlier ratio (structure overlap) " << r->inlier_ratio << " below " << config_.supported_inlier_ratio
         << " (query " << r->overlap_query << ", candidate " << r->overlap_match << ")";
   } else if (r->violation > config_.supported_max_violation) {
-    why << "free-space violation " << r->violation << " above " << config_.supported_max_violation << " (query "
+    *reject("free_space", r->violation, config_.supported_max_violation)
+        << "free-space violation " << r->violation << " above " << config_.supported_max_violation << " (query "
         << r->violation_query << ", candidate " << r->violation_match << ")";
   } else if (!(r->fitness <= config_.max_fitness)) {
-    why << "fitness " << r->fitness << " m^2 above " << config_.max_fitness;
+    *reject("fitness", r->fitness, config_.max_fitness) << "fitness " << r->fitness << " m^2 above " << config_.max_fitness;
   } else if (!config_.allow_degenerate && r->constraint_ratio < config_.min_constraint_ratio) {
-    why << "degenerate: the position along one horizontal direction is unconstrained (ratio " << r->constraint_ratio
+    *reject("degenerate", r->constraint_ratio, config_.min_constraint_ratio)
+        << "degenerate: the position along one horizontal direction is unconstrained (ratio " << r->constraint_ratio
         << " below " << config_.min_constraint_ratio << ")";
   } else if (r->inlier_ratio < config_.min_inlier_ratio) {
     r->needs_support = true;
-    why << "needs support: inlier ratio (structure overlap) " << r->inlier_ratio << " below "
+    *reject("overlap", r->inlier_ratio, config_.min_inlier_ratio)
+        << "needs support: inlier ratio (structure overlap) " << r->inlier_ratio << " below "
         << config_.min_inlier_ratio << " (query " << r->overlap_query << ", candidate " << r->overlap_match << ")";
   } else if (r->violation > config_.max_violation) {
     r->needs_support = true;
-    why << "needs support: free-space violation " << r->violation << " above " << config_.max_violation
+    *reject("free_space", r->violation, config_.max_violation)
+        << "needs support: free-space violation " << r->violation << " above " << config_.max_violation
         << " (query " << r->violation_query << ", candidate " << r->violation_match << ")";
   }
   return why.str();

@@ -208,6 +208,7 @@ void Run::score(const Sequence& s) {
         a.match = m.frame();
         a.distance = v.alignment.distance;
         a.gap = truth.translation().norm();
+        a.true_place = a.gap < radius_;
         a.result = v.result;
         a.translation_error = (v.result.relative.translation() - truth.translation()).norm();
         a.yaw_error = std::fabs(wrapAngle(yawOf(v.result.relative) - yawOf(truth)));
@@ -345,7 +346,20 @@ bool writeMetricsJson(const std::string& path, const Evaluation& e, const Sequen
         << ", \"correct_beyond_radius\": " << v.beyond_radius
         << ", \"dropped_by_consistency\": " << e.loops_dropped << ", \"verify_ms\": {\"median\": "
         << percentile(e.verify_ms, 0.5) << ", \"p99\": " << percentile(e.verify_ms, 0.99)
-        << ", \"max\": " << percentile(e.verify_ms, 1.0) << "}}";
+        << ", \"max\": " << percentile(e.verify_ms, 1.0) << "}, \"rejected_by\": {";
+    // Registrations each test turned down, at the true place and elsewhere (verifications.csv has them
+    // one by one); a loop the odometry contradicted may still be confirmed later.
+    bool first = true;
+    for (const char* test : kRejectionTests) {
+      std::size_t at_place = 0, elsewhere = 0;
+      for (const VerificationAttempt& a : e.attempts) {
+        if (a.result.rejected_by != test) continue;
+        ++(a.true_place ? at_place : elsewhere);
+      }
+      out << (first ? "" : ", ") << "\"" << test << "\": {\"true_place\": " << at_place << ", \"elsewhere\": " << elsewhere << "}";
+      first = false;
+    }
+    out << "}}";
   }
   if (e.has_prior) {
     const RelocalizationMetrics& r = e.relocalization;
@@ -373,7 +387,7 @@ bool writeVerificationsCsv(const std::string& path, const Evaluation& e, std::st
     return false;
   }
   out << "query,match,distance,gap_m,accepted,overlap_query,overlap_match,violation,fitness,constraint_ratio,coarse_score,"
-         "hypotheses,trans_err_m,yaw_err_deg,ms,reason\n";
+         "hypotheses,trans_err_m,yaw_err_deg,ms,rejected_by,rejection_value,rejection_limit,reason\n";
   out.precision(6);
   for (const auto& a : e.attempts) {
     const VerificationResult& r = a.result;
@@ -382,7 +396,8 @@ bool writeVerificationsCsv(const std::string& path, const Evaluation& e, std::st
     out << a.query << ',' << a.match << ',' << a.distance << ',' << a.gap << ',' << int(r.accepted) << ','
         << r.overlap_query << ',' << r.overlap_match << ',' << r.violation << ',' << r.fitness << ','
         << r.constraint_ratio << ',' << r.coarse_score << ',' << r.hypotheses << ',' << a.translation_error << ','
-        << a.yaw_error * 180.0 / M_PI << ',' << r.seconds * 1e3 << ',' << reason << '\n';
+        << a.yaw_error * 180.0 / M_PI << ',' << r.seconds * 1e3 << ',' << r.rejected_by << ',' << r.rejection_value
+        << ',' << r.rejection_limit << ',' << reason << '\n';
   }
   return out.good();
 }

@@ -507,6 +507,12 @@ scan_context_loop::LoopClosure LoopClosureRos::makeLoop(const Loop& found, const
     }
     loop.verified = found.verified;
     loop.fitness = found.verification.fitness;
+    if (!found.verified) {
+      loop.rejected_by = found.verification.rejected_by;
+      loop.rejection_value = found.verification.rejection_value;
+      loop.rejection_limit = found.verification.rejection_limit;
+      loop.rejection_reason = found.verification.reason;
+    }
     return loop;
   }
   // T_query<-match from the descriptor prior (yaw, and the viewpoint's offset), large variances.
@@ -525,11 +531,15 @@ void LoopClosureRos::publishLoops(const Detection& detection, const std::string&
   // diagnosis and RViz.
   for (const auto& v : detection.verifications) {
     // One that needs support waits in the consistency check: it is published as a loop or as dropped.
-    if (!v.result.accepted && !v.result.needs_support) publishRejected(v.toLoop(detection.index), frame);
+    if (!v.result.accepted && !v.result.needs_support && !v.result.odometry_contradicted) publishRejected(v.toLoop(detection.index), frame);
   }
   for (Loop dropped : detection.dropped) {
     dropped.verified = false;
     dropped.verification.reason = "no consistent loop within consistency_window keyframes";
+    dropped.verification.rejected_by = "consistency";
+    dropped.verification.rejection_value = dropped.support;
+    dropped.verification.rejection_limit =
+        config_.consistency_min_support + (dropped.verification.odometry_contradicted ? 1 : 0);
     publishRejected(dropped, frame);
   }
   for (const Loop& found : detection.loops) {

@@ -34,6 +34,8 @@ struct Loop {
   /// T_query<-match: the registered pose when verified, else the descriptor prior
   /// (priorPose(alignment.yaw, viewpoint)).
   Eigen::Isometry3d relative() const;
+  /// Verified and accepted, with no rejection (a check confirmed it).
+  void markConfirmed();
 };
 
 /// Two loops a = (i <- j) and b = (k <- l) agree when the cycle
@@ -54,7 +56,10 @@ bool loopsAgree(const Loop& a, const Loop& b, const Database& database, double* 
 /// loop on, together with the first. A loop that needs support (its registration passed every test but
 /// the overlap or the free-space bound in full; VerificationResult::needs_support) is confirmed only by a
 /// confirmed loop that passed in full and agrees with it strictly (loopsAgree's `strict`); it supports
-/// nothing itself. Not thread-safe (one owner, like Database).
+/// nothing itself. A loop the odometry contradicted (VerificationResult::odometry_contradicted: every
+/// geometric test passed, but its rotation disagrees with the odometry's beyond what odometry_trust.h
+/// allows) needs one support more, and it supports only loops like it.
+/// Not thread-safe (one owner, like Database).
 class ConsistencyFilter {
  public:
   explicit ConsistencyFilter(const Config& config) : config_(config) {}
@@ -83,6 +88,11 @@ class ConsistencyFilter {
     Loop loop;
     bool confirmed = false;
   };
+  /// Config::consistency_min_support, one more for a loop the odometry contradicted
+  /// (VerificationResult::odometry_contradicted).
+  int supportNeeded(const Loop& loop) const;
+  /// Whether agreeing `giver` counts as support for `taker`.
+  static bool supports(const Loop& giver, const Loop& taker);
   /// Their queries lie within consistency_window keyframes of each other.
   bool near(const Entry& a, const Entry& b) const;
   /// Reports `entry` as confirmed; a loop that passed verification in full then confirms the waiting

@@ -15,6 +15,7 @@
 #include "scan_context_loop/core/block_arena.h"
 #include "scan_context_loop/core/config.h"
 #include "scan_context_loop/core/descriptor.h"
+#include "scan_context_loop/core/odometry_trust.h"
 
 namespace scan_context_loop {
 
@@ -116,13 +117,20 @@ class Database {
   std::size_t indexedCount() const { return indexed_; }
   /// Approximate memory per keyframe: descriptor, keys, bookkeeping and kd-tree share.
   std::size_t bytesPerKeyframe() const;
+  /// A confirmed loop T_query<-match = `relative`: the odometry checks trust the odometry from it on
+  /// (odometry_trust.h).
+  void addConfirmedLoop(std::size_t query, std::size_t match, const Eigen::Isometry3d& relative) {
+    trust_.add(keyframes_.at(query), keyframes_.at(match), relative);
+  }
+  const OdometryTrust& odometryTrust() const { return trust_; }
 
  private:
   /// Number of keyframes (a prefix) eligible for a query with this info.
   std::size_t eligibleCount(const KeyframeInfo& info) const;
   double pathLengthAt(const KeyframeInfo& info) const;
-  /// Config::gate_odometry_distance / gate_odometry_drift: whether keyframe `index` may be a candidate.
-  bool withinOdometryGate(const KeyframeInfo& info, std::size_t index) const;
+  /// Config::gate_odometry_distance / gate_odometry_drift: whether keyframe `index` may be a candidate
+  /// of a query with this info and odometry path `path`.
+  bool withinOdometryGate(const KeyframeInfo& info, double path, std::size_t index) const;
   void indexUpTo(std::size_t count);
 
   Config config_;
@@ -133,6 +141,7 @@ class Database {
   std::size_t indexed_ = 0;
   std::uint32_t session_ = 0;
   std::size_t session_start_ = 0;  // index of the current session's first keyframe
+  OdometryTrust trust_;
   struct Tree;
   std::unique_ptr<Tree> tree_;
 };

@@ -22,6 +22,14 @@ namespace scan_context_loop {
 struct VerificationResult {
   bool accepted = false;
   std::string reason;  ///< why it was rejected; empty when accepted
+  /// The test that turned it down (one of kRejectionTests; empty when accepted), the value it measured
+  /// and the limit that value broke (both 0 when the test has no number, e.g. "registration").
+  std::string rejected_by;
+  double rejection_value = 0.0, rejection_limit = 0.0;
+  /// Every test passed but the odometry rotation check (VerificationConfig::odometry_rotation): the
+  /// odometry may have broken down, so the consistency check may still confirm it with one support more
+  /// than usual from other loops (ConsistencyFilter).
+  bool odometry_contradicted = false;
   /// Not accepted on its own, but every test passed except the overlap or the free-space violation,
   /// which are within VerificationConfig::supported_inlier_ratio / supported_max_violation: a loop that
   /// another, fully accepted one can confirm (ConsistencyFilter). `accepted` becomes true once one does.
@@ -51,6 +59,12 @@ struct VerificationResult {
   /// corridor) keeps a large variance.
   Eigen::Matrix<double, 6, 6> covariance = Eigen::Matrix<double, 6, 6>::Identity();
 };
+
+/// The names VerificationResult::rejected_by takes, in the order the tests run: "unverifiable" (no
+/// registration data), "structure" (too few structure voxels), "registration" (no correspondences,
+/// diverged), "overlap", "free_space", "fitness", "degenerate", "odometry_rotation", then after
+/// verification "consistency" (no agreeing loop in time).
+extern const char* const kRejectionTests[9];
 
 /// The voxel grid of the registration data (VerificationConfig::voxel_leaf, max_range).
 VoxelOptions voxelOptions(const VerificationConfig& config);

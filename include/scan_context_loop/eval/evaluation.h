@@ -22,6 +22,7 @@ struct VerificationAttempt {
   int query = -1, match = -1;   ///< frame indices
   double distance = 1.0;        ///< descriptor distance
   double gap = 0.0;             ///< true distance between the two keyframes [m]
+  bool true_place = false;      ///< within the revisit radius
   VerificationResult result;    ///< the decision, its reason and every feature it was made on
   double translation_error = 0.0, yaw_error = 0.0;  ///< of the registered pose against the truth [m], [rad]
 };
