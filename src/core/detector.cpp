@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstring>
 
 #include "scan_context_loop/core/levelling.h"
 
@@ -91,6 +92,7 @@ Detection LoopDetector::process(const PointView& raw, const KeyframeInfo& info) 
   Described described;
   describeAndQuery(raw, info, &described, &detection);
   const Eigen::Matrix3f level = described.level;
+  if (std::strcmp(detection.levelled_by, "pose") == 0) checkPoseLevelling(raw, level, &detection);
   const PointView& points = described.points;
   const auto t2 = Clock::now();
   detection.index = database_.size();
@@ -171,6 +173,27 @@ Eigen::Matrix3f LoopDetector::levellingOf(const PointView& points, const Keyfram
   // Below half a degree the rotation changes nothing a descriptor or a registration would notice.
   if (!found || detection->tilt_deg < 0.5) return Eigen::Matrix3f::Identity();
   return level.cast<float>();
+}
+
+void LoopDetector::checkPoseLevelling(const PointView& points, const Eigen::Matrix3f& level, Detection* detection) {
+  if (pose_levelled_++ % kLevellingCheckInterval != 0) return;
+  Eigen::Matrix3d ground;
+  if (!levellingFromGround(points, GroundFitOptions(), &ground, nullptr)) return;
+  // Row 2 of L_R_sensor is the up direction in the sensor frame.
+  const Eigen::Vector3d up_pose = level.cast<double>().row(2).transpose().normalized();
+  const Eigen::Vector3d up_ground = ground.row(2).transpose().normalized();
+  const double angle = std::acos(std::clamp(up_pose.dot(up_ground), -1.0, 1.0)) * 180.0 / M_PI;
+  detection->levelling_disagreement_deg = angle;
+  const std::size_t n = levelling_checks_.size();
+  if (n < kLevellingChecks) {
+    levelling_checks_.push_back(angle);
+  } else {
+    levelling_checks_[(pose_levelled_ / kLevellingCheckInterval) % kLevellingChecks] = angle;
+  }
+  if (levelling_checks_.size() < kLevellingChecks) return;
+  std::vector<double> sorted = levelling_checks_;
+  std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
+  detection->levelling_disagreement_median_deg = sorted[sorted.size() / 2];
 }
 
 void LoopDetector::queryViewpoints(const PointView& points, const KeyframeInfo& info, Detection* detection) {

@@ -431,6 +431,13 @@ void LoopClosureRos::process(Item item) {
                             "keyframe that never matches",
                             detection.index, info.stamp, detection.points_skipped);
   }
+  if (detection.levelling_disagreement_median_deg > LoopDetector::kLevellingSuspectDeg) {
+    ROS_WARN_THROTTLE_NAMED(60.0, name_,
+                            "levelling by the pose: the odometry's roll and pitch and the ground disagree by %.1f deg "
+                            "(median of the last %zu checks); its world frame is probably not gravity-aligned (A-LOAM "
+                            "and FAST-LIO start it at the first scan's frame): set levelling: ground",
+                            detection.levelling_disagreement_median_deg, LoopDetector::kLevellingChecks);
+  }
   if (detection.new_session) {
     const Database& database = pipeline_->detector().database();
     ROS_WARN_NAMED(name_,

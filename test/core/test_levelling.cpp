@@ -10,6 +10,7 @@
 
 #include "scan_context_loop/core/pcl_adapters.h"
 #include "scan_context_loop/core/alignment.h"
+#include "scan_context_loop/core/detector.h"
 #include "scan_context_loop/core/levelling.h"
 #include "test_scenes.h"
 
@@ -208,6 +209,48 @@ TEST(LevellingGround, SameCloudSameFitAndInvalidOptionsAreRefused) {
   GroundFit fit;
   EXPECT_FALSE(levellingFromGround(viewOf(cloud), bad, nullptr, &fit));
   EXPECT_NE(fit.reason.find("range"), std::string::npos) << fit.reason;
+}
+
+}  // namespace
+}  // namespace scan_context_loop
+
+namespace scan_context_loop {
+namespace {
+
+/// Feeds `count` keyframes of one real scan tilted by 8 degrees of pitch, with poses that are `tilted_pose`
+/// (the true attitude) or level (a world frame that started tilted with the sensor), and returns the last
+/// median disagreement the detector found between pose and ground.
+double poseGroundDisagreement(bool tilted_pose, int count) {
+  const auto cloud = test::kittiScan("00", 94);
+  const Eigen::Matrix3d tilt = Eigen::AngleAxisd(8.0 * M_PI / 180.0, Eigen::Vector3d::UnitY()).toRotationMatrix();
+  const auto scan = rotatedCloud(viewOf(cloud), tilt.transpose().cast<float>());
+  Config config;
+  config.verification.enabled = false;
+  LoopDetector detector(config);
+  double median = -1.0;
+  for (int k = 0; k < count; ++k) {
+    KeyframeInfo info;
+    info.stamp = k;
+    Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+    pose.translation().x() = 2.0 * k;
+    if (tilted_pose) pose.linear() = tilt;
+    info.pose = pose;
+    const Detection d = detector.process(viewOf(scan), info);
+    EXPECT_STREQ(d.levelled_by, "pose");
+    if (d.levelling_disagreement_median_deg >= 0.0) median = d.levelling_disagreement_median_deg;
+  }
+  return median;
+}
+
+TEST(LevellingCheck, APoseWorldFrameThatIsNotGravityAlignedIsNoticed) {
+  const int count = static_cast<int>(LoopDetector::kLevellingCheckInterval * LoopDetector::kLevellingChecks);
+  const double level_world = poseGroundDisagreement(true, count);
+  const double tilted_world = poseGroundDisagreement(false, count);
+  std::printf("[ levelling ] pose vs ground: %.2f deg in a gravity-aligned world, %.2f deg in a tilted one\n",
+              level_world, tilted_world);
+  ASSERT_GE(level_world, 0.0);
+  EXPECT_LT(level_world, LoopDetector::kLevellingSuspectDeg);
+  EXPECT_GT(tilted_world, LoopDetector::kLevellingSuspectDeg);
 }
 
 }  // namespace

@@ -45,6 +45,12 @@ struct Detection {
   /// below 0.5 deg are left alone).
   const char* levelled_by = "none";
   double tilt_deg = 0.0;
+  /// Levelled by the pose: every LoopDetector::kLevellingCheckInterval keyframes the ground is fitted
+  /// too; this is the angle between the up directions the two give [deg] (negative: not checked), and
+  /// the median of the last kLevellingChecks such angles (negative until there are that many). A median
+  /// above kLevellingSuspectDeg says the odometry's world frame is not gravity-aligned.
+  double levelling_disagreement_deg = -1.0;
+  double levelling_disagreement_median_deg = -1.0;
   std::size_t points_used = 0;
   std::size_t points_skipped = 0;
   double descriptor_seconds = 0.0;  ///< making the descriptors (one per viewpoint)
@@ -72,6 +78,11 @@ class LoopDetector {
         verification_(config.verification), verifier_(verification_), consistency_(config) {}
 
   Detection process(const PointView& points, const KeyframeInfo& info);
+
+  /// The check of pose levelling against the ground (Detection::levelling_disagreement_deg).
+  static constexpr std::size_t kLevellingCheckInterval = 10;
+  static constexpr std::size_t kLevellingChecks = 9;
+  static constexpr double kLevellingSuspectDeg = 4.0;
 
   /// Where a cloud is among the stored keyframes, without storing it (relocalization on request):
   /// levelled by its ground, described from every viewpoint, queried (the candidates the windows allow:
@@ -130,6 +141,9 @@ class LoopDetector {
   static constexpr int kYawHypotheses = 3;
   /// L_R_sensor of a new keyframe (Config::levelling), identity when it is not levelled.
   Eigen::Matrix3f levellingOf(const PointView& points, const KeyframeInfo& info, Detection* detection) const;
+  /// Every kLevellingCheckInterval keyframes levelled by their pose (`level`, L_R_sensor): fits the
+  /// ground of `points` and records how far the two disagree in `detection`.
+  void checkPoseLevelling(const PointView& points, const Eigen::Matrix3f& level, Detection* detection);
   /// The candidate's data with its Config::verify_submap neighbours on each side (older than `query`).
   VoxelCloud submapOf(std::size_t index, std::size_t query) const;
   /// Registration results are in the levelled frames; loops are reported in the sensor frames.
@@ -143,6 +157,8 @@ class LoopDetector {
   VerificationConfig verification_;
   Verifier verifier_;
   std::vector<Eigen::Matrix3f> levelling_;  // L_R_sensor per keyframe
+  std::size_t pose_levelled_ = 0;            // keyframes levelled by their pose
+  std::vector<double> levelling_checks_;     // the last kLevellingChecks disagreements [deg], a ring
   ConsistencyFilter consistency_;
   LoopTracker tracker_;
 };
