@@ -1,5 +1,6 @@
 # Checks of the package as a whole (with the tests): package.xml against rosdep's index and Noetic's
-# package list, read offline from the compat folder beside the repository (SCL_COMPAT).
+# package list, read offline from the compat folder beside the repository (SCL_COMPAT); the launch files;
+# the install space.
 if(NOT CATKIN_ENABLE_TESTING)
   return()
 endif()
@@ -10,6 +11,11 @@ if(EXISTS "${SCL_COMPAT}/rosdep/base.yaml")
 else()
   message(STATUS "scan_context_loop: no rosdep index in ${SCL_COMPAT}/rosdep, so the package.xml check is not run")
 endif()
+
+# The launch files a user starts, loaded with roslaunch's own loader (nothing is started) with defaults and
+# with every argument changed: names, namespaces, topics, manager, RViz, sim time, the stacks' settings.
+catkin_run_tests_target(launch files launch_files.xml
+  COMMAND "${PYTHON_EXECUTABLE} ${PROJECT_SOURCE_DIR}/test/launch/check_launch_files.py --package ${PROJECT_SOURCE_DIR} --xunit ${CATKIN_TEST_RESULTS_DIR}/${PROJECT_NAME}/launch_files.xml")
 
 # The install space as a user gets it (scripts/test installs first and turns this on): the package found
 # there, its launch files' nodes up with their topics, the evaluator through rosrun.

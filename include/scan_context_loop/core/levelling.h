@@ -28,10 +28,12 @@ Eigen::Matrix3d levellingFromUp(const Eigen::Vector3d& up);
 
 /// L_R_sensor from an orientation world_R_sensor whose world frame has z up (gravity-aligned):
 /// Rz(-psi) * world_R_sensor with psi = atan2(R(1, 0), R(0, 0)), the sensor's heading in the world.
-/// Assumes the pose's world frame is gravity-aligned, which holds for odometry that estimates gravity
-/// from an IMU (LIO-SAM, FAST-LIO and the like, whose odometry frame starts with z against gravity).
-/// LiDAR-only odometry starts its world frame at the first scan's sensor frame, which is as tilted as
-/// that scan; use levellingFromGround then.
+/// Assumes the pose's world frame is gravity-aligned. That holds for odometry that turns its first pose
+/// to the IMU's gravity-referenced orientation (LIO-SAM takes its first roll and pitch from the IMU), but
+/// not for odometry whose world frame is the first scan's sensor frame (A-LOAM, LeGO-LOAM) or the IMU's
+/// frame at start-up (FAST-LIO estimates gravity as a state in that frame and leaves the orientation at
+/// the identity): those frames are as tilted as the sensor was when it started; use levellingFromGround
+/// then.
 Eigen::Matrix3d levellingFromOrientation(const Eigen::Matrix3d& world_R_sensor);
 
 /// How the ground plane is looked for. Defaults suit a LiDAR 0.3-5 m above mostly open ground.

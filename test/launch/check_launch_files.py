@@ -1,0 +1,336 @@
+#!/usr/bin/env python3
+"""Loads the launch files a user starts (loop_closure.launch and the four stack files) with roslaunch's
+own loader, without starting anything, and checks what they would start:
+
+- with defaults: one standalone loop-closure node, /loop_closure, remapped to the stack's topics, the
+  stack's settings in its private namespace and nowhere else, no RViz, no /use_sim_time;
+- renamed (name:=other) in a namespace (ROS_NAMESPACE), in a manager (manager:=mgr), with custom topics,
+  use_sim_time:=true and rviz:=true: the nodelet loads into mgr, every setting lands on the renamed node,
+  the remaps carry the given topics, /use_sim_time is true, and RViz runs in the node's namespace with
+  the stack's fixed frame, config/loop_closure.rviz and the node's topics;
+- inside an enclosing <group ns>: the settings follow the node there;
+- the order of the layers: a sensor preset over the stack's settings, `overrides` over everything;
+- the stacks' settings: levelling ground where the world frame is not gravity aligned (A-LOAM,
+  FAST-LIO, LeGO-LOAM), auto and a 30 s exclusion for LIO-SAM; every key of config/stacks/ is a key of
+  config/default.yaml;
+- config/loop_closure.rviz subscribes only to relative topics and is framed on the fixed frame's origin.
+
+The package under test is --package (default: the tree holding this file); it is put first on
+ROS_PACKAGE_PATH, so the check runs from a plain shell with Debian's python3 and ROS's Python modules:
+    /usr/bin/python3 test/launch/check_launch_files.py
+Writes a JUnit file (--xunit) with one test case per check; exits 1 when one fails.
+"""
+import argparse
+import contextlib
+import os
+import sys
+import tempfile
+
+import yaml
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "common"))
+from check_report import report  # noqa: E402
+
+PACKAGE = "scan_context_loop"
+
+# What each launch file must start with its defaults: the input topics, LIO-SAM's hook, RViz's fixed
+# frame, and settings the stack needs (beyond those its config/stacks file lists, all checked).
+STACKS = {
+    "loop_closure": dict(cloud="keyframe_cloud", odom="keyframe_odom", lio="lio_loop", frame="odom",
+                         settings={}),
+    "aloam": dict(cloud="/velodyne_cloud_registered", odom="/aft_mapped_to_init", lio="lio_loop",
+                  frame="camera_init", settings={"levelling": "ground", "cloud_in_world_frame": True}),
+    "lego_loam": dict(cloud="/full_cloud_projected", odom="/integrated_to_init", lio="lio_loop", frame="map",
+                      settings={"levelling": "ground", "cloud_in_world_frame": False}),
+    "lio_sam": dict(cloud="/lio_sam/mapping/cloud_registered_raw", odom="/lio_sam/mapping/odometry",
+                    lio="/lio_loop/loop_closure_detection", frame="odom",
+                    settings={"levelling": "auto", "exclude_recent_seconds": 30.0, "lio_sam_output": True,
+                              "cloud_in_world_frame": True}),
+    "fast_lio": dict(cloud="/cloud_registered_body", odom="/Odometry", lio="lio_loop", frame="camera_init",
+                     settings={"levelling": "ground", "cloud_in_world_frame": False}),
+}
+# The non-default arguments, and the remaps they must give (node's name -> the topic it is remapped to).
+CUSTOM_ARGS = ["name:=other", "manager:=mgr", "cloud_topic:=/my/cloud", "odom_topic:=my_odom",
+               "loops_topic:=my_loops", "markers_topic:=my_markers", "lio_topic:=my_lio",
+               "use_sim_time:=true", "rviz:=true"]
+CUSTOM_REMAPS = {"keyframe_cloud": "/my/cloud", "keyframe_odom": "my_odom", "loop_closures": "my_loops",
+                 "loop_markers": "my_markers", "lio_loop": "my_lio"}
+RVIZ_REMAPS = {"keyframe_cloud": "/my/cloud", "loop_markers": "my_markers"}
+
+
+@contextlib.contextmanager
+def ros_namespace(ns):
+    old = os.environ.get("ROS_NAMESPACE")
+    if ns is None:
+        os.environ.pop("ROS_NAMESPACE", None)
+    else:
+        os.environ["ROS_NAMESPACE"] = ns
+    try:
+        yield
+    finally:
+        if old is None:
+            os.environ.pop("ROS_NAMESPACE", None)
+        else:
+            os.environ["ROS_NAMESPACE"] = old
+
+
+def load(path=None, args=(), ns=None, text=None):
+    """roslaunch's configuration of a launch file (or of launch XML `text`), or the error loading it."""
+    import roslaunch.config
+    try:
+        with ros_namespace(ns), open(os.devnull, "w") as quiet, contextlib.redirect_stdout(quiet):
+            if text is not None:
+                return roslaunch.config.load_config_default([], None, roslaunch_strs=[text], verbose=False)
+            return roslaunch.config.load_config_default([(path, list(args))], None, verbose=False)
+    except Exception as e:  # the loader raises several unrelated types; all are a failed check here
+        return "cannot load %s %s: %s: %s" % (os.path.basename(path or "XML"), " ".join(args), type(e).__name__, e)
+
+
+def full_name(node):
+    return (node.namespace or "/").rstrip("/") + "/" + node.name
+
+
+def is_loop_node(node):
+    """The standalone node, or the nodelet's loader."""
+    if (node.package, node.type) == (PACKAGE, "loop_closure_node"):
+        return True
+    return (node.package, node.type) == ("nodelet", "nodelet") and "LoopClosureNodelet" in (node.args or "")
+
+
+def the_loop_node(config, errors):
+    nodes = [n for n in config.nodes if is_loop_node(n)]
+    if len(nodes) != 1:
+        errors.append("%d loop-closure nodes, not one: %s" % (len(nodes), [full_name(n) for n in nodes]))
+        return None
+    return nodes[0]
+
+
+def expected_settings(package, stack):
+    """The settings the node must get: the stack's file (config/stacks/STACK.yaml), then STACKS'."""
+    settings = {}
+    path = os.path.join(package, "config", "stacks", stack + ".yaml")
+    if stack != "loop_closure" and os.path.exists(path):
+        with open(path) as f:
+            settings.update(yaml.safe_load(f) or {})
+    settings.update(STACKS[stack]["settings"])
+    return settings
+
+
+def check_settings(config, node_ns, settings, errors):
+    for key, value in sorted(settings.items()):
+        param = config.params.get(node_ns + key)
+        if param is None:
+            errors.append("%s%s is not set (expected %r)" % (node_ns, key, value))
+        elif param.value != value:
+            errors.append("%s%s is %r, not %r" % (node_ns, key, param.value, value))
+
+
+def check_no_stray_params(config, node_ns, errors, allowed=("/use_sim_time", "/run_id", "/rosdistro", "/rosversion")):
+    stray = sorted(k for k in config.params if not k.startswith(node_ns) and k not in allowed)
+    if stray:
+        errors.append("parameters outside the node's namespace %s: %s" % (node_ns, ", ".join(stray[:8])))
+
+
+def check_remaps(node, expected, errors, what="the node"):
+    remaps = dict(node.remap_args)
+    for source, target in sorted(expected.items()):
+        if remaps.get(source) != target:
+            errors.append("%s remaps %s to %r, not %r" % (what, source, remaps.get(source), target))
+
+
+def option(args, flag):
+    words = (args or "").split()
+    return words[words.index(flag) + 1] if flag in words[:-1] else None
+
+
+def case_defaults(package, stack, path):
+    config = load(path)
+    if isinstance(config, str):
+        return [config]
+    errors = []
+    node = the_loop_node(config, errors)
+    if node is None:
+        return errors
+    if full_name(node) != "/loop_closure":
+        errors.append("the node is %s, not /loop_closure" % full_name(node))
+    if (node.package, node.type) != (PACKAGE, "loop_closure_node"):
+        errors.append("without a manager the node is %s/%s, not the standalone node" % (node.package, node.type))
+    s = STACKS[stack]
+    check_remaps(node, {"keyframe_cloud": s["cloud"], "keyframe_odom": s["odom"], "lio_loop": s["lio"]}, errors)
+    check_settings(config, "/loop_closure/", expected_settings(package, stack), errors)
+    check_no_stray_params(config, "/loop_closure/", errors)
+    if "/use_sim_time" in config.params:
+        errors.append("/use_sim_time is set without use_sim_time:=true")
+    if any(n.package == "rviz" for n in config.nodes):
+        errors.append("RViz starts without rviz:=true")
+    return errors
+
+
+def case_renamed(package, stack, path):
+    config = load(path, CUSTOM_ARGS, ns="/robot")
+    if isinstance(config, str):
+        return [config]
+    errors = []
+    node = the_loop_node(config, errors)
+    if node is None:
+        return errors
+    if full_name(node) != "/robot/other":
+        errors.append("the node is %s, not /robot/other" % full_name(node))
+    if (node.package, node.type) != ("nodelet", "nodelet") or (node.args or "").split()[-1:] != ["mgr"]:
+        errors.append("with manager:=mgr the node is %s/%s '%s', not the nodelet loaded into mgr"
+                      % (node.package, node.type, node.args))
+    check_remaps(node, CUSTOM_REMAPS, errors)
+    check_settings(config, "/robot/other/", expected_settings(package, stack), errors)
+    check_no_stray_params(config, "/robot/other/", errors)
+    sim = config.params.get("/use_sim_time")
+    if sim is None or sim.value is not True:
+        errors.append("/use_sim_time is %s with use_sim_time:=true" % (sim.value if sim else "not set"))
+    rviz = [n for n in config.nodes if n.package == "rviz"]
+    if len(rviz) != 1:
+        errors.append("%d RViz nodes with rviz:=true, not one" % len(rviz))
+        return errors
+    rviz = rviz[0]
+    if rviz.namespace != node.namespace:
+        errors.append("RViz is in %s, the node in %s" % (rviz.namespace, node.namespace))
+    frame = option(rviz.args, "-f")
+    if frame != STACKS[stack]["frame"]:
+        errors.append("RViz's fixed frame is %r, not %r" % (frame, STACKS[stack]["frame"]))
+    display = option(rviz.args, "-d")
+    shipped = os.path.join(package, "config", "loop_closure.rviz")
+    if display is None or os.path.realpath(display) != os.path.realpath(shipped):
+        errors.append("RViz's config is %r, not %s" % (display, shipped))
+    check_remaps(rviz, RVIZ_REMAPS, errors, "RViz")
+    return errors
+
+
+def case_in_group(package, stack, path):
+    text = ('<launch><group ns="fleet/robot2"><include file="%s"><arg name="name" value="other"/>'
+            '</include></group></launch>' % path)
+    config = load(text=text)
+    if isinstance(config, str):
+        return [config]
+    errors = []
+    node = the_loop_node(config, errors)
+    if node is None:
+        return errors
+    if full_name(node) != "/fleet/robot2/other":
+        errors.append("the node is %s, not /fleet/robot2/other" % full_name(node))
+    check_settings(config, "/fleet/robot2/other/", expected_settings(package, stack), errors)
+    check_no_stray_params(config, "/fleet/robot2/other/", errors)
+    return errors
+
+
+def case_layers(package, stack, path):
+    """A sensor preset over the stack's settings, `overrides` over everything."""
+    with tempfile.NamedTemporaryFile("w", suffix=".yaml", delete=False) as f:
+        f.write("accumulate_seconds: 7.5\nexclude_recent_frames: 31\n")
+        overrides = f.name
+    try:
+        config = load(path, ["sensor:=livox_avia", "overrides:=" + overrides])
+    finally:
+        os.unlink(overrides)
+    if isinstance(config, str):
+        return [config]
+    errors = []
+    settings = dict(expected_settings(package, stack))
+    settings.update({"keyframe_min_distance": 2.0, "accumulate_distance": 10.0,  # the preset's
+                     "accumulate_seconds": 7.5, "exclude_recent_frames": 31})  # the overrides'
+    check_settings(config, "/loop_closure/", settings, errors)
+    return errors
+
+
+def case_stack_settings(package):
+    """The per-stack settings that match the stacks' world frames and LIO-SAM's hook."""
+    errors = []
+    expected = {"aloam": {"levelling": "ground"}, "fast_lio": {"levelling": "ground"},
+                "lego_loam": {"levelling": "ground"},
+                "lio_sam": {"levelling": "auto", "exclude_recent_seconds": 30.0}}
+    for stack, settings in sorted(expected.items()):
+        config = load(os.path.join(package, "launch", stack + ".launch"))
+        if isinstance(config, str):
+            errors.append(config)
+            continue
+        stack_errors = []
+        check_settings(config, "/loop_closure/", settings, stack_errors)
+        errors += ["%s: %s" % (stack, e) for e in stack_errors]
+    return errors
+
+
+def case_stack_keys(package):
+    with open(os.path.join(package, "config", "default.yaml")) as f:
+        known = set(yaml.safe_load(f))
+    errors = []
+    folder = os.path.join(package, "config", "stacks")
+    files = sorted(n for n in os.listdir(folder) if n.endswith(".yaml")) if os.path.isdir(folder) else []
+    if sorted(files) != sorted(s + ".yaml" for s in STACKS if s != "loop_closure"):
+        errors.append("config/stacks holds %s, not one file per stack" % files)
+    for name in files:
+        with open(os.path.join(folder, name)) as f:
+            keys = set(yaml.safe_load(f) or {})
+        errors += ["config/stacks/%s: %s is not a key of config/default.yaml" % (name, k) for k in sorted(keys - known)]
+    return errors
+
+
+def topics_of(tree, found):
+    """Every (key, value) of a parsed RViz config whose key names a topic."""
+    if isinstance(tree, dict):
+        for key, value in tree.items():
+            if "Topic" in str(key) and isinstance(value, str):
+                found.append((key, value))
+            else:
+                topics_of(value, found)
+    elif isinstance(tree, list):
+        for item in tree:
+            topics_of(item, found)
+    return found
+
+
+def case_rviz_config(package):
+    with open(os.path.join(package, "config", "loop_closure.rviz")) as f:
+        tree = yaml.safe_load(f)
+    topics = topics_of(tree, [])
+    errors = ["%s: %s is absolute: RViz would not follow the node's namespace" % (k, v)
+              for k, v in topics if v.startswith("/")]
+    if not topics:
+        errors.append("no display subscribes to a topic")
+    view = tree["Visualization Manager"]["Views"]["Current"]
+    centre = [view.get("X", 0), view.get("Y", 0)] if "X" in view else list(
+        (view.get("Focal Point") or {}).get(k, 0) for k in ("X", "Y"))
+    if any(abs(float(c)) > 1e-6 for c in centre):
+        errors.append("the view is centred on %s, not on the fixed frame's origin" % centre)
+    return errors
+
+
+def case_package_found(package):
+    import rospkg
+    found = rospkg.RosPack().get_path(PACKAGE)
+    if os.path.realpath(found) != os.path.realpath(package):
+        return ["roslaunch finds %s at %s, not the tree under test %s" % (PACKAGE, found, package)]
+    return []
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--package", default=os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", ".."),
+                        help="the package's folder (holds package.xml)")
+    parser.add_argument("--xunit", help="JUnit result file to write")
+    args = parser.parse_args()
+    package = os.path.realpath(args.package)
+    # $(find scan_context_loop) in the launch files resolves to the tree under test.
+    os.environ["ROS_PACKAGE_PATH"] = os.pathsep.join([package] + [p for p in os.environ.get("ROS_PACKAGE_PATH", "").split(os.pathsep) if p])
+
+    cases = [("package_found", case_package_found(package))]
+    for stack in STACKS:
+        path = os.path.join(package, "launch", stack + ".launch")
+        cases.append(("%s_defaults" % stack, case_defaults(package, stack, path)))
+        cases.append(("%s_renamed_in_namespace_with_manager_rviz_sim_time" % stack, case_renamed(package, stack, path)))
+        cases.append(("%s_in_enclosing_group" % stack, case_in_group(package, stack, path)))
+        cases.append(("%s_preset_over_stack_overrides_last" % stack, case_layers(package, stack, path)))
+    cases.append(("stack_levelling_and_lio_sam_exclusion", case_stack_settings(package)))
+    cases.append(("stack_settings_use_known_keys", case_stack_keys(package)))
+    cases.append(("rviz_config_relative_topics_origin_view", case_rviz_config(package)))
+    return report("launch_files", cases, args.xunit)
+
+
+if __name__ == "__main__":
+    sys.exit(main())
