@@ -67,6 +67,16 @@ bool ConsistencyFilter::supports(const Loop& giver, const Loop& taker) {
   return !giver.verification.odometry_contradicted || taker.verification.odometry_contradicted;
 }
 
+bool ConsistencyFilter::outranked(const Entry& entry, const Database& database) const {
+  if (!entry.loop.verification.odometry_contradicted) return false;
+  for (const Entry& other : recent_) {
+    if (&other == &entry || other.loop.verification.needs_support || !near(other, entry)) continue;
+    if (other.loop.verification.odometry_excess >= entry.loop.verification.odometry_excess) continue;
+    if (!loopsAgree(entry.loop, other.loop, database)) return true;
+  }
+  return false;
+}
+
 void ConsistencyFilter::confirm(Entry* entry, const Database& database, std::vector<Loop>* confirmed) {
   entry->confirmed = true;
   entry->loop.markConfirmed();
@@ -113,11 +123,11 @@ void ConsistencyFilter::offer(const Loop& loop, const Database& database, std::v
     if (supports(other.loop, added.loop)) ++added.loop.support;
     if (!supports(added.loop, other.loop)) continue;
     ++other.loop.support;
-    if (!other.confirmed && other.loop.support >= supportNeeded(other.loop)) {
+    if (!other.confirmed && other.loop.support >= supportNeeded(other.loop) && !outranked(other, database)) {
       confirm(&other, database, confirmed);
     }
   }
-  if (!weak && !added.confirmed && added.loop.support >= supportNeeded(added.loop)) {
+  if (!weak && !added.confirmed && added.loop.support >= supportNeeded(added.loop) && !outranked(added, database)) {
     confirm(&added, database, confirmed);
   }
 }
@@ -133,7 +143,9 @@ void ConsistencyFilter::add(const Loop& loop, const Database& database, std::vec
     Entry& other = recent_[i];
     if (other.confirmed || other.loop.verification.needs_support || !near(other, added)) continue;
     if (!supports(added.loop, other.loop) || !loopsAgree(added.loop, other.loop, database)) continue;
-    if (++other.loop.support >= supportNeeded(other.loop)) confirm(&other, database, confirmed);
+    if (++other.loop.support >= supportNeeded(other.loop) && !outranked(other, database)) {
+      confirm(&other, database, confirmed);
+    }
   }
   confirmWeak(added, database, confirmed);
 }

@@ -308,9 +308,14 @@ bool Database::withinOdometryGate(const KeyframeInfo& info, double path, std::si
   const Keyframe& candidate = keyframes_[index];
   // Nothing to gate on: no pose, or another session's odometry frame.
   if (!info.pose || !candidate.info.pose || candidate.session != session_) return true;
-  // Where the odometry puts the candidate, directly or through the nearest confirmed loop.
+  // Where the odometry puts the candidate directly, or through the nearest confirmed loop: either will
+  // do. From a loop the odometry is relied on over a shorter path, but a stretch where it lost its
+  // way (a slip along a featureless street) may lie in between.
+  const double direct_path = std::max(0.0, path - candidate.path_length);
+  const double direct = (info.pose->translation() - candidate.info.pose->translation()).norm();
+  if (direct <= gateRadius(config_, trust_, direct_path)) return true;
   const OdometryPrediction predicted = trust_.predict(*info.pose, path, session_, candidate);
-  return predicted.relative.translation().norm() <= gateRadius(config_, trust_, predicted.path);
+  return predicted.anchored && predicted.relative.translation().norm() <= gateRadius(config_, trust_, predicted.path);
 }
 
 std::size_t Database::bytesPerKeyframe() const {

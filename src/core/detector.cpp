@@ -285,7 +285,7 @@ bool LoopDetector::verifyOne(const Candidate& c, bool tracked, const std::vector
   }
   toSensorFrames(level, c.index, &v.result);
   if (query_stored && (v.result.accepted || v.result.needs_support)) {
-    checkOdometryRotation(detection->index, c.index, &v.result);
+    checkOdometry(detection->index, c.index, &v.result);
   }
   detection->verifications.push_back(v);
   detection->verified = v.result.accepted;
@@ -319,29 +319,51 @@ VoxelCloud LoopDetector::submapOf(std::size_t index, std::size_t query) const {
   return merged;
 }
 
-void LoopDetector::checkOdometryRotation(std::size_t query, std::size_t match, VerificationResult* result) const {
+void LoopDetector::checkOdometry(std::size_t query, std::size_t match, VerificationResult* result) const {
   const Config& config = database_.config();
   const Keyframe& q = database_.keyframe(query);
   const Keyframe& m = database_.keyframe(match);
-  if (!(config.verification.odometry_rotation > 0.0) || !q.info.pose || !m.info.pose || q.session != m.session) return;
-  // The odometry's rotation, directly or through the nearest confirmed loop (odometry_trust.h).
+  if (!q.info.pose || !m.info.pose || q.session != m.session) return;
+  // What the odometry says, directly or through the nearest confirmed loop (odometry_trust.h).
   const OdometryTrust& trust = database_.odometryTrust();
   const OdometryPrediction predicted = trust.predict(*q.info.pose, q.path_length, q.session, m);
-  const double disagreement =
+  const double rotation =
       Eigen::AngleAxisd(predicted.relative.linear().transpose() * result->relative.linear()).angle() * 180.0 / M_PI;
-  const double allowed = rotationAllowance(config.verification, trust, predicted.path);
-  if (disagreement <= allowed) return;
+  const double rotation_allowed = rotationAllowance(config.verification, predicted.path);
+  // From a confirmed loop the odometry also places the candidate well (the gate allows for the direct
+  // odometry's drift): a registration off by a building's length in a street of identical houses is
+  // caught there.
+  const double translation = (predicted.relative.translation() - result->relative.translation()).norm();
+  const double translation_allowed = anchoredTranslationAllowance(config, trust, predicted.path);
+  const bool check_rotation = config.verification.odometry_rotation > 0.0;
+  const bool check_translation = predicted.anchored && config.gate_odometry_distance > 0.0;
+  result->odometry_excess = std::max(check_rotation ? rotation / rotation_allowed : 0.0,
+                                     check_translation ? translation / translation_allowed : 0.0);
+  const char* test = nullptr;
+  double value = 0.0, limit = 0.0;
+  if (check_rotation && rotation > rotation_allowed) {
+    test = "odometry_rotation";
+    value = rotation;
+    limit = rotation_allowed;
+  } else if (check_translation && translation > translation_allowed) {
+    test = "odometry_translation";
+    value = translation;
+    limit = translation_allowed;
+  }
+  if (test == nullptr) return;
   // A registration that passed every test in full may be a true loop of an odometry that broke down:
   // the consistency check can still confirm it, with one support more than usual. One that needed
   // support already is rejected.
   result->odometry_contradicted = result->accepted && config.consistency_min_support > 0;
   result->accepted = false;
   result->needs_support = false;
-  result->rejected_by = "odometry_rotation";
-  result->rejection_value = disagreement;
-  result->rejection_limit = allowed;
-  result->reason = "rotation disagrees with the odometry by " + std::to_string(disagreement) + " deg (allowed " +
-                   std::to_string(allowed) + " over " + std::to_string(predicted.path) + " m of odometry" +
+  result->rejected_by = test;
+  result->rejection_value = value;
+  result->rejection_limit = limit;
+  result->reason = std::string(test == std::string("odometry_rotation") ? "rotation" : "translation") +
+                   " disagrees with the odometry by " + std::to_string(value) +
+                   (test == std::string("odometry_rotation") ? " deg" : " m") + " (allowed " + std::to_string(limit) +
+                   " over " + std::to_string(predicted.path) + " m of odometry" +
                    (predicted.anchored ? " from a confirmed loop" : "") + ")";
 }
 
@@ -376,13 +398,23 @@ void LoopDetector::decide(Detection* detection) {
   if (check) consistency_.advance(detection->index, &detection->dropped);
   // The accepted candidate, else (with the consistency check, which alone can confirm it) the one that
   // needs support with the largest overlap.
-  // A candidate the odometry contradicted (it passed every geometric test) waits like one that needs
-  // support.
+  // Else one that needs support with the largest overlap, else the one the odometry contradicted least
+  // (it passed every geometric test; in a street that looks the same both ways round, a registration
+  // 180 degrees off passes them too).
   const VerifiedCandidate* chosen = detection->verified ? &detection->verifications.back() : nullptr;
   if (chosen == nullptr && check) {
     for (const VerifiedCandidate& v : detection->verifications) {
-      const bool waits = v.result.needs_support || v.result.odometry_contradicted;
-      if (waits && (chosen == nullptr || v.result.inlier_ratio > chosen->result.inlier_ratio)) chosen = &v;
+      if (v.result.needs_support && (chosen == nullptr || v.result.inlier_ratio > chosen->result.inlier_ratio)) {
+        chosen = &v;
+      }
+    }
+  }
+  if (chosen == nullptr && check) {
+    for (const VerifiedCandidate& v : detection->verifications) {
+      if (v.result.odometry_contradicted &&
+          (chosen == nullptr || v.result.odometry_excess < chosen->result.odometry_excess)) {
+        chosen = &v;
+      }
     }
   }
   if (chosen == nullptr) return;

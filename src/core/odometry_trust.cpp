@@ -9,7 +9,8 @@
 
 namespace scan_context_loop {
 
-void OdometryTrust::add(const Keyframe& query, const Keyframe& match, const Eigen::Isometry3d& relative) {
+void OdometryTrust::add(const Keyframe& query, const Keyframe& match, const Eigen::Isometry3d& relative,
+                        const Config& config) {
   if (!query.info.pose || !match.info.pose || query.session != match.session) return;
   Anchor a;
   a.query_pose = *query.info.pose;
@@ -24,11 +25,8 @@ void OdometryTrust::add(const Keyframe& query, const Keyframe& match, const Eige
   const double path = std::fabs(query.path_length - match.path_length);
   if (!(path >= kMinMeasuredPath)) return;
   const Eigen::Isometry3d direct = a.query_pose.inverse() * a.match_pose;
-  const Eigen::Isometry3d error = direct.inverse() * relative;
-  const double rotation = Eigen::AngleAxisd(error.linear()).angle() * 180.0 / M_PI;
-  const double translation = (direct.translation() - relative.translation()).norm();
-  if (std::isfinite(rotation)) rotation_rate_ = std::max(rotation_rate_, rotation / path);
-  if (std::isfinite(translation)) translation_rate_ = std::max(translation_rate_, translation / path);
+  const double beyond = (direct.translation() - relative.translation()).norm() - config.gate_odometry_distance;
+  if (std::isfinite(beyond)) translation_rate_ = std::max(translation_rate_, beyond / path);
 }
 
 OdometryPrediction OdometryTrust::predict(const Eigen::Isometry3d& pose, double path, std::uint32_t session,
@@ -52,14 +50,22 @@ OdometryPrediction OdometryTrust::predict(const Eigen::Isometry3d& pose, double 
   return best;
 }
 
-double rotationAllowance(const VerificationConfig& config, const OdometryTrust& trust, double path) {
-  const double rate = std::max(config.odometry_rotation_drift, OdometryTrust::kMeasuredDriftMargin * trust.rotationRate());
-  return config.odometry_rotation + rate * path;
+double rotationAllowance(const VerificationConfig& config, double path) {
+  return config.odometry_rotation + config.odometry_rotation_drift * path;
 }
 
+namespace {
+double translationRate(const Config& config, const OdometryTrust& trust) {
+  return std::max(config.gate_odometry_drift, OdometryTrust::kMeasuredDriftMargin * trust.translationRate());
+}
+}  // namespace
+
 double gateRadius(const Config& config, const OdometryTrust& trust, double path) {
-  const double rate = std::max(config.gate_odometry_drift, OdometryTrust::kMeasuredDriftMargin * trust.translationRate());
-  return config.gate_odometry_distance + rate * path;
+  return config.gate_odometry_distance + translationRate(config, trust) * path;
+}
+
+double anchoredTranslationAllowance(const Config& config, const OdometryTrust& trust, double path) {
+  return config.consistency_translation + translationRate(config, trust) * path;
 }
 
 }  // namespace scan_context_loop

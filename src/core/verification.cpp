@@ -12,8 +12,10 @@
 
 namespace scan_context_loop {
 
-const char* const kRejectionTests[9] = {"unverifiable", "structure",  "registration", "overlap",    "free_space",
-                                        "fitness",      "degenerate", "odometry_rotation", "consistency"};
+const char* const kRejectionTests[10] = {"unverifiable", "structure",         "registration",
+                                         "overlap",      "free_space",        "fitness",
+                                         "degenerate",   "odometry_rotation", "odometry_translation",
+                                         "consistency"};
 
 VoxelOptions voxelOptions(const VerificationConfig& config) {
   VoxelOptions o;

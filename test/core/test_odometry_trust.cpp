@@ -39,7 +39,8 @@ TEST(OdometryTrust, PredictsThroughTheConfirmedLoopNearestInOdometryPath) {
   const auto direct = trust.predict(pose(300, 200, 90), 500.0, 0, near_k0);
   EXPECT_FALSE(direct.anchored);
   EXPECT_DOUBLE_EQ(direct.path, 490.0);
-  trust.add(k1, k0, Eigen::Isometry3d::Identity());
+  const Config config;
+  trust.add(k1, k0, Eigen::Isometry3d::Identity(), config);
   // A query 5 m after k1 (in its broken frame): through the loop, the candidate is 5 m ahead of it.
   const Eigen::Isometry3d query = pose(300, 200, 90) * pose(5, 0, 0);
   const auto via = trust.predict(query, 505.0, 0, near_k0);
@@ -48,27 +49,32 @@ TEST(OdometryTrust, PredictsThroughTheConfirmedLoopNearestInOdometryPath) {
   EXPECT_NEAR(via.relative.translation().x(), 5.0, 1e-9);
   EXPECT_NEAR(via.relative.translation().y(), 0.0, 1e-9);
   EXPECT_NEAR(yawDeg(via.relative), 0.0, 1e-9);
-  // The loop measured the direct odometry 90 degrees and 360 m off over 500 m.
-  EXPECT_NEAR(trust.rotationRate(), 90.0 / 500.0, 1e-9);
-  EXPECT_NEAR(trust.translationRate(), std::hypot(300.0, 200.0) / 500.0, 1e-9);
+  // The loop measured the direct odometry 360 m off over 500 m, beyond the gate's fixed 20 m.
+  EXPECT_NEAR(trust.translationRate(), (std::hypot(300.0, 200.0) - config.gate_odometry_distance) / 500.0, 1e-9);
 }
 
-TEST(OdometryTrust, AllowancesGrowWithTheMeasuredDriftOnly) {
+TEST(OdometryTrust, TheGateGrowsWithTheMeasuredDriftOnly) {
   Config config;
   OdometryTrust trust;
-  EXPECT_DOUBLE_EQ(rotationAllowance(config.verification, trust, 100.0),
-                   config.verification.odometry_rotation + config.verification.odometry_rotation_drift * 100.0);
-  EXPECT_DOUBLE_EQ(gateRadius(config, trust, 100.0), config.gate_odometry_distance + config.gate_odometry_drift * 100.0);
-  // A short loop (below kMinMeasuredPath) measures nothing; one across another session neither.
-  trust.add(keyframe(pose(0, 0, 30), 20.0), keyframe(pose(0, 0, 0), 0.0), Eigen::Isometry3d::Identity());
+  const double configured = config.gate_odometry_distance + config.gate_odometry_drift * 100.0;
+  EXPECT_DOUBLE_EQ(gateRadius(config, trust, 100.0), configured);
+  // A short loop (below kMinMeasuredPath) measures nothing; one across another session neither, nor one
+  // whose error stays within the fixed part (20 m).
+  const Eigen::Isometry3d same = Eigen::Isometry3d::Identity();
+  trust.add(keyframe(pose(60, 0, 0), 20.0), keyframe(pose(0, 0, 0), 0.0), same, config);
   Keyframe other = keyframe(pose(0, 0, 0), 0.0);
   other.session = 1;
-  trust.add(keyframe(pose(0, 0, 90), 900.0), other, Eigen::Isometry3d::Identity());
-  EXPECT_DOUBLE_EQ(trust.rotationRate(), 0.0);
-  // 40 degrees over 200 m: 0.2 deg/m measured, 0.3 deg/m allowed.
-  trust.add(keyframe(pose(0, 0, 40), 300.0), keyframe(pose(0, 0, 0), 100.0), Eigen::Isometry3d::Identity());
-  EXPECT_NEAR(rotationAllowance(config.verification, trust, 100.0),
-              config.verification.odometry_rotation + OdometryTrust::kMeasuredDriftMargin * 0.2 * 100.0, 1e-9);
+  trust.add(keyframe(pose(500, 0, 0), 900.0), other, same, config);
+  trust.add(keyframe(pose(15, 0, 0), 900.0), keyframe(pose(0, 0, 0), 0.0), same, config);
+  EXPECT_DOUBLE_EQ(trust.translationRate(), 0.0);
+  EXPECT_DOUBLE_EQ(gateRadius(config, trust, 100.0), configured);
+  // 80 m over 200 m: 0.3 m/m beyond the fixed 20 m, 0.45 m/m allowed.
+  trust.add(keyframe(pose(80, 0, 0), 300.0), keyframe(pose(0, 0, 0), 100.0), same, config);
+  EXPECT_NEAR(gateRadius(config, trust, 100.0),
+              config.gate_odometry_distance + OdometryTrust::kMeasuredDriftMargin * 0.3 * 100.0, 1e-9);
+  // The rotation allowance stays what is configured.
+  EXPECT_DOUBLE_EQ(rotationAllowance(config.verification, 100.0),
+                   config.verification.odometry_rotation + config.verification.odometry_rotation_drift * 100.0);
 }
 
 /// The block drive (lap 2 the other way round) with the given odometry failures, through the detector

@@ -91,6 +91,11 @@ class ConsistencyFilter {
   /// Config::consistency_min_support, one more for a loop the odometry contradicted
   /// (VerificationResult::odometry_contradicted).
   int supportNeeded(const Loop& loop) const;
+  /// A loop the odometry contradicted is not confirmed while a loop within the window that the odometry
+  /// contradicts less (VerificationResult::odometry_excess; a confirmed one, or one that passed in full)
+  /// disagrees with it: a registration 180 degrees off in a street that looks the same both ways round
+  /// gives a run of loops as consistent with each other as the true ones.
+  bool outranked(const Entry& entry, const Database& database) const;
   /// Whether agreeing `giver` counts as support for `taker`.
   static bool supports(const Loop& giver, const Loop& taker);
   /// Their queries lie within consistency_window keyframes of each other.

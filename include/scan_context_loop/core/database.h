@@ -120,7 +120,7 @@ class Database {
   /// A confirmed loop T_query<-match = `relative`: the odometry checks trust the odometry from it on
   /// (odometry_trust.h).
   void addConfirmedLoop(std::size_t query, std::size_t match, const Eigen::Isometry3d& relative) {
-    trust_.add(keyframes_.at(query), keyframes_.at(match), relative);
+    trust_.add(keyframes_.at(query), keyframes_.at(match), relative, config_);
   }
   const OdometryTrust& odometryTrust() const { return trust_; }
 

@@ -148,8 +148,10 @@ class LoopDetector {
   VoxelCloud submapOf(std::size_t index, std::size_t query) const;
   /// Registration results are in the levelled frames; loops are reported in the sensor frames.
   void toSensorFrames(const Eigen::Matrix3f& query_levelling, std::size_t match, VerificationResult* result) const;
-  /// Config::verify_odometry_rotation: rejects an accepted result whose rotation the odometry contradicts.
-  void checkOdometryRotation(std::size_t query, std::size_t match, VerificationResult* result) const;
+  /// The odometry checks of an accepted result (odometry_trust.h): its rotation against the odometry's
+  /// (Config::verify_odometry_rotation) and, when the odometry is relied on from a confirmed loop, its
+  /// translation. A result they contradict is not accepted (VerificationResult::odometry_contradicted).
+  void checkOdometry(std::size_t query, std::size_t match, VerificationResult* result) const;
   void decide(Detection* detection);
 
   Database database_;

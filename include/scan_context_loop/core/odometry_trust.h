@@ -8,9 +8,14 @@
 // - Anchors: each confirmed loop relates its two keyframes exactly, so the odometry is relied on only
 //   from the query to the nearest confirmed loop and from that loop's match to the candidate. The
 //   prediction with the least odometry path is used (the direct one when no loop is nearer).
-// - Measured drift: each confirmed loop also says how wrong the direct odometry between its keyframes
-//   was. The allowances grow to kMeasuredDriftMargin times the worst drift rate measured so far, so an
-//   odometry that proved bad is trusted less.
+// - Measured drift: each confirmed loop also says how far off the direct odometry between its keyframes
+//   placed them. Beyond the gate's fixed part (gate_odometry_distance), that error over the path is a
+//   drift rate; the gate's radius grows to kMeasuredDriftMargin times the worst rate measured so far,
+//   so an odometry that proved bad is trusted less. An odometry whose errors stay within the fixed part
+//   measures nothing and keeps the configured rate. The rotation allowance does not grow: once the
+//   odometry's heading is 90 degrees or more off, a registration 180 degrees off (a street that looks
+//   the same both ways round) would agree with it as well as the true one; a registration the
+//   odometry contradicts is left to the consistency check instead (ConsistencyFilter).
 // Not thread-safe (one owner, like Database).
 #pragma once
 
@@ -37,13 +42,13 @@ class OdometryTrust {
  public:
   /// Allowances are at least this many times the worst measured drift rate.
   static constexpr double kMeasuredDriftMargin = 1.5;
-  /// A loop measures a drift rate only over at least this much odometry path [m] (shorter ones measure
-  /// the loop's own error more than the odometry's).
-  static constexpr double kMinMeasuredPath = 50.0;
+  /// A loop measures a drift rate only over at least this much odometry path [m].
+  static constexpr double kMinMeasuredPath = 100.0;
 
   /// A confirmed loop, T_query<-match = `relative`, between keyframes of one session each (both poses
-  /// known). Loops across sessions, or without poses, are ignored.
-  void add(const Keyframe& query, const Keyframe& match, const Eigen::Isometry3d& relative);
+  /// known); `config` gives the fixed parts of the allowances. Loops across sessions, or without poses,
+  /// are ignored.
+  void add(const Keyframe& query, const Keyframe& match, const Eigen::Isometry3d& relative, const Config& config);
 
   /// The odometry's T_query<-candidate for a query at `pose` with odometry path `path` in session
   /// `session`: directly, or through the confirmed loop that leaves the least odometry path. The
@@ -51,8 +56,7 @@ class OdometryTrust {
   OdometryPrediction predict(const Eigen::Isometry3d& pose, double path, std::uint32_t session,
                              const Keyframe& candidate) const;
 
-  /// Worst drift rates measured by confirmed loops: rotation [deg/m] and translation [m/m].
-  double rotationRate() const { return rotation_rate_; }
+  /// Worst translation drift rate measured by confirmed loops beyond the gate's fixed part [m/m].
   double translationRate() const { return translation_rate_; }
   std::size_t anchors() const { return anchors_.size(); }
 
@@ -63,14 +67,17 @@ class OdometryTrust {
     std::uint32_t query_session = 0, match_session = 0;
   };
   std::vector<Anchor> anchors_;
-  double rotation_rate_ = 0.0, translation_rate_ = 0.0;
+  double translation_rate_ = 0.0;
 };
 
-/// The rotation disagreement allowed over `path` metres of odometry [deg]: odometry_rotation plus the
-/// larger of odometry_rotation_drift and the measured rate (with its margin) per metre.
-double rotationAllowance(const VerificationConfig& config, const OdometryTrust& trust, double path);
-/// The candidate gate's radius over `path` metres of odometry [m], likewise from gate_odometry_distance
-/// and gate_odometry_drift.
+/// The rotation disagreement allowed over `path` metres of odometry [deg]: odometry_rotation plus
+/// odometry_rotation_drift per metre.
+double rotationAllowance(const VerificationConfig& config, double path);
+/// How far a registered loop may place the candidate from where the odometry, relied on from a
+/// confirmed loop over `path` metres, puts it [m]: consistency_translation plus the gate's rate.
+double anchoredTranslationAllowance(const Config& config, const OdometryTrust& trust, double path);
+/// The candidate gate's radius over `path` metres of odometry [m]: gate_odometry_distance plus the
+/// larger of gate_odometry_drift and the measured rate (with its margin) per metre.
 double gateRadius(const Config& config, const OdometryTrust& trust, double path);
 
 }  // namespace scan_context_loop

@@ -26,10 +26,13 @@ struct VerificationResult {
   /// and the limit that value broke (both 0 when the test has no number, e.g. "registration").
   std::string rejected_by;
   double rejection_value = 0.0, rejection_limit = 0.0;
-  /// Every test passed but the odometry rotation check (VerificationConfig::odometry_rotation): the
+  /// Every test passed but the odometry checks (LoopDetector::checkOdometry): the
   /// odometry may have broken down, so the consistency check may still confirm it with one support more
   /// than usual from other loops (ConsistencyFilter).
   bool odometry_contradicted = false;
+  /// The odometry checks' largest disagreement over what they allow (below 1: they passed; 0: not
+  /// checked). Of two loops that contradict each other, the consistency check trusts the lower one.
+  double odometry_excess = 0.0;
   /// Not accepted on its own, but every test passed except the overlap or the free-space violation,
   /// which are within VerificationConfig::supported_inlier_ratio / supported_max_violation: a loop that
   /// another, fully accepted one can confirm (ConsistencyFilter). `accepted` becomes true once one does.
@@ -62,9 +65,9 @@ struct VerificationResult {
 
 /// The names VerificationResult::rejected_by takes, in the order the tests run: "unverifiable" (no
 /// registration data), "structure" (too few structure voxels), "registration" (no correspondences,
-/// diverged), "overlap", "free_space", "fitness", "degenerate", "odometry_rotation", then after
-/// verification "consistency" (no agreeing loop in time).
-extern const char* const kRejectionTests[9];
+/// diverged), "overlap", "free_space", "fitness", "degenerate", "odometry_rotation",
+/// "odometry_translation", then after verification "consistency" (no agreeing loop in time).
+extern const char* const kRejectionTests[10];
 
 /// The voxel grid of the registration data (VerificationConfig::voxel_leaf, max_range).
 VoxelOptions voxelOptions(const VerificationConfig& config);
