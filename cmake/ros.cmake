@@ -2,11 +2,13 @@
 # plugin library, its class alone) and its standalone node.
 add_library(scan_context_loop_ros
   src/ros/parameters.cpp
+  src/ros/frame_ids.cpp
   src/ros/cloud_input.cpp
   src/ros/markers.cpp
   src/ros/live_settings.cpp
   src/ros/loop_pair.cpp
   src/ros/pose_input.cpp
+  src/ros/sensor_extrinsic.cpp
   src/ros/exception_barrier.cpp
   src/ros/heap_statistics.cpp
   src/ros/database_services.cpp
@@ -118,10 +120,11 @@ if(CATKIN_ENABLE_TESTING)
 endif()
 
 if(CATKIN_ENABLE_TESTING)
-  # The dynamic_reconfigure description, the standard-type loops, cloud and pose input and the worker's
-  # exception barrier and heap statistics: no ROS master needed.
+  # The dynamic_reconfigure description, the standard-type loops, cloud and pose input, frame ids, the
+  # sensor extrinsic and the worker's exception barrier and heap statistics: no ROS master needed.
   catkin_add_gtest(test_ros_units test/ros/test_live_settings.cpp test/ros/test_pose_input.cpp
-    test/ros/test_cloud_input.cpp test/ros/test_exception_barrier.cpp test/ros/test_heap_statistics.cpp)
+    test/ros/test_cloud_input.cpp test/ros/test_frame_ids.cpp test/ros/test_sensor_extrinsic.cpp
+    test/ros/test_exception_barrier.cpp test/ros/test_heap_statistics.cpp)
   target_link_libraries(test_ros_units scan_context_loop_ros ${catkin_LIBRARIES})
 endif()
 
@@ -157,4 +160,11 @@ if(CATKIN_ENABLE_TESTING)
   add_rostest_gtest(test_ros_shutdown test/ros/shutdown.test test/ros/test_shutdown.cpp)
   target_link_libraries(test_ros_shutdown scan_context_loop_ros_harness)
   add_dependencies(test_ros_shutdown scan_context_loop_nodelet loop_closure_node)
+endif()
+
+if(CATKIN_ENABLE_TESTING)
+  # Frame ids written tf1's way in, tf2's names out; the extrinsic repeated on /tf; silent inputs named.
+  add_rostest_gtest(test_ros_frames test/ros/frames.test test/ros/test_frames.cpp)
+  target_link_libraries(test_ros_frames scan_context_loop_ros_harness)
+  add_dependencies(test_ros_frames loop_closure_node scan_context_loop_nodelet)
 endif()

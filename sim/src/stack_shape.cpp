@@ -3,20 +3,51 @@
 namespace scan_context_loop {
 namespace sim {
 
+namespace {
+
+StackShape shape(const char* name, const char* cloud_topic, const char* odom_topic, const char* cloud_frame,
+                 const char* odom_frame, const char* child_frame, bool registered) {
+  StackShape s;
+  s.name = name;
+  s.cloud_topic = cloud_topic;
+  s.odom_topic = odom_topic;
+  s.cloud_frame = cloud_frame;
+  s.odom_frame = odom_frame;
+  s.child_frame = child_frame;
+  s.registered = registered;
+  s.rate_hz = 10.0;
+  return s;
+}
+
+std::vector<StackShape> makeShapes() {
+  // laserMapping: every scan registered in camera_init (z up despite the name), frames written with
+  // tf1's leading '/', and the tf /camera_init -> /aft_mapped with each pose.
+  StackShape aloam = shape("aloam", "/velodyne_cloud_registered", "/aft_mapped_to_init", "/camera_init",
+                           "/camera_init", "/aft_mapped", true);
+  aloam.odom_tf = true;
+  // imageProjection (base_link clouds) and transformFusion (pose in camera axes, y up, with the tf
+  // /camera_init -> /camera); run.launch sends /camera -> /base_link and /map -> /camera_init with tf1's
+  // static_transform_publisher, every 10 ms on /tf.
+  StackShape lego = shape("lego_loam", "/full_cloud_projected", "/integrated_to_init", "base_link", "/camera_init",
+                          "/camera", false);
+  lego.camera_axes = true;
+  lego.extrinsic_parent = "/camera";
+  lego.extrinsic_child = "/base_link";
+  lego.map_frame = "/map";
+  lego.fixed_tf_period = 0.01;
+  lego.odom_tf = true;
+  // mapOptimization: every deskewed scan registered in odom.
+  StackShape lio_sam = shape("lio_sam", "/lio_sam/mapping/cloud_registered_raw", "/lio_sam/mapping/odometry",
+                             "odom", "odom", "odom_mapping", true);
+  // laserMapping: every scan in the body frame, whose pose /Odometry gives.
+  StackShape fast_lio = shape("fast_lio", "/cloud_registered_body", "/Odometry", "body", "camera_init", "body", false);
+  return {aloam, lego, lio_sam, fast_lio};
+}
+
+}  // namespace
+
 const std::vector<StackShape>& stackShapes() {
-  static const std::vector<StackShape> shapes = {
-      // laserMapping: every scan registered in camera_init (z up despite the name).
-      {"aloam", "/velodyne_cloud_registered", "/aft_mapped_to_init", "camera_init", "camera_init",
-       "aft_mapped", true, false, 10.0},
-      // imageProjection and transformFusion: sensor-frame scans, pose in camera axes (y up).
-      {"lego_loam", "/full_cloud_projected", "/integrated_to_init", "base_link", "camera_init", "camera", false,
-       true, 10.0},
-      // mapOptimization: every deskewed scan registered in odom.
-      {"lio_sam", "/lio_sam/mapping/cloud_registered_raw", "/lio_sam/mapping/odometry", "odom", "odom",
-       "odom_mapping", true, false, 10.0},
-      // laserMapping: every scan in the body frame, whose pose /Odometry gives.
-      {"fast_lio", "/cloud_registered_body", "/Odometry", "body", "camera_init", "body", false, false, 10.0},
-  };
+  static const std::vector<StackShape> shapes = makeShapes();
   return shapes;
 }
 
@@ -37,6 +68,16 @@ Eigen::Isometry3d odometryAxes(const StackShape& shape) {
   Eigen::Isometry3d axes = Eigen::Isometry3d::Identity();
   if (shape.camera_axes) axes.linear() << 0, 1, 0, 0, 0, 1, 1, 0, 0;
   return axes;
+}
+
+std::vector<FixedTransform> fixedTransforms(const StackShape& shape) {
+  std::vector<FixedTransform> fixed;
+  if (shape.camera_axes) fixed.push_back({shape.extrinsic_parent, shape.extrinsic_child, odometryAxes(shape)});
+  if (!shape.map_frame.empty()) {
+    // The world in camera axes, turned back to z up: T_map<-odometry frame is the axes' inverse.
+    fixed.push_back({shape.map_frame, shape.odom_frame, odometryAxes(shape).inverse()});
+  }
+  return fixed;
 }
 
 Eigen::Isometry3d toStackPose(const StackShape& shape, const Eigen::Isometry3d& lidar_pose) {

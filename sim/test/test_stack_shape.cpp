@@ -30,6 +30,39 @@ TEST(StackShape, EveryStackByNameWithItsTopicsAndFrames) {
   EXPECT_EQ(findStackShape("fast_lio")->child_frame, findStackShape("fast_lio")->cloud_frame);
 }
 
+TEST(StackShape, FramesAndTfAsTheStacksWriteThem) {
+  // A-LOAM and LeGO-LOAM spell their frames tf1's way, with a leading '/'.
+  const StackShape& aloam = *findStackShape("aloam");
+  EXPECT_EQ(aloam.odom_frame, "/camera_init");
+  EXPECT_EQ(aloam.cloud_frame, "/camera_init");
+  EXPECT_EQ(aloam.child_frame, "/aft_mapped");
+  EXPECT_TRUE(fixedTransforms(aloam).empty());
+  const StackShape& lego = *findStackShape("lego_loam");
+  EXPECT_EQ(lego.odom_frame, "/camera_init");
+  EXPECT_EQ(lego.child_frame, "/camera");
+  EXPECT_EQ(lego.cloud_frame, "base_link");
+  // run.launch: tf1's static_transform_publisher, period 10 ms, "/camera /base_link" and "/map /camera_init".
+  EXPECT_DOUBLE_EQ(lego.fixed_tf_period, 0.01);
+  const std::vector<FixedTransform> fixed = fixedTransforms(lego);
+  ASSERT_EQ(fixed.size(), 2u);
+  EXPECT_EQ(fixed[0].parent, "/camera");
+  EXPECT_EQ(fixed[0].child, "/base_link");
+  EXPECT_EQ(fixed[1].parent, "/map");
+  EXPECT_EQ(fixed[1].child, "/camera_init");
+  // The LiDAR's forward axis is the camera's z; map -> camera_init -> camera -> base_link is z up again.
+  EXPECT_TRUE((fixed[0].pose * Eigen::Vector3d::UnitX()).isApprox(Eigen::Vector3d::UnitZ()));
+  Eigen::Isometry3d lidar = Eigen::Isometry3d::Identity();
+  lidar.translation() << 5.0, 2.0, 1.0;
+  lidar.rotate(Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitZ()));
+  EXPECT_TRUE((fixed[1].pose * toStackPose(lego, lidar) * fixed[0].pose).isApprox(lidar));
+  // The others send none of their own, or (FAST-LIO, LIO-SAM) without a slash.
+  for (const char* name : {"lio_sam", "fast_lio"}) {
+    const StackShape& s = *findStackShape(name);
+    EXPECT_TRUE(fixedTransforms(s).empty()) << name;
+    EXPECT_NE(s.odom_frame.front(), '/') << name;
+  }
+}
+
 TEST(StackShape, CameraAxesPutForwardOnZAndUpOnY) {
   const StackShape& lego = *findStackShape("lego_loam");
   Eigen::Isometry3d lidar = Eigen::Isometry3d::Identity();

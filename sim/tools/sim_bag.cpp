@@ -1,5 +1,7 @@
 #include "sim_bag.h"
 
+#include <utility>
+
 #include <nav_msgs/Odometry.h>
 #include <pcl/common/transforms.h>
 #include <pcl_conversions/pcl_conversions.h>
@@ -24,13 +26,19 @@ nav_msgs::Odometry odometry(const Eigen::Isometry3d& lidar_pose, const ros::Time
   return msg;
 }
 
-/// The static tf child_frame -> cloud_frame, latched as tf2_ros' static broadcaster publishes it.
-void writeExtrinsic(const StackShape& shape, const ros::Time& stamp, rosbag::Bag* bag) {
+geometry_msgs::TransformStamped stampedTransform(const Eigen::Isometry3d& pose, const std::string& parent,
+                                                 const std::string& child, const ros::Time& stamp) {
+  geometry_msgs::TransformStamped t = tf2::eigenToTransform(pose);
+  t.header.stamp = stamp;
+  t.header.frame_id = parent;
+  t.child_frame_id = child;
+  return t;
+}
+
+/// The fixed transforms once, latched, on /tf_static, as tf2_ros' static broadcaster publishes them.
+void writeLatched(const std::vector<FixedTransform>& fixed, const ros::Time& stamp, rosbag::Bag* bag) {
   tf2_msgs::TFMessage msg;
-  msg.transforms.push_back(tf2::eigenToTransform(odometryAxes(shape)));
-  msg.transforms.back().header.stamp = stamp;
-  msg.transforms.back().header.frame_id = shape.child_frame;
-  msg.transforms.back().child_frame_id = shape.cloud_frame;
+  for (const FixedTransform& f : fixed) msg.transforms.push_back(stampedTransform(f.pose, f.parent, f.child, stamp));
   // A connection header of our own replaces rosbag's, so it names the type too.
   auto header = boost::make_shared<ros::M_string>();
   (*header)["type"] = ros::message_traits::datatype<tf2_msgs::TFMessage>();
@@ -41,6 +49,31 @@ void writeExtrinsic(const StackShape& shape, const ros::Time& stamp, rosbag::Bag
   bag->write("/tf_static", stamp, msg, header);
 }
 
+/// The fixed transforms as tf1's static_transform_publisher sends them: each on /tf every period (one
+/// publisher each), stamped a period ahead of when it is sent.
+class RepeatedTransforms {
+ public:
+  RepeatedTransforms(std::vector<FixedTransform> fixed, double period, const ros::Time& start)
+      : fixed_(std::move(fixed)), period_(period), next_(start) {}
+
+  /// Writes every message due before `end`.
+  void writeUntil(const ros::Time& end, rosbag::Bag* bag) {
+    if (fixed_.empty() || period_ <= 0.0) return;
+    for (; next_ < end; next_ += ros::Duration(period_)) {
+      for (const FixedTransform& f : fixed_) {
+        tf2_msgs::TFMessage msg;
+        msg.transforms.push_back(stampedTransform(f.pose, f.parent, f.child, next_ + ros::Duration(period_)));
+        bag->write("/tf", next_, msg);
+      }
+    }
+  }
+
+ private:
+  std::vector<FixedTransform> fixed_;
+  double period_;
+  ros::Time next_;
+};
+
 }  // namespace
 
 bool writeBag(const std::string& sequence_dir, const std::vector<Eigen::Isometry3d>& truth,
@@ -50,7 +83,11 @@ bool writeBag(const std::string& sequence_dir, const std::vector<Eigen::Isometry
   try {
     rosbag::Bag bag(options.path, rosbag::bagmode::Write);
     bag.setCompression(rosbag::compression::LZ4);
-    if (shape.camera_axes && !truth.empty()) writeExtrinsic(shape, ros::Time(options.start_stamp + times[0]), &bag);
+    const std::vector<FixedTransform> fixed = fixedTransforms(shape);
+    const ros::Time first(options.start_stamp + (times.empty() ? 0.0 : times[0]));
+    if (!fixed.empty() && shape.fixed_tf_period <= 0.0 && !truth.empty()) writeLatched(fixed, first, &bag);
+    RepeatedTransforms repeated(shape.fixed_tf_period > 0.0 ? fixed : std::vector<FixedTransform>(),
+                                shape.fixed_tf_period, first);
     for (std::size_t k = 0; k < truth.size(); ++k) {
       pcl::PointCloud<pcl::PointXYZI> cloud;
       if (!kitti::readScan(kitti::scanPath(sequence_dir, static_cast<int>(k)), &cloud, error)) return false;
@@ -58,10 +95,17 @@ bool writeBag(const std::string& sequence_dir, const std::vector<Eigen::Isometry
         pcl::transformPointCloud(cloud, cloud, (odometryAxes(shape) * odom[k]).matrix().cast<float>());
       }
       const ros::Time stamp(options.start_stamp + times[k]);
+      // The transforms sent up to this scan (the first scan's own included), then the scan and its pose.
+      repeated.writeUntil(stamp + ros::Duration(1e-6), &bag);
       sensor_msgs::PointCloud2 msg;
       pcl::toROSMsg(cloud, msg);
       msg.header.stamp = stamp;
       msg.header.frame_id = shape.cloud_frame;
+      if (shape.odom_tf) {
+        tf2_msgs::TFMessage tf;
+        tf.transforms.push_back(stampedTransform(toStackPose(shape, odom[k]), shape.odom_frame, shape.child_frame, stamp));
+        bag.write("/tf", stamp, tf);
+      }
       bag.write(shape.cloud_topic, stamp, msg);
       bag.write(shape.odom_topic, stamp, odometry(odom[k], stamp, shape));
       bag.write(options.truth_topic, stamp, odometry(truth[k], stamp, shape));

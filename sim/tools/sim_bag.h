@@ -22,7 +22,9 @@ struct BagOptions {
 /// Reads the scans back from sequence_dir/velodyne and writes one cloud, one odometry and one ground-truth
 /// message per keyframe, all stamped start_stamp + times[k]. The ground truth is shaped like the odometry
 /// (same frames and axes). Registered clouds are moved into the odometry frame with the drifted pose, as
-/// the stack registers them; camera-axes odometry comes with its static tf on /tf_static (latched).
+/// the stack registers them. The stack's tf comes too: its fixed transforms (camera-axes extrinsic, map ->
+/// odometry frame) latched on /tf_static or repeated on /tf as tf1's static_transform_publisher sends
+/// them (StackShape::fixed_tf_period), and the odometry on /tf when the stack broadcasts it.
 bool writeBag(const std::string& sequence_dir, const std::vector<Eigen::Isometry3d>& truth,
               const std::vector<Eigen::Isometry3d>& odom, const std::vector<double>& times, const BagOptions& options,
               std::string* error);

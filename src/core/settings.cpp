@@ -293,6 +293,8 @@ std::vector<Setting<NodeOptions>> makeNodeSettings() {
       boolSetting<O>("database_save_clouds", N(database_save_clouds), "saved databases include the registration clouds"),
       doubleSetting<O>("unsynchronised_warning", N(unsynchronised_warning), positive(),
                        "warn when clouds come without poses this long [s]"),
+      doubleSetting<O>("no_input_warning", N(no_input_warning), positive(),
+                       "warn, naming the topic, when no cloud or odometry came for this long [s]"),
   };
 }
 

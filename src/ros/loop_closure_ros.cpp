@@ -17,6 +17,7 @@
 #include "scan_context_loop/core/settings.h"
 #include "scan_context_loop/ros/cloud_input.h"
 #include "scan_context_loop/ros/exception_barrier.h"
+#include "scan_context_loop/ros/frame_ids.h"
 #include "scan_context_loop/ros/heap_statistics.h"
 #include "scan_context_loop/ros/live_settings.h"
 #include "scan_context_loop/ros/loop_pair.h"
@@ -28,6 +29,14 @@ namespace scan_context_loop {
 namespace {
 
 double wallNow() { return ros::WallTime::now().toSec(); }
+
+// A fixed extrinsic comes from a static tf publisher started with the stack: latched on /tf_static, it
+// arrives as soon as the listener connects; tf1's static_transform_publisher resends it every period
+// (10 ms in LeGO-LOAM's launch). Keyframes wait for it at most this long [s] (and at most queue_size of
+// them): processed with poses in the odometry's axes they would stay in the database with the wrong
+// poses, so waiting a little loses nothing. After it, tf is looked at again every kExtrinsicRecheck s.
+constexpr double kExtrinsicWait = 5.0;
+constexpr double kExtrinsicRecheck = 1.0;
 
 }  // namespace
 
@@ -42,6 +51,7 @@ LoopClosureRos::~LoopClosureRos() {
   odom_sub_.unsubscribe();
   cloud_only_sub_.shutdown();
   sync_timer_.stop();
+  input_timer_.stop();
   diagnostics_timer_.stop();
   {
     std::lock_guard<std::mutex> lock(queue_mutex_);
@@ -73,6 +83,7 @@ bool LoopClosureRos::start() {
     ROS_FATAL_NAMED(name_, "not starting: fix the parameters above (see config/default.yaml)");
     return false;
   }
+  normaliseFrameIds(&options_);  // tf1's "/odom" is tf2's "odom", in lookups and in what is published
   if (options_.mode == "relocalize") config_.prior_sessions_only = true;  // the map alone is searched
   pipeline_.reset(new KeyframePipeline(config_));
   if (!options_.database_load.empty()) {
@@ -114,12 +125,17 @@ bool LoopClosureRos::start() {
     tf_buffer_.reset(new tf2_ros::Buffer(ros::Duration(30.0)));
     tf_listener_.reset(new tf2_ros::TransformListener(*tf_buffer_, nh_));
   }
+  if (options_.pose_source == "odom" && options_.sensor_extrinsic_from_tf) {
+    extrinsic_.reset(new SensorExtrinsic(*tf_buffer_, name_, kExtrinsicWait, kExtrinsicRecheck));
+  }
+  start_wall_ = wallNow();
   if (options_.pose_source == "tf") {
     cloud_only_sub_ = nh_.subscribe("keyframe_cloud", options_.sync_queue_size, &LoopClosureRos::onCloudOnly, this);
   } else {
     cloud_sub_.subscribe(nh_, "keyframe_cloud", options_.sync_queue_size);
     odom_sub_.subscribe(nh_, "keyframe_odom", options_.sync_queue_size);
     cloud_sub_.registerCallback(&LoopClosureRos::onAnyCloud, this);
+    odom_sub_.registerCallback(&LoopClosureRos::onAnyOdom, this);
     if (options_.approximate_sync) {
       approx_sync_.reset(new message_filters::Synchronizer<ApproxPolicy>(ApproxPolicy(options_.sync_queue_size),
                                                                          cloud_sub_, odom_sub_));
@@ -131,6 +147,8 @@ bool LoopClosureRos::start() {
     }
     sync_timer_ = nh_.createWallTimer(ros::WallDuration(1.0), &LoopClosureRos::checkSynchronisation, this);
   }
+
+  input_timer_ = nh_.createWallTimer(ros::WallDuration(1.0), &LoopClosureRos::checkInputs, this);
 
   diagnostics_.reset(new diagnostic_updater::Updater(nh_, pnh_, name_));
   diagnostics_->setHardwareID("none");
@@ -155,6 +173,8 @@ void LoopClosureRos::onAnyCloud(const sensor_msgs::PointCloud2ConstPtr&) {
   if (first_unpaired_wall_.load() == 0.0) first_unpaired_wall_ = now;
 }
 
+void LoopClosureRos::onAnyOdom(const nav_msgs::OdometryConstPtr&) { last_odom_wall_ = wallNow(); }
+
 void LoopClosureRos::onCloudAndOdom(const sensor_msgs::PointCloud2ConstPtr& cloud,
                                     const nav_msgs::OdometryConstPtr& odom) {
   ++clouds_paired_;
@@ -170,17 +190,20 @@ void LoopClosureRos::onCloudAndOdom(const sensor_msgs::PointCloud2ConstPtr& clou
   }
   item.cloud = cloud;
   item.has_pose = true;
-  item.pose_frame = odom->header.frame_id;
-  item.child_frame = odom->child_frame_id;
+  item.pose_frame = normaliseFrameId(odom->header.frame_id);
+  item.child_frame = normaliseFrameId(odom->child_frame_id);
+  item.cloud_frame = normaliseFrameId(cloud->header.frame_id);
   enqueue(std::move(item));
 }
 
 void LoopClosureRos::onCloudOnly(const sensor_msgs::PointCloud2ConstPtr& cloud) {
   ++clouds_received_;
   ++clouds_paired_;
+  last_cloud_wall_ = wallNow();
   Item item;
   item.cloud = cloud;
   item.pose_frame = options_.fixed_frame;
+  item.cloud_frame = normaliseFrameId(cloud->header.frame_id);
   enqueue(std::move(item));
 }
 
@@ -209,6 +232,26 @@ void LoopClosureRos::checkSynchronisation(const ros::WallTimerEvent&) {
                             "with matching stamps (approximate_sync: %s)?",
                             cloud_sub_.getTopic().c_str(), odom_sub_.getTopic().c_str(), now - since,
                             options_.approximate_sync ? "true" : "false");
+  }
+}
+
+void LoopClosureRos::checkInputs(const ros::WallTimerEvent&) {
+  // Repeated every no_input_warning seconds while it lasts.
+  const double now = wallNow(), after = options_.no_input_warning, every = after;
+  const double since_cloud = now - std::max(start_wall_, last_cloud_wall_.load());
+  if (since_cloud >= after) {
+    const bool tf = options_.pose_source == "tf";
+    const std::string topic = tf ? cloud_only_sub_.getTopic() : cloud_sub_.getTopic();
+    const std::uint32_t publishers = tf ? cloud_only_sub_.getNumPublishers() : cloud_sub_.getSubscriber().getNumPublishers();
+    const std::string poses = tf ? " (poses come from tf, in " + options_.fixed_frame + ", at each cloud's stamp)" : "";
+    ROS_WARN_THROTTLE_NAMED(every, name_, "no keyframe cloud on %s for %.0f s (%u publishers)%s", topic.c_str(),
+                            since_cloud, publishers, poses.c_str());
+  }
+  if (options_.pose_source != "odom") return;
+  const double since_odom = now - std::max(start_wall_, last_odom_wall_.load());
+  if (since_odom >= after) {
+    ROS_WARN_THROTTLE_NAMED(every, name_, "no keyframe odometry on %s for %.0f s (%u publishers)",
+                            odom_sub_.getTopic().c_str(), since_odom, odom_sub_.getSubscriber().getNumPublishers());
   }
 }
 
@@ -268,9 +311,15 @@ void LoopClosureRos::work() {
     bool have_item = false, redraw = false;
     {
       std::unique_lock<std::mutex> lock(queue_mutex_);
-      queue_cv_.wait(lock, [this] {
+      const auto ready = [this] {
         return stop_ || !queue_.empty() || redraw_markers_ || reconfigured_ || !tasks_.empty();
-      });
+      };
+      // Keyframes held for the extrinsic: look at tf again every 50 ms (never waiting on it).
+      if (held_.empty()) {
+        queue_cv_.wait(lock, ready);
+      } else {
+        queue_cv_.wait_for(lock, std::chrono::milliseconds(50), ready);
+      }
       if (stop_) return;
       if (!tasks_.empty()) {
         task = std::move(tasks_.front());
@@ -291,16 +340,44 @@ void LoopClosureRos::work() {
       markers_shown_ = MarkerState();
       publishMarkers(marker_frame_);
     }
-    if (have_item) {
-      char context[64];
-      std::snprintf(context, sizeof context, "keyframe at %.3f", item.cloud->header.stamp.toSec());
-      runGuarded(context, [&] { process(std::move(item)); });
-      if (heap.afterKeyframe(queue_length_.load() == 0)) {
-        heap_allocated_ = heap.allocatedBytes();
-        heap_free_ = heap.freeBytes();
-        heap_statistics_ms_ = heap.lastMs();
-      }
-    }
+    releaseHeld(&heap);
+    if (have_item) processOrHold(std::move(item), &heap);
+  }
+}
+
+void LoopClosureRos::processGuarded(Item item, HeapStatistics* heap) {
+  char context[64];
+  std::snprintf(context, sizeof context, "keyframe at %.3f", item.cloud->header.stamp.toSec());
+  runGuarded(context, [&] { process(std::move(item)); });
+  if (heap->afterKeyframe(queue_length_.load() == 0)) {
+    heap_allocated_ = heap->allocatedBytes();
+    heap_free_ = heap->freeBytes();
+    heap_statistics_ms_ = heap->lastMs();
+  }
+}
+
+void LoopClosureRos::processOrHold(Item item, HeapStatistics* heap) {
+  if (held_.empty() && resolveExtrinsic(item) != SensorExtrinsic::State::kWaiting) {
+    processGuarded(std::move(item), heap);
+    return;
+  }
+  if (held_.size() >= static_cast<std::size_t>(options_.queue_size)) {
+    held_.pop_front();
+    ++dropped_;
+    ROS_WARN_THROTTLE_NAMED(5.0, name_, "%zu keyframes held for the tf extrinsic: the oldest dropped (%zu dropped so far)",
+                            held_.size(), dropped_.load());
+  }
+  held_.push_back(std::move(item));
+  held_count_ = held_.size();
+}
+
+void LoopClosureRos::releaseHeld(HeapStatistics* heap) {
+  if (held_.empty() || resolveExtrinsic(held_.front()) == SensorExtrinsic::State::kWaiting) return;
+  while (!held_.empty()) {
+    Item item = std::move(held_.front());
+    held_.pop_front();
+    held_count_ = held_.size();
+    processGuarded(std::move(item), heap);
   }
 }
 
@@ -317,7 +394,7 @@ bool LoopClosureRos::runGuarded(const std::string& context, const std::function<
 
 bool LoopClosureRos::lookUpPose(Item* item) {
   // A registered cloud's frame is the fixed frame: the sensor's own frame must be named.
-  const std::string& sensor = options_.sensor_frame.empty() ? item->cloud->header.frame_id : options_.sensor_frame;
+  const std::string& sensor = options_.sensor_frame.empty() ? item->cloud_frame : options_.sensor_frame;
   try {
     const auto t = tf_buffer_->lookupTransform(options_.fixed_frame, sensor, item->cloud->header.stamp,
                                                ros::Duration(options_.tf_timeout));
@@ -339,39 +416,17 @@ bool LoopClosureRos::lookUpPose(Item* item) {
   }
 }
 
+SensorExtrinsic::State LoopClosureRos::resolveExtrinsic(const Item& item) {
+  if (!extrinsic_ || item.child_frame.empty()) return SensorExtrinsic::State::kKnown;  // none needed
+  // A registered cloud's own frame is the world's: only a named sensor_frame says where the sensor is.
+  const std::string& sensor = !options_.sensor_frame.empty() ? options_.sensor_frame
+                              : config_.cloud_in_world_frame ? item.child_frame
+                                                             : item.cloud_frame;
+  return extrinsic_->resolve(item.child_frame, sensor, wallNow());
+}
+
 void LoopClosureRos::applyExtrinsic(Item* item) {
-  if (item->child_frame.empty() || !options_.sensor_extrinsic_from_tf) return;
-  if (!extrinsic_known_) {
-    // A registered cloud's own frame is the world's: only a named sensor_frame says where the sensor is.
-    const std::string sensor = !options_.sensor_frame.empty()   ? options_.sensor_frame
-                               : config_.cloud_in_world_frame ? item->child_frame
-                                                              : item->cloud->header.frame_id;
-    if (sensor.empty() || sensor == item->child_frame) {
-      extrinsic_known_ = true;  // the odometry is the sensor's own
-    } else {
-      try {
-        const auto t = tf_buffer_->lookupTransform(item->child_frame, sensor, ros::Time(0),
-                                                   ros::Duration(options_.tf_timeout));
-        std::string why;
-        extrinsic_known_ = poseFromMsg(t.transform, &extrinsic_, &why);
-        if (extrinsic_known_) {
-          ROS_INFO_NAMED(name_, "odometry of %s, clouds in %s: poses are moved to the sensor with the tf extrinsic",
-                         item->child_frame.c_str(), sensor.c_str());
-        } else {
-          ROS_ERROR_THROTTLE_NAMED(10.0, name_, "the tf extrinsic %s <- %s is unusable (%s): poses are used as the "
-                                   "sensor's until tf has a good one", item->child_frame.c_str(), sensor.c_str(),
-                                   why.c_str());
-        }
-      } catch (const tf2::TransformException& e) {
-        ROS_WARN_THROTTLE_NAMED(10.0, name_,
-                                "the odometry's child frame %s is not the clouds' frame %s and tf has no "
-                                "transform between them (%s): poses are used as the sensor's, which is wrong "
-                                "if the axes differ (publish the extrinsic as a static tf)",
-                                item->child_frame.c_str(), sensor.c_str(), e.what());
-      }
-    }
-  }
-  item->pose = item->pose * extrinsic_;
+  if (resolveExtrinsic(*item) == SensorExtrinsic::State::kKnown && extrinsic_) item->pose = item->pose * extrinsic_->pose();
 }
 
 namespace {
@@ -629,6 +684,7 @@ void LoopClosureRos::diagnose(diagnostic_updater::DiagnosticStatusWrapper& statu
   status.add("clouds received", clouds_received_.load());
   status.add("clouds paired with a pose", clouds_paired_.load());
   status.add("keyframes dropped", dropped);
+  if (extrinsic_) status.add("keyframes held for the tf extrinsic", held_count_.load());
   status.add("keyframes rejected", rejected_.load());
   status.add("keyframes and service calls failed (exception)", failures);
   if (options_.lio_sam_output) status.add("loops not sent to LIO-SAM (not verified, repeated or too soon)", lio_skipped_.load());

@@ -7,6 +7,7 @@
 
 #include <xmlrpcpp/XmlRpcValue.h>
 
+#include "scan_context_loop/ros/frame_ids.h"
 #include "scan_context_loop/ros/parameters.h"
 
 namespace scan_context_loop {
@@ -92,6 +93,7 @@ std::vector<std::string> readPoseGraphParameters(const ros::NodeHandle& pnh, Pos
   const auto check = [&](bool ok, const std::string& rule) {
     if (!ok) problems.push_back(rule);
   };
+  o->map_frame = normaliseFrameId(o->map_frame);  // tf2's name: no leading '/'
   check(!o->map_frame.empty(), "map_frame must not be empty");
   check(o->tf_rate > 0.0 && o->tf_rate <= 1000.0, "tf_rate must be in (0, 1000] Hz");
   check(o->stamp_tolerance >= 0.0 && o->stamp_tolerance <= 1.0, "stamp_tolerance must be in [0, 1] s");

@@ -10,6 +10,7 @@
 
 #include "scan_context_loop/ros/cloud_input.h"
 #include "scan_context_loop/ros/exception_barrier.h"
+#include "scan_context_loop/ros/frame_ids.h"
 #include "scan_context_loop/ros/pose_graph_ros.h"
 #include "scan_context_loop/ros/pose_input.h"
 
@@ -109,10 +110,11 @@ void PoseGraphRos::addKeyframe(const nav_msgs::Odometry& msg) {
                              "reference graph holds one session", stamp.toSec(), stamps_.back().toSec());
     return;
   }
-  if (!odom_frame_.empty() && msg.header.frame_id != odom_frame_) {
+  const std::string frame = normaliseFrameId(msg.header.frame_id);
+  if (!odom_frame_.empty() && frame != odom_frame_) {
     ++rejected_;
     ROS_ERROR_THROTTLE_NAMED(5.0, name_, "keyframe at %.3f skipped: its frame %s is not the odometry frame %s",
-                             stamp.toSec(), msg.header.frame_id.c_str(), odom_frame_.c_str());
+                             stamp.toSec(), frame.c_str(), odom_frame_.c_str());
     return;
   }
   Eigen::Isometry3d pose;
@@ -125,7 +127,7 @@ void PoseGraphRos::addKeyframe(const nav_msgs::Odometry& msg) {
   }
   if (odom_frame_.empty()) {
     std::lock_guard<std::mutex> lock(correction_mutex_);
-    odom_frame_ = msg.header.frame_id;
+    odom_frame_ = frame;
   }
   stamps_.push_back(stamp);
   keyframes_ = stamps_.size();

@@ -1,6 +1,7 @@
 // The launch file next to each odometry stack, fed a short simulated bag shaped like that stack's output
 // (scan_context_simulate --block --stack NAME, played by rosbag in stack_bag.test): loops must arrive,
-// every one verified and true against the bag's ground truth.
+// every one verified and true against the bag's ground truth, in the odometry's frame as tf2 names it
+// (without the leading '/' A-LOAM and LeGO-LOAM write).
 #include <map>
 #include <mutex>
 #include <string>
@@ -90,8 +91,10 @@ TEST(Stacks, TrueVerifiedLoopsFromTheStacksBag) {
   }
   const auto loops = harness.loops();
   ASSERT_GE(loops.size(), 10u);
+  const std::string frame = shape->odom_frame.substr(shape->odom_frame.find_first_not_of('/'));
   for (const auto& loop : loops) {
     SCOPED_TRACE("loop " + std::to_string(loop.query_id) + " -> " + std::to_string(loop.match_id));
+    EXPECT_EQ(loop.header.frame_id, frame);
     Eigen::Isometry3d query_pose, match_pose;
     ASSERT_TRUE(truth.pose(loop.query_stamp, &query_pose)) << "a loop from a keyframe the bag does not have";
     ASSERT_TRUE(truth.pose(loop.match_stamp, &match_pose)) << "a loop to a keyframe the bag does not have";

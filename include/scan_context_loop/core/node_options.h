@@ -12,7 +12,8 @@ struct NodeOptions {
   double tf_timeout = 0.1;              ///< tf mode: how long to wait for a transform [s]
   std::string sensor_frame;             ///< the sensor's tf frame (empty: the cloud's frame_id)
   /// Odometry whose child frame is not the sensor's: move the poses to the sensor with the extrinsic
-  /// child <- sensor from tf (looked up once; a warning names both frames while it is missing).
+  /// child <- sensor from tf (looked up without waiting; keyframes wait for it a few seconds, then a
+  /// warning names both frames and the poses are used as they are).
   bool sensor_extrinsic_from_tf = true;
   bool approximate_sync = true;         ///< approximate (true) or exact time synchronisation
   int sync_queue_size = 20;             ///< message_filters queue per input
@@ -23,6 +24,9 @@ struct NodeOptions {
   bool lio_sam_output = false;          ///< also publish std_msgs/Float64MultiArray [query, match stamps]
   double lio_sam_min_interval = 1.0;    ///< lio_loop: at most one message per this many seconds
   double unsynchronised_warning = 5.0;  ///< warn when clouds come without poses for this long [s]
+  /// Warn, naming the topic, when no cloud (or, with pose_source odom, no odometry) has arrived for this
+  /// long since the start or the last one [s].
+  double no_input_warning = 10.0;
   /// "detect": loops within and across sessions; "relocalize": a prior map (database_load) read-only,
   /// each keyframe's verified place in it published on `relocalization` (sets prior_sessions_only).
   std::string mode = "detect";

@@ -37,8 +37,11 @@
 #include "scan_context_loop/SaveDatabase.h"
 #include "scan_context_loop/ros/markers.h"
 #include "scan_context_loop/ros/parameters.h"
+#include "scan_context_loop/ros/sensor_extrinsic.h"
 
 namespace scan_context_loop {
+
+class HeapStatistics;
 
 class LoopClosureRos {
  public:
@@ -57,8 +60,10 @@ class LoopClosureRos {
     sensor_msgs::PointCloud2ConstPtr cloud;
     bool has_pose = false;  ///< false in tf mode: the worker looks it up
     Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+    // Frame ids as tf2 names them (frame_ids.h), normalised by the callback.
     std::string pose_frame;
     std::string child_frame;  ///< the odometry's child_frame_id (odom mode)
+    std::string cloud_frame;  ///< the cloud's frame_id
     std::chrono::steady_clock::time_point queued;  ///< when the callback queued it
     std::size_t queue_length = 0;                  ///< keyframes left in the queue when the worker took it
   };
@@ -68,6 +73,7 @@ class LoopClosureRos {
   void onCloudAndOdom(const sensor_msgs::PointCloud2ConstPtr& cloud, const nav_msgs::OdometryConstPtr& odom);
   void onCloudOnly(const sensor_msgs::PointCloud2ConstPtr& cloud);
   void onAnyCloud(const sensor_msgs::PointCloud2ConstPtr& cloud);
+  void onAnyOdom(const nav_msgs::OdometryConstPtr& odom);
   void enqueue(Item item);
   void work();
   /// Runs `work` (one keyframe, one service task) on the worker behind the exception barrier: what it
@@ -75,17 +81,28 @@ class LoopClosureRos {
   /// which is kept. Returns false, with the exception's what() in `what`, when it threw.
   bool runGuarded(const std::string& context, const std::function<void()>& work, std::string* what = nullptr);
   void process(Item item);
+  /// Worker: processes `item` behind the exception barrier (runGuarded), and the heap statistics after it.
+  void processGuarded(Item item, HeapStatistics* heap);
+  /// Worker: holds `item` while the extrinsic it needs is missing (at most queue_size keyframes; the
+  /// oldest held is dropped first), else processes it with those held before it.
+  void processOrHold(Item item, HeapStatistics* heap);
+  /// Worker: processes the held keyframes, in order, once the extrinsic is known or given up on.
+  void releaseHeld(HeapStatistics* heap);
   bool lookUpPose(Item* item);
   void publishLoops(const Detection& detection, const std::string& frame);
   void publishRejected(const Loop& rejected, const std::string& frame);
   scan_context_loop::LoopClosure makeLoop(const Loop& loop, const std::string& frame) const;
   void publishMarkers(const std::string& frame);
-  /// Odometry of another frame than the sensor's (LeGO-LOAM's camera axes, an IMU body): the pose is
-  /// turned into the sensor's with the extrinsic from tf (child <- sensor), looked up once.
+  /// The extrinsic `item` needs (odometry of another frame than the sensor's: LeGO-LOAM's camera axes,
+  /// an IMU body), from tf without waiting: known (the identity when none is needed), waiting, or given up.
+  SensorExtrinsic::State resolveExtrinsic(const Item& item);
+  /// Turns the pose into the sensor's with the extrinsic from tf (child <- sensor), once it is known.
   void applyExtrinsic(Item* item);
   /// lio_sam_output: the loop on lio_loop if it is verified, new and due (lio_sam_min_interval).
   void sendToLioSam(const scan_context_loop::LoopClosure& loop);
   void checkSynchronisation(const ros::WallTimerEvent&);
+  /// Warns, naming the topic, when no cloud (odom mode: no odometry either) came for no_input_warning s.
+  void checkInputs(const ros::WallTimerEvent&);
 
   // Database services and relocalization (database_services.cpp). Each service hands its work to the
   // worker, which owns the database, and waits for it.
@@ -128,7 +145,7 @@ class LoopClosureRos {
   ros::ServiceServer save_srv_, load_srv_, reset_srv_, relocalize_srv_;
   std::unique_ptr<tf2_ros::Buffer> tf_buffer_;
   std::unique_ptr<tf2_ros::TransformListener> tf_listener_;
-  ros::WallTimer sync_timer_;
+  ros::WallTimer sync_timer_, input_timer_;
   ros::Timer diagnostics_timer_;
   std::unique_ptr<diagnostic_updater::Updater> diagnostics_;
   boost::recursive_mutex reconfigure_mutex_;  // dynamic_reconfigure's own (guards its Server's state)
@@ -160,7 +177,9 @@ class LoopClosureRos {
   std::atomic<long long> heap_allocated_{-1}, heap_free_{-1};  // malloc's statistics at the worker's last read
   std::atomic<double> heap_statistics_ms_{0.0};
   std::atomic<double> last_query_ms_{0.0}, last_keyframe_ms_{0.0}, max_keyframe_ms_{0.0};
-  std::atomic<double> last_cloud_wall_{0.0}, last_pair_wall_{0.0}, first_unpaired_wall_{0.0};
+  std::atomic<double> last_cloud_wall_{0.0}, last_pair_wall_{0.0}, first_unpaired_wall_{0.0}, last_odom_wall_{0.0};
+  double start_wall_ = 0.0;  // when start() subscribed (set before any callback)
+  std::atomic<std::size_t> held_count_{0};  // keyframes the worker holds for the extrinsic
 
   // Worker-only state: touched by the worker thread alone, no lock.
   std::unique_ptr<KeyframePipeline> pipeline_;
@@ -173,8 +192,8 @@ class LoopClosureRos {
   std::string marker_frame_;    // the pose frame of the newest keyframe
   ros::Time lio_last_sent_;     // lio_loop: when the last message went out, and its query keyframe
   std::size_t lio_last_query_ = static_cast<std::size_t>(-1);
-  bool extrinsic_known_ = false;  // child <- sensor extrinsic found (or not needed)
-  Eigen::Isometry3d extrinsic_ = Eigen::Isometry3d::Identity();
+  std::unique_ptr<SensorExtrinsic> extrinsic_;  // child <- sensor (odom mode with sensor_extrinsic_from_tf)
+  std::deque<Item> held_;                       // keyframes waiting for the extrinsic, in order
 };
 
 }  // namespace scan_context_loop

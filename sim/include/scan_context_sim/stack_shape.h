@@ -1,6 +1,7 @@
 // How the odometry stacks that scan_context_loop ships launch files for publish their scans and poses:
-// topic names, frames, registered or sensor-frame clouds, camera-axes odometry and the scan rate. The
-// simulator writes bags in these shapes (--stack) and the tests read them back with the same table.
+// topic names, frames as the stacks spell them (tf1's leading '/' included), registered or sensor-frame
+// clouds, camera-axes odometry, the tf they and their launch files send, and the scan rate. The simulator
+// writes bags in these shapes (--stack) and the tests read them back with the same table.
 #pragma once
 
 #include <string>
@@ -19,8 +20,26 @@ struct StackShape {
   std::string odom_frame = "odom";       ///< the odometry's frame_id
   std::string child_frame = "velodyne";  ///< the odometry's child_frame_id
   bool registered = false;   ///< clouds registered in odom_frame with the odometry's pose, else in cloud_frame
-  bool camera_axes = false;  ///< odometry in camera axes (y up) with a static tf child_frame -> cloud_frame
+  /// Odometry in camera axes (y up), with the fixed extrinsic extrinsic_parent -> extrinsic_child.
+  bool camera_axes = false;
+  /// The camera-axes extrinsic's frames as the stack's launch file writes them (child_frame and
+  /// cloud_frame, maybe with tf1's leading '/').
+  std::string extrinsic_parent, extrinsic_child;
+  /// A fixed map_frame -> odom_frame the stack's launch file sends too, turning camera axes back to z up
+  /// (empty: none).
+  std::string map_frame;
+  /// tf1's static_transform_publisher period [s]: the fixed transforms go on /tf every period, each
+  /// stamped a period ahead, as that tool sends them. 0: once, latched, on /tf_static (tf2's static
+  /// broadcaster).
+  double fixed_tf_period = 0.0;
+  bool odom_tf = false;      ///< the odometry is also broadcast on /tf (odom_frame -> child_frame, its stamps)
   double rate_hz = 0.0;      ///< scans a second the stack publishes (0: one cloud per keyframe)
+};
+
+/// A transform that never changes: T_parent<-child.
+struct FixedTransform {
+  std::string parent, child;
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
 };
 
 /// A-LOAM, LeGO-LOAM, LIO-SAM and FAST-LIO, in that order.
@@ -31,8 +50,10 @@ const StackShape* findStackShape(const std::string& name);
 std::string stackNames();
 
 /// T_odometry-axes<-LiDAR-axes: camera axes (x_camera = y_lidar, y_camera = z_lidar, z_camera = x_lidar)
-/// or the identity. It is also the static tf child_frame -> cloud_frame of a camera-axes stack.
+/// or the identity. It is also the fixed extrinsic child_frame -> cloud_frame of a camera-axes stack.
 Eigen::Isometry3d odometryAxes(const StackShape& shape);
+/// The fixed transforms of the stack (the camera-axes extrinsic, map -> odometry frame), none for most.
+std::vector<FixedTransform> fixedTransforms(const StackShape& shape);
 /// The odometry a stack publishes for a LiDAR pose (x forward, z up) in a z-up world, and back.
 Eigen::Isometry3d toStackPose(const StackShape& shape, const Eigen::Isometry3d& lidar_pose);
 Eigen::Isometry3d fromStackPose(const StackShape& shape, const Eigen::Isometry3d& stack_pose);

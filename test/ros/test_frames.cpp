@@ -1,0 +1,139 @@
+// rostest: frame ids with tf1's leading '/' in, tf2's names out (loops, their standard-type copies,
+// markers, timing); the extrinsic sent tf1's way (repeated on /tf, slashed) is found and reported once;
+// a node whose inputs are silent says so on /rosout, naming the topics.
+#include <algorithm>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <rosgraph_msgs/Log.h>
+#include <tf2_eigen/tf2_eigen.h>
+#include <tf2_ros/transform_broadcaster.h>
+
+#include "harness.h"
+
+namespace scan_context_loop {
+namespace test {
+namespace {
+
+/// Every /rosout message from the moment it subscribes.
+class RosoutWatch {
+ public:
+  explicit RosoutWatch(ros::NodeHandle nh)
+      : sub_(nh.subscribe<rosgraph_msgs::Log>("/rosout", 1000, [this](const rosgraph_msgs::Log::ConstPtr& m) {
+          std::lock_guard<std::mutex> lock(mutex_);
+          logs_.push_back(*m);
+        })) {}
+  ~RosoutWatch() { sub_.shutdown(); }
+
+  /// The messages of `level` from node `name` that contain `text`.
+  std::size_t count(std::uint8_t level, const std::string& name, const std::string& text) const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return std::count_if(logs_.begin(), logs_.end(), [&](const rosgraph_msgs::Log& m) {
+      return m.level == level && m.name == name && m.msg.find(text) != std::string::npos;
+    });
+  }
+  /// Waits until count() is at least one; false after `seconds`.
+  bool waitFor(std::uint8_t level, const std::string& name, const std::string& text, double seconds) const {
+    const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(seconds);
+    while (ros::ok() && ros::WallTime::now() < end) {
+      if (count(level, name, text) > 0) return true;
+      ros::WallDuration(0.1).sleep();
+    }
+    return false;
+  }
+  std::size_t publishers() const { return sub_.getNumPublishers(); }
+
+ private:
+  ros::Subscriber sub_;
+  mutable std::mutex mutex_;  // guards logs_ (callback vs. test thread)
+  std::vector<rosgraph_msgs::Log> logs_;
+};
+
+/// T_base<-velodyne: the sensor 1.2 m above and 0.3 m ahead of the base, turned 90 degrees.
+Eigen::Isometry3d baseFromVelodyne() {
+  Eigen::Isometry3d e = Eigen::Isometry3d::Identity();
+  e.translation() << 0.3, 0.0, 1.2;
+  e.rotate(Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitZ()));
+  return e;
+}
+
+TEST(Frames, SlashedInputsPublishedWithTf2Names) {
+  ros::NodeHandle nh;
+  RosoutWatch rosout(nh);
+  Harness harness(nh);
+  ASSERT_TRUE(harness.waitForNode(30.0)) << "the loop-closure node never subscribed";
+  // This node, the loop-closure node and the silent one log to /rosout.
+  for (int i = 0; i < 100 && rosout.publishers() < 3; ++i) ros::WallDuration(0.1).sleep();
+
+  // tf1's static_transform_publisher: /base -> /velodyne every 10 ms, stamped 10 ms ahead; from a second
+  // after the first keyframe, which waits for it meanwhile.
+  tf2_ros::TransformBroadcaster broadcaster;
+  const ros::WallTime tf_from = ros::WallTime::now() + ros::WallDuration(1.0);
+  const ros::WallTimer tf1 = nh.createWallTimer(ros::WallDuration(0.01), [&](const ros::WallTimerEvent&) {
+    if (ros::WallTime::now() < tf_from) return;
+    geometry_msgs::TransformStamped t = tf2::eigenToTransform(baseFromVelodyne());
+    t.header.stamp = ros::Time::now() + ros::Duration(0.01);
+    t.header.frame_id = "/base";
+    t.child_frame_id = "/velodyne";
+    broadcaster.sendTransform(t);
+  });
+
+  const Drive drive = blockDrive(true, 7);
+  ros::WallRate rate(12.0);
+  for (std::size_t k = 0; k < drive.truth.size() && ros::ok(); ++k) {
+    sensor_msgs::PointCloud2 cloud = harness.cloud(drive, k);
+    cloud.header.frame_id = "/velodyne";
+    nav_msgs::Odometry odom = harness.odom(drive, k);
+    odom.header.frame_id = "/odom";
+    odom.child_frame_id = "/base";
+    odom.pose.pose = tf2::toMsg(drive.truth[k] * baseFromVelodyne().inverse());
+    harness.cloud_pub.publish(cloud);
+    harness.odom_pub.publish(odom);
+    rate.sleep();
+  }
+  ASSERT_TRUE(harness.waitForKeyframes(drive.truth.size(), 30.0)) << "keyframes held for the extrinsic were lost";
+  harness.settle(3.0, 30.0);
+
+  // The extrinsic: found from the slashed names, reported once with both frames; no fallback.
+  EXPECT_EQ(rosout.count(rosgraph_msgs::Log::INFO, "/loop_closure", "tf extrinsic base <- velodyne"), 1u);
+  EXPECT_EQ(rosout.count(rosgraph_msgs::Log::WARN, "/loop_closure", "poses are used as the sensor's"), 0u);
+
+  const auto loops = harness.loops();
+  ASSERT_GE(loops.size(), 10u);
+  expectTrueLoops(drive, harness.base, loops, false);
+  for (const auto& loop : loops) EXPECT_EQ(loop.header.frame_id, "odom");
+  const auto pairs = harness.loopPairs();
+  ASSERT_FALSE(pairs.empty());
+  for (const auto& pair : pairs) EXPECT_EQ(pair.header.frame_id, "odom");
+  const auto markers = harness.shownMarkers();
+  ASSERT_FALSE(markers.markers.empty());
+  for (const auto& marker : markers.markers) EXPECT_EQ(marker.header.frame_id, "odom") << marker.ns;
+  const auto timings = harness.timings();
+  ASSERT_FALSE(timings.empty());
+  for (const auto& timing : timings) EXPECT_EQ(timing.header.frame_id, "odom");
+  // Loops in the sensor's poses: the odometry gate and the positions use the velodyne, not the base.
+  const auto& keyframes = std::find_if(markers.markers.begin(), markers.markers.end(),
+                                       [](const visualization_msgs::Marker& m) { return m.ns == "keyframes" && m.id == 0; });
+  ASSERT_NE(keyframes, markers.markers.end());
+  ASSERT_FALSE(keyframes->points.empty());
+  EXPECT_NEAR(keyframes->points[0].z, drive.truth[0].translation().z(), 1e-3) << "the first keyframe at the sensor";
+}
+
+TEST(Frames, SilentInputsNamedInAWarning) {
+  ros::NodeHandle nh;
+  RosoutWatch rosout(nh);
+  // no_input_warning 2 s, repeated every 2 s while nothing comes.
+  EXPECT_TRUE(rosout.waitFor(rosgraph_msgs::Log::WARN, "/silent/loop_closure",
+                             "no keyframe cloud on /silent/keyframe_cloud", 20.0));
+  EXPECT_TRUE(rosout.waitFor(rosgraph_msgs::Log::WARN, "/silent/loop_closure",
+                             "no keyframe odometry on /silent/keyframe_odom", 20.0));
+  EXPECT_GE(rosout.count(rosgraph_msgs::Log::WARN, "/silent/loop_closure", "(0 publishers)"), 1u);
+}
+
+}  // namespace
+}  // namespace test
+}  // namespace scan_context_loop
+
+int main(int argc, char** argv) { return scan_context_loop::test::runRosTests(argc, argv, "test_frames"); }
