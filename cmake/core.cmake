@@ -8,6 +8,7 @@ add_library(scan_context_loop_core
   src/core/database.cpp
   src/core/detector.cpp
   src/core/odometry_trust.cpp
+  src/core/world_tilt.cpp
   src/core/registration.cpp
   src/core/coarse_search.cpp
   src/core/free_space.cpp

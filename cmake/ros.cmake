@@ -87,6 +87,7 @@ if(CATKIN_ENABLE_TESTING)
   foreach(stack aloam lego_loam lio_sam fast_lio)
     add_custom_command(OUTPUT ${bags}/${stack}.bag
       COMMAND scan_context_simulate ${bags}/${stack} --block --stack ${stack} --sensor vlp16 --voxel 0.2 --threads 2
+        --mount-pitch 6
         --bag ${bags}/${stack}.bag
       COMMAND ${CMAKE_COMMAND} -E remove_directory ${bags}/${stack}/velodyne
       DEPENDS scan_context_simulate

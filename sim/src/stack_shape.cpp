@@ -25,6 +25,7 @@ std::vector<StackShape> makeShapes() {
   StackShape aloam = shape("aloam", "/velodyne_cloud_registered", "/aft_mapped_to_init", "/camera_init",
                            "/camera_init", "/aft_mapped", true);
   aloam.odom_tf = true;
+  aloam.world_at_first_scan = true;
   // imageProjection (base_link clouds) and transformFusion (pose in camera axes, y up, with the tf
   // /camera_init -> /camera); run.launch sends /camera -> /base_link and /map -> /camera_init with tf1's
   // static_transform_publisher, every 10 ms on /tf.
@@ -36,11 +37,14 @@ std::vector<StackShape> makeShapes() {
   lego.map_frame = "/map";
   lego.fixed_tf_period = 0.01;
   lego.odom_tf = true;
+  lego.world_at_first_scan = true;
   // mapOptimization: every deskewed scan registered in odom.
   StackShape lio_sam = shape("lio_sam", "/lio_sam/mapping/cloud_registered_raw", "/lio_sam/mapping/odometry",
                              "odom", "odom", "odom_mapping", true);
   // laserMapping: every scan in the body frame, whose pose /Odometry gives.
+  // Its world frame is the first IMU frame (the gravity alignment is left out), not gravity-aligned.
   StackShape fast_lio = shape("fast_lio", "/cloud_registered_body", "/Odometry", "body", "camera_init", "body", false);
+  fast_lio.world_at_first_scan = true;
   return {aloam, lego, lio_sam, fast_lio};
 }
 

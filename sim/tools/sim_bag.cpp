@@ -76,10 +76,18 @@ class RepeatedTransforms {
 
 }  // namespace
 
-bool writeBag(const std::string& sequence_dir, const std::vector<Eigen::Isometry3d>& truth,
-              const std::vector<Eigen::Isometry3d>& odom, const std::vector<double>& times, const BagOptions& options,
-              std::string* error) {
+bool writeBag(const std::string& sequence_dir, const std::vector<Eigen::Isometry3d>& truth_in_world,
+              const std::vector<Eigen::Isometry3d>& odom_in_world, const std::vector<double>& times,
+              const BagOptions& options, std::string* error) {
   const StackShape& shape = options.shape;
+  // A stack whose world is its first scan's frame publishes every pose (and the truth shaped like it)
+  // relative to that scan.
+  std::vector<Eigen::Isometry3d> truth = truth_in_world, odom = odom_in_world;
+  if (shape.world_at_first_scan && !truth.empty()) {
+    const Eigen::Isometry3d truth_origin = truth.front().inverse(), odom_origin = odom.front().inverse();
+    for (auto& pose : truth) pose = truth_origin * pose;
+    for (auto& pose : odom) pose = odom_origin * pose;
+  }
   try {
     rosbag::Bag bag(options.path, rosbag::bagmode::Write);
     bag.setCompression(rosbag::compression::LZ4);

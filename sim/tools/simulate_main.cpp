@@ -38,6 +38,7 @@ struct Options {
   double noise = -1, dropout = -1, max_range = -1, mount = -1, dim_range = -1, voxel = 0;
   bool city = false, narrow = false, block = false;
   double tilt = 0;
+  double mount_pitch = 0;
   std::uint32_t seed = 1;
   double dynamic_cars = 0.3;
   double changed_world = 0.0;
@@ -95,6 +96,9 @@ void addOptions(scl::cli::Parser* cli, Options* o) {
               "hand-held or legged platform: the sensor rolls and pitches (a slow sway and a gait), |tilt| median "
               "about 0.7 x DEG, 90th percentile 1.25 x DEG (default 0: level)",
               &o->tilt)
+      .option("--mount-pitch", "DEG",
+              "the sensor mounted pitched by DEG (positive: nose down), all drive long (default 0)",
+              &o->mount_pitch)
       .option("--dim-range", "M",
               "range at which a dim return (10 % reflectivity, head-on) is detected half the time; brighter "
               "surfaces reach further, grazing ground fades sooner (default: the sensor's, 40-120; 0: no fading)",
@@ -204,6 +208,7 @@ std::string check(const Options& o) {
   if (!o.bag.shape.name.empty() && o.bag.path.empty()) return "--stack shapes the bag: it needs --bag FILE";
   if (o.bag_frames && !o.bag.shape.name.empty()) return "--stack sets the frames: no --sensor-frame or --odom-frame";
   if (o.tilt < 0.0) return "--tilt must be >= 0";
+  if (!(std::fabs(o.mount_pitch) <= 45.0)) return "--mount-pitch must be within +-45 degrees";
   if (o.changed_world < 0.0) return "--changed-world must be >= 0";
   if (o.session != 1 && o.session != 2) return "--session must be 1 or 2";
   if (o.second.changed < 0.0 || o.second.changed > 1.0) return "--session-changes must be in [0, 1]";
@@ -322,6 +327,7 @@ int main(int argc, char** argv) {
   for (std::size_t k : keyframes) {
     data.truth.push_back(sim::sensorPose(world, drive.path[k], sensor.mount_height));
     if (o.tilt > 0) data.truth.back() = sim::tiltPose(data.truth.back(), roll_pitch[k]);
+    if (o.mount_pitch != 0.0) data.truth.back() = sim::tiltPose(data.truth.back(), {0.0, o.mount_pitch * M_PI / 180.0});
     data.times.push_back(drive.times[k]);
   }
   o.drift.seed = run_seed;
@@ -372,6 +378,7 @@ int main(int argc, char** argv) {
        << "\ndrift_yaw_per_deg: " << o.drift.yaw_per_degree
        << "\ndrift_correlation_m: " << o.drift.correlation_length << "\nseconds: " << seconds << "\n";
   if (o.tilt > 0) info << "tilt_deg: " << o.tilt << "\n";
+  if (o.mount_pitch != 0.0) info << "mount_pitch_deg: " << o.mount_pitch << "\n";
   const sim::OdometryFailures& f = o.failures;
   if (f.heading_ramp_deg != 0.0) info << "odometry_heading_ramp_deg: " << f.heading_ramp_deg << " from " << f.ramp_start << "\n";
   if (f.heading_jumps > 0) info << "odometry_heading_jumps: " << f.heading_jumps << " x " << f.heading_jump_deg << " deg\n";

@@ -486,13 +486,7 @@ void LoopClosureRos::process(Item item) {
                             "keyframe that never matches",
                             detection.index, info.stamp, detection.points_skipped);
   }
-  if (detection.levelling_disagreement_median_deg > LoopDetector::kLevellingSuspectDeg) {
-    ROS_WARN_THROTTLE_NAMED(60.0, name_,
-                            "levelling by the pose: the odometry's roll and pitch and the ground disagree by %.1f deg "
-                            "(median of the last %zu checks); its world frame is probably not gravity-aligned (A-LOAM "
-                            "and FAST-LIO start it at the first scan's frame): set levelling: ground",
-                            detection.levelling_disagreement_median_deg, LoopDetector::kLevellingChecks);
-  }
+  reportWorldTilt(detection);
   if (detection.new_session) {
     const Database& database = pipeline_->detector().database();
     ROS_WARN_NAMED(name_,
@@ -581,6 +575,16 @@ scan_context_loop::LoopClosure LoopClosureRos::makeLoop(const Loop& found, const
   loop.verified = false;
   loop.fitness = 0.0;
   return loop;
+}
+
+void LoopClosureRos::reportWorldTilt(const Detection& detection) {
+  if (detection.world_tilt_deg < LoopDetector::kLevellingSuspectDeg) return;
+  ROS_WARN_THROTTLE_NAMED(300.0, name_,
+                          "levelling: the odometry's world frame is %.1f deg off gravity (from %zu ground fits; A-LOAM "
+                          "and FAST-LIO start it at the first scan's frame, tilted as the sensor was): keyframes are "
+                          "levelled by that attitude, the same within this session; a database saved now does not "
+                          "match a session started at another tilt (doc/odometry_checks.md)",
+                          detection.world_tilt_deg, pipeline_->detector().worldTilt().fits());
 }
 
 void LoopClosureRos::publishRejected(const Loop& rejected, const std::string& frame) {

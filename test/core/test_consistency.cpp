@@ -1,4 +1,5 @@
 // Pairwise consistency of loops through the odometry (ConsistencyFilter, loopsAgree).
+#include <algorithm>
 #include <cmath>
 
 #include <gtest/gtest.h>
@@ -229,6 +230,69 @@ TEST(Consistency, VerifiedLoopWaitsForASecondOneThroughTheDetector) {
   EXPECT_EQ(second.loops[1].query, 5u);
   EXPECT_EQ(second.loops[1].match, 1u);
   EXPECT_EQ(second.loops[1].support, 1);
+}
+
+}  // namespace
+}  // namespace scan_context_loop
+
+namespace scan_context_loop {
+namespace {
+
+/// A loop the odometry checks contradicted by `excess` times their allowance (it passed the geometry).
+Loop contradicted(int query, int match, double excess, double dx = 0.0, double yaw_deg = 0.0) {
+  Loop l = Drive::loop(query, match, dx, 0.0, yaw_deg);
+  l.verified = false;
+  l.verification.odometry_contradicted = true;
+  l.verification.odometry_excess = excess;
+  l.verification.rejected_by = "odometry_rotation";
+  return l;
+}
+
+TEST(ConsistencyContradicted, NeedsOneSupportMoreAndOnlyFromLoopsLikeIt) {
+  Config config;
+  config.consistency_min_support = 1;
+  const Drive drive(config);
+  Stepper step(drive);
+  // Two contradicted loops that agree: one support each, one short.
+  step(contradicted(40, 10, 3.0));
+  step(contradicted(41, 11, 3.0));
+  EXPECT_TRUE(step.confirmed.empty());
+  // A third confirms all three, without their rejection.
+  step(contradicted(42, 12, 3.0));
+  ASSERT_EQ(step.confirmed.size(), 3u);
+  for (const Loop& l : step.confirmed) {
+    EXPECT_TRUE(l.verified);
+    EXPECT_TRUE(l.verification.rejected_by.empty());
+  }
+  // A loop the odometry agrees with is not confirmed by contradicted ones.
+  Stepper other(drive);
+  other(contradicted(40, 10, 3.0));
+  other(contradicted(41, 11, 3.0));
+  other(Drive::loop(42, 12));
+  EXPECT_TRUE(std::none_of(other.confirmed.begin(), other.confirmed.end(),
+                           [](const Loop& l) { return l.query == 42; }));
+}
+
+TEST(ConsistencyContradicted, ALessContradictedLoopThatDisagreesHoldsItBack) {
+  Config config;
+  config.consistency_min_support = 1;
+  const Drive drive(config);
+  // A run of loops all 14 m off (a row of identical houses), agreeing with each other, which the
+  // odometry contradicts more than a loop that disagrees with them.
+  const auto run = [](Stepper* step) {
+    for (int q = 41; q <= 44; ++q) (*step)(contradicted(q, q - 30, 15.0, 14.0));
+  };
+  Stepper alone(drive);
+  run(&alone);
+  EXPECT_FALSE(alone.filter.waiting() == 4u) << "on their own they confirm each other";
+  Stepper step(drive);
+  step(contradicted(40, 10, 1.5));
+  std::size_t confirmed = 0;
+  for (int q = 41; q <= 44; ++q) {
+    step(contradicted(q, q - 30, 15.0, 14.0));
+    confirmed += step.confirmed.size();
+  }
+  EXPECT_EQ(confirmed, 0u);
 }
 
 }  // namespace

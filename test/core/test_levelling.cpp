@@ -217,40 +217,81 @@ TEST(LevellingGround, SameCloudSameFitAndInvalidOptionsAreRefused) {
 namespace scan_context_loop {
 namespace {
 
-/// Feeds `count` keyframes of one real scan tilted by 8 degrees of pitch, with poses that are `tilted_pose`
-/// (the true attitude) or level (a world frame that started tilted with the sensor), and returns the last
-/// median disagreement the detector found between pose and ground.
-double poseGroundDisagreement(bool tilted_pose, int count) {
+/// Feeds `count` keyframes of one real scan tilted by 8 degrees of pitch, with poses that are
+/// `tilted_pose` (the true attitude) or level (a world frame that started tilted with the sensor), and
+/// returns the detector's estimate of the world's tilt and the last keyframe's levelling [deg].
+struct TiltOutcome {
+  double world_tilt = -1.0, last_tilt = -1.0;
+  std::string last_levelled_by;
+};
+
+TiltOutcome levelWith(const Eigen::Matrix3d& world, bool tilted_pose, int count) {
   const auto cloud = test::kittiScan("00", 94);
   const Eigen::Matrix3d tilt = Eigen::AngleAxisd(8.0 * M_PI / 180.0, Eigen::Vector3d::UnitY()).toRotationMatrix();
   const auto scan = rotatedCloud(viewOf(cloud), tilt.transpose().cast<float>());
   Config config;
   config.verification.enabled = false;
   LoopDetector detector(config);
-  double median = -1.0;
+  TiltOutcome out;
   for (int k = 0; k < count; ++k) {
     KeyframeInfo info;
     info.stamp = k;
     Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
     pose.translation().x() = 2.0 * k;
     if (tilted_pose) pose.linear() = tilt;
+    pose.linear() = world * pose.linear();
     info.pose = pose;
     const Detection d = detector.process(viewOf(scan), info);
-    EXPECT_STREQ(d.levelled_by, "pose");
-    if (d.levelling_disagreement_median_deg >= 0.0) median = d.levelling_disagreement_median_deg;
+    if (d.world_tilt_deg >= 0.0) out.world_tilt = d.world_tilt_deg;
+    out.last_tilt = d.tilt_deg;
+    out.last_levelled_by = d.levelled_by;
   }
-  return median;
+  return out;
 }
 
-TEST(LevellingCheck, APoseWorldFrameThatIsNotGravityAlignedIsNoticed) {
-  const int count = static_cast<int>(LoopDetector::kLevellingCheckInterval * LoopDetector::kLevellingChecks);
-  const double level_world = poseGroundDisagreement(true, count);
-  const double tilted_world = poseGroundDisagreement(false, count);
-  std::printf("[ levelling ] pose vs ground: %.2f deg in a gravity-aligned world, %.2f deg in a tilted one\n",
-              level_world, tilted_world);
-  ASSERT_GE(level_world, 0.0);
-  EXPECT_LT(level_world, LoopDetector::kLevellingSuspectDeg);
-  EXPECT_GT(tilted_world, LoopDetector::kLevellingSuspectDeg);
+TEST(LevellingWorldTilt, ATiltedOdometryWorldIsMeasuredAndAYUpOneTurned) {
+  const int count = static_cast<int>(WorldTilt::kMinFits + 2 * LoopDetector::kLevellingCheckInterval);
+  const Eigen::Matrix3d z_up = Eigen::Matrix3d::Identity();
+  const TiltOutcome level_world = levelWith(z_up, true, count);
+  const TiltOutcome tilted_world = levelWith(z_up, false, count);
+  // LeGO-LOAM's world: y up (the sensor's axes turned into camera axes), tilted as the first scan was.
+  const Eigen::Matrix3d y_up = Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitX()).toRotationMatrix();
+  const TiltOutcome camera_world = levelWith(y_up, true, count);
+  std::printf("[ levelling ] world tilt: %.2f deg gravity-aligned, %.2f deg started tilted, %.2f deg y up\n",
+              level_world.world_tilt, tilted_world.world_tilt, camera_world.world_tilt);
+  // The scan itself is about 1 degree off level (KITTI 00 frame 94, LevellingGround above).
+  EXPECT_GE(level_world.world_tilt, 0.0);
+  EXPECT_LT(level_world.world_tilt, 2.0);
+  EXPECT_GT(tilted_world.world_tilt, LoopDetector::kLevellingSuspectDeg);
+  EXPECT_NEAR(tilted_world.world_tilt, 8.0, 1.5);
+  // Its y axis is found to point up, exactly, and what is left is the scan's own degree.
+  EXPECT_LT(camera_world.world_tilt, 2.0);
+  // A gravity-aligned pose levels the whole 8 degrees; a world a few degrees off keeps the pose as it is
+  // (the same tilt for every keyframe of the session); a y-up world is turned z up from its first keyframe.
+  EXPECT_EQ(level_world.last_levelled_by, "pose");
+  EXPECT_NEAR(level_world.last_tilt, 8.0, 1.5);
+  EXPECT_EQ(tilted_world.last_levelled_by, "pose");
+  EXPECT_LT(tilted_world.last_tilt, 0.5);
+  EXPECT_EQ(camera_world.last_levelled_by, "pose");
+  EXPECT_NEAR(camera_world.last_tilt, 8.0, 1.5);
+}
+
+TEST(LevellingWorldTilt, FitsThatDisagreeAreNotAnEstimate) {
+  WorldTilt tilt;
+  for (std::size_t k = 0; k < 3 * WorldTilt::kMinFits; ++k) {
+    // Up pointing 30 degrees off in a direction that turns with k: they scatter by ~30 degrees.
+    const double a = 2.0 * M_PI * static_cast<double>(k) / 7.0;
+    tilt.add(Eigen::Matrix3d::Identity(), Eigen::Vector3d(0.5 * std::cos(a), 0.5 * std::sin(a), 0.866));
+  }
+  EXPECT_FALSE(tilt.established());
+  EXPECT_TRUE(tilt.correction().isIdentity());
+  tilt.reset();
+  for (std::size_t k = 0; k < WorldTilt::kMinFits; ++k) tilt.add(Eigen::Matrix3d::Identity(), Eigen::Vector3d(0, 0.1, 1).normalized());
+  ASSERT_TRUE(tilt.established());
+  EXPECT_TRUE(tilt.axisKnown());
+  EXPECT_TRUE(tilt.axisCorrection().isIdentity());
+  EXPECT_NEAR(tilt.tiltDeg(), std::atan(0.1) * 180.0 / M_PI, 1e-6);
+  EXPECT_TRUE((tilt.correction() * Eigen::Vector3d(0, 0.1, 1).normalized()).isApprox(Eigen::Vector3d::UnitZ()));
 }
 
 }  // namespace

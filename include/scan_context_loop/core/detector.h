@@ -15,6 +15,7 @@
 #include "scan_context_loop/core/loop_tracking.h"
 #include "scan_context_loop/core/prior_sessions.h"
 #include "scan_context_loop/core/verification.h"
+#include "scan_context_loop/core/world_tilt.h"
 
 namespace scan_context_loop {
 
@@ -45,12 +46,12 @@ struct Detection {
   /// below 0.5 deg are left alone).
   const char* levelled_by = "none";
   double tilt_deg = 0.0;
-  /// Levelled by the pose: every LoopDetector::kLevellingCheckInterval keyframes the ground is fitted
-  /// too; this is the angle between the up directions the two give [deg] (negative: not checked), and
-  /// the median of the last kLevellingChecks such angles (negative until there are that many). A median
-  /// above kLevellingSuspectDeg says the odometry's world frame is not gravity-aligned.
+  /// With a pose (levelling auto or pose), the ground is fitted too, on every keyframe until the world's
+  /// tilt is known (world_tilt.h) and every LoopDetector::kLevellingCheckInterval keyframes after:
+  /// the angle between the up the pose gives and the ground's [deg] (negative: not checked). `world_tilt_deg`: how far the odometry's world frame is from
+  /// gravity, once known (negative before).
   double levelling_disagreement_deg = -1.0;
-  double levelling_disagreement_median_deg = -1.0;
+  double world_tilt_deg = -1.0;
   std::size_t points_used = 0;
   std::size_t points_skipped = 0;
   double descriptor_seconds = 0.0;  ///< making the descriptors (one per viewpoint)
@@ -79,10 +80,12 @@ class LoopDetector {
 
   Detection process(const PointView& points, const KeyframeInfo& info);
 
-  /// The check of pose levelling against the ground (Detection::levelling_disagreement_deg).
+  /// The ground fits behind the world's tilt (Detection::world_tilt_deg), once it is known.
   static constexpr std::size_t kLevellingCheckInterval = 10;
-  static constexpr std::size_t kLevellingChecks = 9;
+  /// A world tilted more than this from gravity deserves a warning [deg].
   static constexpr double kLevellingSuspectDeg = 4.0;
+  /// The odometry's world frame as far as levelling knows it (world_tilt.h).
+  const WorldTilt& worldTilt() const { return world_tilt_; }
 
   /// Where a cloud is among the stored keyframes, without storing it (relocalization on request):
   /// levelled by its ground, described from every viewpoint, queried (the candidates the windows allow:
@@ -141,9 +144,10 @@ class LoopDetector {
   static constexpr int kYawHypotheses = 3;
   /// L_R_sensor of a new keyframe (Config::levelling), identity when it is not levelled.
   Eigen::Matrix3f levellingOf(const PointView& points, const KeyframeInfo& info, Detection* detection) const;
-  /// Every kLevellingCheckInterval keyframes levelled by their pose (`level`, L_R_sensor): fits the
-  /// ground of `points` and records how far the two disagree in `detection`.
-  void checkPoseLevelling(const PointView& points, const Eigen::Matrix3f& level, Detection* detection);
+  /// For a keyframe with a pose (levelling auto or pose): fits the ground of `points` (every keyframe until
+  /// the world's tilt is known, every kLevellingCheckInterval after), adds it to the world's tilt and
+  /// records how far pose and ground disagree in `detection`.
+  void updateWorldTilt(const PointView& points, const KeyframeInfo& info, Detection* detection);
   /// The candidate's data with its Config::verify_submap neighbours on each side (older than `query`).
   VoxelCloud submapOf(std::size_t index, std::size_t query) const;
   /// Registration results are in the levelled frames; loops are reported in the sensor frames.
@@ -159,8 +163,9 @@ class LoopDetector {
   VerificationConfig verification_;
   Verifier verifier_;
   std::vector<Eigen::Matrix3f> levelling_;  // L_R_sensor per keyframe
-  std::size_t pose_levelled_ = 0;            // keyframes levelled by their pose
-  std::vector<double> levelling_checks_;     // the last kLevellingChecks disagreements [deg], a ring
+  WorldTilt world_tilt_;                     // of the current session's odometry frame
+  std::uint32_t world_tilt_session_ = 0;     // the session it is of
+  std::size_t posed_keyframes_ = 0;          // keyframes with a pose since the world's tilt is known
   ConsistencyFilter consistency_;
   LoopTracker tracker_;
 };

@@ -91,6 +91,8 @@ class LoopClosureRos {
   bool lookUpPose(Item* item);
   void publishLoops(const Detection& detection, const std::string& frame);
   void publishRejected(const Loop& rejected, const std::string& frame);
+  /// Warns (throttled) while levelling finds the odometry's world frame tilted from gravity (world_tilt.h).
+  void reportWorldTilt(const Detection& detection);
   scan_context_loop::LoopClosure makeLoop(const Loop& loop, const std::string& frame) const;
   void publishMarkers(const std::string& frame);
   /// The extrinsic `item` needs (odometry of another frame than the sensor's: LeGO-LOAM's camera axes,

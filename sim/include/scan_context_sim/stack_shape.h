@@ -33,6 +33,10 @@ struct StackShape {
   /// broadcaster).
   double fixed_tf_period = 0.0;
   bool odom_tf = false;      ///< the odometry is also broadcast on /tf (odom_frame -> child_frame, its stamps)
+  /// The odometry's world frame is the first scan's (LiDAR-only odometry, and FAST-LIO, which estimates
+  /// gravity but leaves its world frame at the first IMU frame): as tilted as the sensor was then, not
+  /// gravity-aligned. Otherwise the world is z up (LIO-SAM aligns it with gravity from the IMU).
+  bool world_at_first_scan = false;
   double rate_hz = 0.0;      ///< scans a second the stack publishes (0: one cloud per keyframe)
 };
 
