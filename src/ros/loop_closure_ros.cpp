@@ -109,6 +109,7 @@ bool LoopClosureRos::start() {
       ros::SubscriberStatusCallback(), ros::VoidConstPtr(), true);
   if (options_.lio_sam_output) lio_pub_ = nh_.advertise<std_msgs::Float64MultiArray>("lio_loop", 100);
   pair_pub_ = nh_.advertise<geometry_msgs::PoseWithCovarianceStamped>("loop_closure_pairs", 200);
+  array_pub_ = nh_.advertise<std_msgs::Float64MultiArray>("loop_closure_array", 100);
   timing_pub_ = nh_.advertise<scan_context_loop::KeyframeTiming>("keyframe_timing", 100);
   advertiseSessionServices();
 
@@ -613,6 +614,7 @@ void LoopClosureRos::publishLoops(const Detection& detection, const std::string&
     ++loops_found_;
     edges_.push_back({loop.query_id, loop.match_id, loop.distance});
     loop_pub_.publish(loop);
+    if (array_pub_.getNumSubscribers() > 0) array_pub_.publish(loopArray(loop));
     if (pair_pub_.getNumSubscribers() > 0) {
       for (const auto& pose : loopPair(loop, poses_[found.match])) pair_pub_.publish(pose);
     }

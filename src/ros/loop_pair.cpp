@@ -4,6 +4,26 @@
 
 namespace scan_context_loop {
 
+const char* const kLoopArrayLayout =
+    "query_id match_id query_session match_session query_stamp match_stamp verified fitness distance "
+    "x y z qx qy qz qw covariance[36]";
+
+std_msgs::Float64MultiArray loopArray(const scan_context_loop::LoopClosure& loop) {
+  std_msgs::Float64MultiArray out;
+  out.layout.dim.resize(1);
+  out.layout.dim[0].label = kLoopArrayLayout;
+  out.layout.dim[0].size = kLoopArraySize;
+  out.layout.dim[0].stride = kLoopArraySize;
+  const geometry_msgs::Pose& p = loop.relative_pose;
+  out.data = {static_cast<double>(loop.query_id), static_cast<double>(loop.match_id),
+              static_cast<double>(loop.query_session), static_cast<double>(loop.match_session),
+              loop.query_stamp.toSec(), loop.match_stamp.toSec(), loop.verified ? 1.0 : 0.0, loop.fitness,
+              loop.distance, p.position.x, p.position.y, p.position.z, p.orientation.x, p.orientation.y,
+              p.orientation.z, p.orientation.w};
+  out.data.insert(out.data.end(), loop.covariance.begin(), loop.covariance.end());
+  return out;
+}
+
 std::array<geometry_msgs::PoseWithCovarianceStamped, 2> loopPair(const scan_context_loop::LoopClosure& loop,
                                                                  const Eigen::Isometry3d& world_from_match) {
   std::array<geometry_msgs::PoseWithCovarianceStamped, 2> pair;

@@ -105,6 +105,16 @@ def the_loop_node(config, errors):
     return nodes[0]
 
 
+def load_loop_node(path=None, args=(), ns=None, text=None):
+    """(config, the loop node, errors) of a launch file or XML; config and node are None when it did not
+    load."""
+    config = load(path, args, ns=ns, text=text)
+    if isinstance(config, str):
+        return None, None, [config]
+    errors = []
+    return config, the_loop_node(config, errors), errors
+
+
 def expected_settings(package, stack):
     """The settings the node must get: the stack's file (config/stacks/STACK.yaml), then STACKS'."""
     settings = {}
@@ -144,11 +154,7 @@ def option(args, flag):
 
 
 def case_defaults(package, stack, path):
-    config = load(path)
-    if isinstance(config, str):
-        return [config]
-    errors = []
-    node = the_loop_node(config, errors)
+    config, node, errors = load_loop_node(path)
     if node is None:
         return errors
     if full_name(node) != "/loop_closure":
@@ -167,11 +173,7 @@ def case_defaults(package, stack, path):
 
 
 def case_renamed(package, stack, path):
-    config = load(path, CUSTOM_ARGS, ns="/robot")
-    if isinstance(config, str):
-        return [config]
-    errors = []
-    node = the_loop_node(config, errors)
+    config, node, errors = load_loop_node(path, CUSTOM_ARGS, ns="/robot")
     if node is None:
         return errors
     if full_name(node) != "/robot/other":
@@ -206,11 +208,7 @@ def case_renamed(package, stack, path):
 def case_in_group(package, stack, path):
     text = ('<launch><group ns="fleet/robot2"><include file="%s"><arg name="name" value="other"/>'
             '</include></group></launch>' % path)
-    config = load(text=text)
-    if isinstance(config, str):
-        return [config]
-    errors = []
-    node = the_loop_node(config, errors)
+    config, node, errors = load_loop_node(text=text)
     if node is None:
         return errors
     if full_name(node) != "/fleet/robot2/other":

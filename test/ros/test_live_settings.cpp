@@ -113,6 +113,41 @@ TEST(LoopPair, MatchAndQueryPosesGiveBackTheLoopsRelativePose) {
   for (double v : pair[0].pose.covariance) EXPECT_EQ(v, 0.0);
 }
 
+TEST(LoopArray, OneMessageHoldsBothKeyframesAndThePoseWithItsCovariance) {
+  scan_context_loop::LoopClosure loop;
+  loop.query_id = 4000;
+  loop.match_id = 17;
+  loop.query_session = 2;
+  loop.match_session = 0;
+  loop.query_stamp = ros::Time(1700000000, 123456789);
+  loop.match_stamp = ros::Time(20, 250000000);
+  loop.verified = true;
+  loop.fitness = 0.004;
+  loop.distance = 0.18;
+  loop.relative_pose.position.x = 1.5;
+  loop.relative_pose.orientation.z = std::sin(0.2);
+  loop.relative_pose.orientation.w = std::cos(0.2);
+  for (int i = 0; i < 36; ++i) loop.covariance[i] = 0.01 * i;
+  const std_msgs::Float64MultiArray a = loopArray(loop);
+  ASSERT_EQ(a.data.size(), kLoopArraySize);
+  ASSERT_EQ(a.layout.dim.size(), 1u);
+  EXPECT_EQ(a.layout.dim[0].size, kLoopArraySize);
+  EXPECT_EQ(a.layout.dim[0].label, kLoopArrayLayout);
+  EXPECT_EQ(a.data[0], 4000.0);
+  EXPECT_EQ(a.data[1], 17.0);
+  EXPECT_EQ(a.data[2], 2.0);
+  EXPECT_EQ(a.data[3], 0.0);
+  EXPECT_NEAR(a.data[4], loop.query_stamp.toSec(), 1e-6);  // a double holds today's Unix time to 0.25 us
+  EXPECT_EQ(ros::Time(a.data[5]), loop.match_stamp);
+  EXPECT_EQ(a.data[6], 1.0);
+  EXPECT_EQ(a.data[7], 0.004);
+  EXPECT_EQ(a.data[8], 0.18);
+  EXPECT_EQ(a.data[9], 1.5);
+  EXPECT_EQ(a.data[14], std::sin(0.2));
+  EXPECT_EQ(a.data[15], std::cos(0.2));
+  for (int i = 0; i < 36; ++i) EXPECT_EQ(a.data[16 + i], 0.01 * i);
+}
+
 }  // namespace
 }  // namespace scan_context_loop
 

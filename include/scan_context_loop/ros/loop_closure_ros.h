@@ -143,7 +143,8 @@ class LoopClosureRos {
   std::unique_ptr<message_filters::Synchronizer<ApproxPolicy>> approx_sync_;
   std::unique_ptr<message_filters::Synchronizer<ExactPolicy>> exact_sync_;
   ros::Subscriber cloud_only_sub_;
-  ros::Publisher loop_pub_, rejected_pub_, marker_pub_, lio_pub_, pair_pub_, relocalization_pub_, timing_pub_;
+  ros::Publisher loop_pub_, rejected_pub_, marker_pub_, lio_pub_, pair_pub_, array_pub_, relocalization_pub_,
+      timing_pub_;
   ros::ServiceServer save_srv_, load_srv_, reset_srv_, relocalize_srv_;
   std::unique_ptr<tf2_ros::Buffer> tf_buffer_;
   std::unique_ptr<tf2_ros::TransformListener> tf_listener_;
