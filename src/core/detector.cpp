@@ -360,8 +360,9 @@ void LoopDetector::checkOdometry(std::size_t query, std::size_t match, Verificat
   if (test == nullptr) return;
   // A registration that passed every test in full may be a true loop of an odometry that broke down:
   // the consistency check can still confirm it, with one support more than usual. One that needed
-  // support already is rejected.
-  result->odometry_contradicted = result->accepted && config.consistency_min_support > 0;
+  // support already is rejected, and so is one turned further than a failure explains over the path.
+  const bool plausible = test != std::string("odometry_rotation") || rotation <= plausibleRotationBreak(predicted.path);
+  result->odometry_contradicted = result->accepted && config.consistency_min_support > 0 && plausible;
   result->accepted = false;
   result->needs_support = false;
   result->rejected_by = test;

@@ -73,6 +73,14 @@ class OdometryTrust {
 /// The rotation disagreement allowed over `path` metres of odometry [deg]: odometry_rotation plus
 /// odometry_rotation_drift per metre.
 double rotationAllowance(const VerificationConfig& config, double path);
+/// The largest rotation disagreement [deg] an odometry failure plausibly explains over `path` metres of
+/// odometry: a jump of kPlausibleJumpDeg plus kPlausibleTurnRate per metre (A-LOAM's heading broke by
+/// 0.1-0.25 deg/m). A registration that disagrees by more is a wrong one: just after a confirmed loop,
+/// a run of loops 180 degrees off is not an odometry that broke.
+constexpr double kPlausibleJumpDeg = 45.0;
+constexpr double kPlausibleTurnRate = 0.25;
+inline double plausibleRotationBreak(double path) { return kPlausibleJumpDeg + kPlausibleTurnRate * path; }
+
 /// How far a registered loop may place the candidate from where the odometry, relied on from a
 /// confirmed loop over `path` metres, puts it [m]: consistency_translation plus the gate's rate.
 double anchoredTranslationAllowance(const Config& config, const OdometryTrust& trust, double path);
