@@ -1,4 +1,5 @@
 // Geometric verification on real scans from ../shared/data and on degenerate input.
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <limits>
@@ -105,6 +106,15 @@ TEST(Verification, ConsecutiveScansAcceptedWithTheirPose) {
   expectPose(r, test::kittiRelative("00", 94, 95), 0.1, 0.3);
 }
 
+TEST(Verification, AnAcceptedRegistrationNamesNoTest) {
+  VerificationConfig config;
+  const VerificationResult r = verify(prepared("00", 94, config), prepared("00", 95, config),
+                                      priorPose(yawPrior("00", 94, 95)), config);
+  ASSERT_TRUE(r.accepted) << r.reason;
+  EXPECT_TRUE(r.rejected_by.empty());
+  EXPECT_EQ(r.rejection_limit, 0.0);
+}
+
 TEST(Verification, AnOverlapBetweenTheTwoCutsNeedsSupport) {
   // The consecutive pair overlaps by about 0.9: with the full cut above that it is not accepted but
   // marked as a loop that needs support, at its registered pose; with the floor above it too, rejected.
@@ -117,11 +127,17 @@ TEST(Verification, AnOverlapBetweenTheTwoCutsNeedsSupport) {
   EXPECT_FALSE(r.accepted);
   ASSERT_TRUE(r.needs_support) << r.reason;
   EXPECT_NE(r.reason.find("needs support"), std::string::npos) << r.reason;
+  // The test that held it back, with the overlap it measured and the cut it missed.
+  EXPECT_EQ(r.rejected_by, "overlap");
+  EXPECT_DOUBLE_EQ(r.rejection_value, r.inlier_ratio);
+  EXPECT_DOUBLE_EQ(r.rejection_limit, 0.97);
   expectPose(r, test::kittiRelative("00", 94, 95), 0.1, 0.3);
   config.supported_inlier_ratio = 0.96;
   const VerificationResult below = verify(query, match, prior, config);
   EXPECT_FALSE(below.accepted);
   EXPECT_FALSE(below.needs_support) << below.reason;
+  EXPECT_EQ(below.rejected_by, "overlap");
+  EXPECT_DOUBLE_EQ(below.rejection_limit, 0.96);
   config.supported_inlier_ratio = 0.98;  // above the full cut: a configuration error
   EXPECT_EQ(config.validate().size(), 1u);
 }
@@ -135,6 +151,10 @@ TEST(Verification, RejectsPlacesFiftyEightMetresApart) {
     EXPECT_FALSE(r.accepted);
     EXPECT_FALSE(r.needs_support) << "a wrong place is not even a loop that needs support: " << r.reason;
     EXPECT_FALSE(r.reason.empty());
+    // Named by one of the tests, with a value beyond its limit where the test has numbers.
+    EXPECT_TRUE(std::any_of(std::begin(kRejectionTests), std::end(kRejectionTests),
+                            [&](const char* t) { return r.rejected_by == t; }))
+        << r.rejected_by;
   }
 }
 
