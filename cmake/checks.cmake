@@ -17,7 +17,7 @@ endif()
 catkin_run_tests_target(launch files launch_files.xml
   COMMAND "${PYTHON_EXECUTABLE} ${PROJECT_SOURCE_DIR}/test/launch/check_launch_files.py --package ${PROJECT_SOURCE_DIR} --xunit ${CATKIN_TEST_RESULTS_DIR}/${PROJECT_NAME}/launch_files.xml")
 
-# The install space as a user gets it (scripts/test installs first and turns this on): the package found
+# The install space as a user gets it (scripts/dev/test installs first and turns this on): the package found
 # there, its launch files' nodes up with their topics, the evaluator through rosrun.
 option(SCL_TEST_INSTALL_SPACE "run_tests also checks the install space (install it first)" OFF)
 if(SCL_TEST_INSTALL_SPACE)

@@ -1,4 +1,4 @@
-# Shared by scripts/demo, scripts/test, scripts/bench, scripts/simulate and scripts/evaluate.
+# Shared by scripts/demo, scripts/dev/test, scripts/measure/bench, scripts/simulate and scripts/evaluate.
 # Installs the Debian packages the project needs (only when something is missing), makes a catkin
 # workspace under build/ that links to this repository's packages, and builds it in Release.
 set -euo pipefail
@@ -100,7 +100,7 @@ scl_build_fresh() {
   return 1
 }
 
-# Extra CMake arguments for scl_build (scripts/test --sanitize sets the build type and the sanitizer
+# Extra CMake arguments for scl_build (scripts/dev/test --sanitize sets the build type and the sanitizer
 # flags here, with SCL_WS pointing at a workspace of its own); empty for a normal Release build.
 SCL_CMAKE_ARGS=(-DCMAKE_BUILD_TYPE=Release -DSCL_TEST_INSTALL_SPACE=ON)
 SCL_BUILD_KIND="Release"

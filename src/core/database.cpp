@@ -15,7 +15,7 @@ namespace scan_context_loop {
 /// benchmark's max column). The tail is a contiguous copy of its keys: scanned through the keyframes'
 /// own descriptors, each key on a page of its own, a 5,000-key tail cost a TLB miss a key and raised
 /// the describe + query median by about a millisecond before each rebuild at 100k keyframes in
-/// scripts/soak. Up to `exact_limit` keys the index is one balanced kd-tree (leaves of up to 10 keys)
+/// scripts/measure/soak. Up to `exact_limit` keys the index is one balanced kd-tree (leaves of up to 10 keys)
 /// searched exactly; above it, kTrees randomized kd-trees searched until kChecks keys have been
 /// compared, a cost that no longer grows with the database. The randomized trees are built from a
 /// fixed seed, so a run gives the same candidates every time.

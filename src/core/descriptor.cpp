@@ -50,7 +50,7 @@ struct Binning {
 // (on 121k-point KITTI scans: baseline x86-64 0.96 ms, AVX2 0.50 ms, AVX-512 0.37-0.43 ms).
 // Not under ThreadSanitizer: the clones' ifunc resolver, instrumented, runs while the dynamic loader
 // relocates the library, before the TSan runtime is set up, and every executable linking the core
-// crashed at start (scripts/test --sanitize).
+// crashed at start (scripts/dev/test --sanitize).
 #if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(__SANITIZE_THREAD__)
 #define SCL_CLONES __attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default")))
 #else

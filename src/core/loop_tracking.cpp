@@ -33,7 +33,7 @@ std::optional<TrackedCandidate> LoopTracker::predict(const Database& database, s
   // Only keyframes within `reach` of path from the anchor's match qualify (nearAnchorMatch). Sessions are
   // contiguous runs of keyframes along which the path length never decreases, so those form one run
   // around the match: walk out from it to the run's ends rather than scan the whole session, which on a
-  // long single-session drive (scripts/soak) cost every tracked keyframe time in proportion to the
+  // long single-session drive (scripts/measure/soak) cost every tracked keyframe time in proportion to the
   // database.
   const double reach = q.path_length - a.path_length + kReach;
   std::size_t begin = anchor_->match;

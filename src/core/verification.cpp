@@ -266,7 +266,7 @@ int CloudStore::levelOf(std::size_t index) {
 
 void CloudStore::add(std::size_t index, const VoxelCloud& cloud) {
   // Free a few of the clouds the last halving dropped (freeing half of 50,000 at once stalled the
-  // keyframe that triggered it for 0.3 s, and at 100,000 for 0.7 s, in scripts/soak).
+  // keyframe that triggered it for 0.3 s, and at 100,000 for 0.7 s, in scripts/measure/soak).
   for (std::size_t n = 0; n < kReleasedPerAdd && !releasing_.empty(); ++n) releasing_.pop_back();
   if (index % stride_ != 0) return;  // between the kept keyframes at the current density
   const std::size_t size = cloud.bytes();

@@ -1,4 +1,4 @@
-// The fuzz targets of scripts/fuzz (libFuzzer), callable without libFuzzer too: the regression test
+// The fuzz targets of scripts/dev/fuzz (libFuzzer), callable without libFuzzer too: the regression test
 // replays the inputs kept under test/fuzz_regressions/<target>/ through these same functions.
 #pragma once
 

@@ -1,4 +1,4 @@
-// The fuzz targets' kept inputs (scripts/fuzz): the inputs that once crashed a target and the reduced
+// The fuzz targets' kept inputs (scripts/dev/fuzz): the inputs that once crashed a target and the reduced
 // corpus, replayed through the same target functions; the in-memory database parser the targets reach.
 // No ROS master needed.
 #include <cmath>
@@ -23,7 +23,7 @@ std::vector<std::uint8_t> readBytes(const fs::path& path) {
 }
 
 /// The inputs of a packed corpus file (records of a 4-byte little-endian length and the bytes;
-/// scripts/fuzz_corpus.py). Fails the test if the file is missing or malformed.
+/// scripts/dev/fuzz_corpus.py). Fails the test if the file is missing or malformed.
 std::vector<std::vector<std::uint8_t>> readPacked(const fs::path& path) {
   const std::vector<std::uint8_t> blob = readBytes(path);
   std::vector<std::vector<std::uint8_t>> inputs;
@@ -48,7 +48,7 @@ std::vector<std::vector<std::uint8_t>> readPacked(const fs::path& path) {
 TEST(FuzzRegressions, EveryKeptInputRunsThroughItsTarget) {
   // Two kinds of kept input per target: test/fuzz_regressions/<target>/ (inputs that once crashed it,
   // one file each) and test/fuzz_corpus/<target>.corpus (the fuzzing runs' corpus reduced to a set
-  // with the same coverage). Under `scripts/test --sanitize` and scripts/fuzz they run under ASan/UBSan.
+  // with the same coverage). Under `scripts/dev/test --sanitize` and scripts/dev/fuzz they run under ASan/UBSan.
   const std::pair<const char*, int (*)(const std::uint8_t*, std::size_t)> targets[] = {
       {"cloudInput", fuzz::cloudInput}, {"odometryInput", fuzz::odometryInput}, {"databaseFile", fuzz::databaseFile}};
   const fs::path root = fs::path(SCL_PACKAGE_DIR) / "test";

@@ -3,7 +3,7 @@
 // nodelet unload` calls it) in the middle of a burst: the call must return within a few seconds and
 // the manager must keep serving. (b) SIGINT to a standalone node, and to a manager with the nodelet
 // loaded, in the middle of a burst: the process must exit with status 0 within a few seconds. Under
-// `scripts/test --sanitize` the processes run with AddressSanitizer and LeakSanitizer, whose report at
+// `scripts/dev/test --sanitize` the processes run with AddressSanitizer and LeakSanitizer, whose report at
 // exit changes that status.
 #include <signal.h>
 #include <spawn.h>

@@ -31,7 +31,7 @@ class BlockArena final : public std::pmr::memory_resource {
 
   /// Whether the blocks are marked for transparent huge pages. Worth it for memory touched all at once
   /// (a database loaded), not for memory filled a little at a time: where the kernel compacts memory
-  /// to find a huge page, the first touch of each 2 MB can stall for milliseconds (scripts/soak: the
+  /// to find a huge page, the first touch of each 2 MB can stall for milliseconds (scripts/measure/soak: the
   /// cloud store's verification p99 rose from 3.4 to 5.2 ms), so such blocks ask for ordinary pages.
   enum class Pages { kHuge, kOrdinary };
 

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Feeds the loop-closure node a long multi-lap drive for scripts/soak: KEYFRAMES keyframes
+"""Feeds the loop-closure node a long multi-lap drive for scripts/measure/soak: KEYFRAMES keyframes
 (sensor_msgs/PointCloud2 in the sensor frame and nav_msgs/Odometry with the same stamp, the node's normal
 inputs) at RATE Hz, from a pool of simulated laps.
 

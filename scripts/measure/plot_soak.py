@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Draws the soak's plot from scripts/soak's CSV: per-keyframe processing time (p50 and p99 of each
+"""Draws the soak's plot from scripts/measure/soak's CSV: per-keyframe processing time (p50 and p99 of each
 1,000-keyframe window, the p99 with the queue wait, and the p99 of the worker's own CPU time) and the nodelet manager's resident memory over
 the keyframes, beside the registration data the node holds, the rest (RSS minus that), and the growth the
 database's own bytes per keyframe predict for the rest from 10,000 keyframes on.

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Watches the loop-closure node during scripts/soak, as a user's RViz and backend would, and records
+"""Watches the loop-closure node during scripts/measure/soak, as a user's RViz and backend would, and records
 what the soak measures.
 
 - Subscribes to loop_markers (visualization_msgs/MarkerArray) and keeps every marker by (namespace, id),
@@ -12,7 +12,7 @@ what the soak measures.
 Writes CSV (one row per 1,000 keyframes processed: latency percentiles of that window, resident memory,
 counters, load average, the machine's busy fraction), CSV with "_rss" before its extension (every RSS
 sample), with "_keyframes" (every keyframe's timing message), with "_loops" (every
-loop: ids, verified, distance, relative pose; scripts/soak_check_loops.py scores it), and, when the feeder's
+loop: ids, verified, distance, relative pose; scripts/measure/soak_check_loops.py scores it), and, when the feeder's
 PROGRESS file says all KEYFRAMES were fed and the node has processed all it accounts for (or nothing has
 moved for --quiet seconds), SUMMARY (key: value lines). Exits 0, or 1 when the manager died.
 
