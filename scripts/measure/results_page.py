@@ -1,0 +1,218 @@
+#!/usr/bin/env python3
+"""Writes doc/results.md, doc/results_recall.png and README.md's short results table (between
+`<!-- results:begin -->` and `<!-- results:end -->`) from the baseline's evaluations (SEQ/eval for the
+defaults, SEQ/eval_plain for plain Scan Context), the benchmark's table and, if given, a soak's summary.
+Called by scripts/measure/results, which runs them."""
+import argparse
+import json
+import os
+import platform
+import shutil
+import subprocess
+import sys
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+# README's groups of sequences: a row each, with the range over its sequences.
+GROUPS = [
+    ("KITTI 00 and 08 trajectories (HDL-64E, VLP-16, OS1-64)",
+     lambda n: n.startswith(("kitti00_", "kitti08_")) and "livox" not in n),
+    ("changed worlds: KITTI 08 and the city grid (HDL-64E, VLP-16)", lambda n: "-changed_" in n),
+    ("lane offsets and reverse revisits: procedural drive", lambda n: n.startswith("procedural_")),
+    ("tilted hand-held sensor, narrow lanes (HDL-64E)", lambda n: n.startswith(("kitti00-tilted_", "narrow_"))),
+    ("Livox Avia and Mid-360 (non-repetitive scans)", lambda n: "livox" in n),
+]
+
+
+def load(path):
+    try:
+        with open(path) as f:
+            return json.load(f)
+    except (OSError, ValueError):
+        return None
+
+
+def sequence_row(baseline, name):
+    seq = os.path.join(baseline, name)
+    row = {"name": name, "default": load(os.path.join(seq, "eval", "metrics.json")),
+           "plain": load(os.path.join(seq, "eval_plain", "metrics.json")),
+           "ate": load(os.path.join(seq, "eval", "trajectory_error.json"))}
+    return row
+
+
+def fmt(value, digits=3):
+    return "n/a" if value is None else ("%.*f" % (digits, value))
+
+
+def span(values, digits=3):
+    values = [v for v in values if v is not None]
+    if not values:
+        return "n/a"
+    lo, hi = min(values), max(values)
+    return fmt(lo, digits) if abs(hi - lo) < 0.5 * 10 ** -digits else "%s-%s" % (fmt(lo, digits), fmt(hi, digits))
+
+
+def verified(row, key):
+    m = row["default"]
+    return None if not m or not m.get("verified") else m["verified"][key]
+
+
+def plain(row, key="recall_at_100_precision"):
+    return None if not row["plain"] else row["plain"][key]
+
+
+def machine():
+    cpu = "unknown CPU"
+    try:
+        for line in open("/proc/cpuinfo"):
+            if line.startswith("model name"):
+                cpu = line.split(":", 1)[1].strip()
+                break
+    except OSError:
+        pass
+    memory = ""
+    try:
+        for line in open("/proc/meminfo"):
+            if line.startswith("MemTotal"):
+                memory = ", %.0f GiB" % (int(line.split()[1]) / 2 ** 20)
+    except OSError:
+        pass
+    system = platform.system() + " " + platform.release()
+    try:
+        for line in open("/etc/os-release"):
+            if line.startswith("PRETTY_NAME="):
+                system = line.split("=", 1)[1].strip().strip('"') + ", Linux " + platform.release()
+    except OSError:
+        pass
+    return "%s, %d cores%s; %s" % (cpu, os.cpu_count() or 0, memory, system)
+
+
+def commit(repo):
+    def git(*args):
+        return subprocess.run(["git", "-C", repo] + list(args), capture_output=True, text=True).stdout.strip()
+    head = git("rev-parse", "--short=12", "HEAD") or "unknown"
+    dirty = git("status", "--porcelain", "--untracked-files=no")
+    return head + (" with uncommitted changes" if dirty else "")
+
+
+def sequence_table(rows):
+    out = ["| sequence | revisits | plain Scan Context: F1-max / recall @100% P | defaults, descriptor stage: "
+           "F1-max / recall @100% P | defaults, verified: precision / recall / F1 | translation error median / "
+           "p90 [m] | yaw error median / p90 [deg] | verification median / p99 / max [ms] | ATE RMSE: odometry / "
+           "verified loops / plain SC / + one false loop [m] |", "|---|---|---|---|---|---|---|---|---|"]
+    for r in rows:
+        d, p, t = r["default"], r["plain"], r["ate"]
+        if not d:
+            out.append("| %s | not evaluated | | | | | | | |" % r["name"])
+            continue
+        v = d.get("verified") or {}
+        ate = "n/a"
+        if t and t.get("computed"):
+            ate = " / ".join(fmt(t[k]["rmse_m"], 2) if k in t else "n/a"
+                             for k in ("odometry", "corrected", "plain_scan_context", "with_one_false_loop"))
+        out.append("| %s | %d | %s | %s / %s | %s / %s / %s | %s / %s | %s / %s | %s / %s / %s | %s |" % (
+            r["name"], d["true_revisits"],
+            "%s / %s" % (fmt(p["f1_max"]), fmt(p["recall_at_100_precision"])) if p else "not run",
+            fmt(d["f1_max"]), fmt(d["recall_at_100_precision"]),
+            fmt(v.get("precision")), fmt(v.get("recall")), fmt(v.get("f1")),
+            fmt(v["translation_error_m"]["median"], 2) if v else "n/a",
+            fmt(v["translation_error_m"]["p90"], 2) if v else "n/a",
+            fmt(v["yaw_error_deg"]["median"], 2) if v else "n/a", fmt(v["yaw_error_deg"]["p90"], 2) if v else "n/a",
+            fmt(v["verify_ms"]["median"], 1) if v else "n/a", fmt(v["verify_ms"]["p99"], 0) if v else "n/a",
+            fmt(v["verify_ms"]["max"], 0) if v else "n/a", ate))
+    return out
+
+
+def summary_table(rows):
+    out = ["| sequences | plain Scan Context: recall @100% precision | this package, defaults: verified "
+           "precision / recall |", "|---|---|---|"]
+    for title, member in GROUPS:
+        group = [r for r in rows if member(r["name"])]
+        if not group:
+            continue
+        out.append("| %s | %s | %s / %s |" % (title, span([plain(r) for r in group]),
+                                            span([verified(r, "precision") for r in group]),
+                                            span([verified(r, "recall") for r in group])))
+    out.append("| Contour Context (ICRA 2023) | not run by this repository's harness | |")
+    return out
+
+
+def recall_plot(rows, path):
+    names = [r["name"] for r in rows if r["default"]]
+    ours = [verified(r, "recall") or 0.0 for r in rows if r["default"]]
+    base = [plain(r) or 0.0 for r in rows if r["default"]]
+    precision = [verified(r, "precision") for r in rows if r["default"]]
+    fig, ax = plt.subplots(figsize=(9, 0.38 * len(names) + 1.2))
+    y = range(len(names))
+    ax.barh([i + 0.2 for i in y], base, height=0.4, color="#bbbbbb", label="plain Scan Context: recall @100% P")
+    ax.barh([i - 0.2 for i in y], ours, height=0.4, color="#2a7ab0", label="defaults, verified: recall")
+    for i, p in enumerate(precision):
+        if p is not None and p < 1.0:
+            ax.text(ours[i] + 0.01, i - 0.2, "precision %.3f" % p, va="center", fontsize=7, color="#b02a2a")
+    ax.set_yticks(list(y))
+    ax.set_yticklabels(names, fontsize=8)
+    ax.invert_yaxis()
+    ax.set_xlim(0, 1.05)
+    ax.set_xlabel("recall")
+    ax.legend(loc="lower right", fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def replace_between(path, begin, end, lines):
+    text = open(path).read()
+    start, stop = text.find(begin), text.find(end)
+    if start < 0 or stop < start:
+        sys.exit("%s has no %s ... %s block" % (path, begin, end))
+    start += len(begin)
+    with open(path, "w") as f:
+        f.write(text[:start] + "\n" + "\n".join(lines) + "\n" + text[stop:])
+
+
+def main():
+    a = argparse.ArgumentParser(description=__doc__)
+    a.add_argument("--baseline", required=True)
+    a.add_argument("--bench", required=True)
+    a.add_argument("--soak", default="")
+    a.add_argument("--repo", required=True)
+    a.add_argument("sequences", nargs="+")
+    args = a.parse_args()
+    rows = [sequence_row(args.baseline, n) for n in args.sequences]
+    if not any(r["default"] for r in rows):
+        sys.exit("no evaluation under %s: run scripts/measure/results without --page first" % args.baseline)
+    doc = os.path.join(args.repo, "doc")
+    recall_plot(rows, os.path.join(doc, "results_recall.png"))
+    page = ["# Results", "",
+            "Generated by `scripts/measure/results` (do not edit by hand) on %s, at commit %s." % (
+                machine(), commit(args.repo)), "",
+            "Simulated sequences with a keyframe every 2 m and drifting odometry (`scripts/measure/baseline`; "
+            "[simulation and evaluation](simulation_and_evaluation.md) says how they are made and scored). "
+            "A loop counts as true within 1 m and 2 deg (full rotation) of the truth. *Plain Scan Context* is "
+            "the published method's stages alone: the descriptor, the ring-key search and the column shift "
+            "(verification, lateral viewpoints, gravity alignment and the odometry gate off).", "",
+            "## Summary", ""] + summary_table(rows) + [
+            "", "![verified recall per sequence](results_recall.png)", "",
+            "## Per sequence", ""] + sequence_table(rows)
+    bench = open(args.bench).read().strip() if os.path.exists(args.bench) else ""
+    page += ["", "## Benchmark", "",
+             "`scripts/measure/bench` on the real KITTI scans in `../shared/data`: one thread, the database grown "
+             "online to the largest size.", ""]
+    page += [bench] if bench else ["Not run (`scripts/measure/bench`)."]
+    if args.soak and os.path.exists(os.path.join(args.soak, "summary.txt")):
+        page += ["", "## Soak", "", "`scripts/measure/soak` (see [testing](testing.md)):", "", "```",
+                 open(os.path.join(args.soak, "summary.txt")).read().strip(), "```"]
+        if os.path.exists(os.path.join(args.soak, "soak.png")):
+            shutil.copyfile(os.path.join(args.soak, "soak.png"), os.path.join(doc, "soak.png"))
+            page += ["", "![soak](soak.png)"]
+    with open(os.path.join(doc, "results.md"), "w") as f:
+        f.write("\n".join(page) + "\n")
+    replace_between(os.path.join(args.repo, "README.md"), "<!-- results:begin -->", "<!-- results:end -->",
+                    summary_table(rows))
+
+
+if __name__ == "__main__":
+    main()
