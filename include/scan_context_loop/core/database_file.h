@@ -1,6 +1,6 @@
 // The database file: a detector's keyframes (descriptors, stamps, poses, tags, path lengths, sessions)
 // and optionally their levelling and registration data, saved for a later run to start from. The
-// layout, its version and its checks are in README.md, "Database file".
+// layout, its version and its checks are in doc/database_file.md.
 #pragma once
 
 #include <cstdint>
