@@ -1,6 +1,6 @@
 # Checks of the package as a whole (with the tests): package.xml against rosdep's index and Noetic's
 # package list, read offline from the compat folder beside the repository (SCL_COMPAT); the launch files;
-# the install space.
+# the documentation's links; the install space.
 if(NOT CATKIN_ENABLE_TESTING)
   return()
 endif()
@@ -16,6 +16,10 @@ endif()
 # with every argument changed: names, namespaces, topics, manager, RViz, sim time, the stacks' settings.
 catkin_run_tests_target(launch files launch_files.xml
   COMMAND "${PYTHON_EXECUTABLE} ${PROJECT_SOURCE_DIR}/test/launch/check_launch_files.py --package ${PROJECT_SOURCE_DIR} --xunit ${CATKIN_TEST_RESULTS_DIR}/${PROJECT_NAME}/launch_files.xml")
+
+# Every relative link and anchor of README.md and doc/*.md resolves.
+catkin_run_tests_target(package doc_links doc_links.xml
+  COMMAND "${PYTHON_EXECUTABLE} ${PROJECT_SOURCE_DIR}/test/package/check_doc_links.py --package ${PROJECT_SOURCE_DIR} --xunit ${CATKIN_TEST_RESULTS_DIR}/${PROJECT_NAME}/doc_links.xml")
 
 # The install space as a user gets it (scripts/dev/test installs first and turns this on): the package found
 # there, its launch files' nodes up with their topics, the evaluator through rosrun.
