@@ -86,7 +86,7 @@ std::vector<std::string> readPoseGraphParameters(const ros::NodeHandle& pnh, Pos
   }
   // A private parameter that is no key is a misspelling.
   for (const auto& key : unknownPrivateParameters(pnh, [&](const std::string& k) { return keys.count(k) > 0; })) {
-    problems.push_back(key + ": unknown parameter (see the README's pose_graph section)");
+    problems.push_back(key + ": unknown parameter (see doc/pose_graph.md)");
   }
   for (const auto& p : g->validate()) problems.push_back(p);
   for (const auto& p : m->validate()) problems.push_back(p);

@@ -92,7 +92,7 @@ TEST(Alignment, SmallTranslationStaysBelowEveryOtherPlace) {
     for (double heading : {0.0, 90.0, 225.0}) {
       const double tx = metres * std::cos(heading * kDeg), ty = metres * std::sin(heading * kDeg);
       const Alignment a = align(query, makeDescriptor(rotateTranslate(here, 0.2, tx, ty), config), config);
-      // Sideways steps in a narrow street are Scan Context's weak spot (README): 2 m across a street
+      // Sideways steps in a narrow street are Scan Context's weak spot (doc/verification.md): 2 m across a street
       // whose facades stand 7-11 m away still has to stay below any other street.
       EXPECT_LT(a.distance, 0.9 * other) << metres << " m towards " << heading << " deg";
       if (metres <= 1.0) {

@@ -340,7 +340,7 @@ std::size_t heapInUse() {
 }
 
 /// The heap growth of a database of 20,000 real street descriptors, measured by the allocator, against
-/// bytesPerKeyframe() (what the README and the node's memory figures rest on) and the 6 KB budget.
+/// bytesPerKeyframe() (what doc/benchmark.md's bytes per keyframe and the node's memory figures rest on) and the 6 KB budget.
 void expectHeapPerKeyframeAsStated(const Config& config) {
   std::vector<Descriptor> scenes;
   for (std::uint32_t seed = 1; seed <= 4; ++seed) scenes.push_back(makeDescriptor(test::streetScene(seed), config));

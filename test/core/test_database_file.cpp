@@ -23,7 +23,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// Byte offsets of header fields (README, "Database file").
+// Byte offsets of header fields (doc/database_file.md).
 constexpr std::size_t kVersionAt = 5, kSectorsAt = 17, kKeyframesAt = 63, kSessionsAt = 71, kPayloadCrcAt = 83,
                       kHeaderCrcAt = 87, kHeaderBytes = 91;
 

@@ -14,7 +14,7 @@ namespace scan_context_loop::fuzz {
 
 namespace {
 
-// The header's layout (README, "Database file"): the payload size, its CRC and the header's CRC end it.
+// The header's layout (doc/database_file.md): the payload size, its CRC and the header's CRC end it.
 constexpr std::size_t kHeaderBytes = 91, kPayloadSizeAt = 75, kPayloadCrcAt = 83, kHeaderCrcAt = 87;
 
 void putU32(std::vector<std::uint8_t>* file, std::size_t at, std::uint32_t v) {

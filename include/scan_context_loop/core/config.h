@@ -10,7 +10,7 @@ namespace scan_context_loop {
 enum class RingKeyType {
   /// Mean of the ring's max heights, empty sectors counting as 0 (the published Scan Context key).
   /// The default: higher average precision than occupancy on all six simulated baseline sequences
-  /// (README, "Baseline").
+  /// (doc/core_library.md, "Conventions").
   kMeanHeight,
   /// Fraction of the ring's sectors that hold points; does not depend on lidar_height.
   kOccupancy,
@@ -21,7 +21,7 @@ bool parseRingKeyType(const std::string& text, RingKeyType* out);
 const char* ringKeyTypeName(RingKeyType type);
 
 /// The fine registration geometric verification runs: the built-in voxel GICP over the prepared keyframe
-/// data (the default: README, "Geometric verification"), or PCL's GICP, ICP or NDT over the voxel means.
+/// data (the default: doc/verification.md), or PCL's GICP, ICP or NDT over the voxel means.
 enum class RegistrationMethod { kVgicp, kGicp, kIcp, kNdt };
 
 /// Parses "vgicp" / "gicp" / "icp" / "ndt"; returns false for anything else.
@@ -43,8 +43,8 @@ bool parseLevellingMode(const std::string& text, LevellingMode* out);
 const char* levellingModeName(LevellingMode mode);
 
 /// Geometric verification: the verify_* keys (member `x` is key `verify_x`; `enabled` is `verify`)
-/// and the registration's fixed internals. Defaults chosen on the baseline sequences (README,
-/// "Geometric verification").
+/// and the registration's fixed internals. Defaults chosen on the baseline sequences
+/// (doc/verification.md).
 struct VerificationConfig {
   /// Verify candidates by registration; a loop is then reported only when one is accepted.
   bool enabled = true;
@@ -208,13 +208,13 @@ struct Config {
   /// VLP-16; smallest false-positive distance 0.213) with recall 0.55-0.90. The procedural drive's
   /// repeated suburban blocks give false positives from 0.149: no threshold keeps those out without
   /// losing most reverse revisits (recall 0.28-0.37 on KITTI 08 at 0.15), which is what verification is
-  /// for (README, "Choosing the threshold").
+  /// for (doc/verification.md, "Choosing the threshold").
   double distance_threshold = 0.21;
   /// Virtual viewpoints for revisits a lane or more to the side [m] (0 disables): besides the real one,
   /// the query is described from lateral_offset_count points on each side along the sensor's y axis,
   /// lateral_offset_step apart, and each of those descriptors searches the database too; a candidate
   /// keeps the viewpoint it scored best from, which also seeds verification with that translation.
-  /// 2.5 m by measurement on the six simulated baseline sequences (README, "Lateral viewpoints"):
+  /// 2.5 m by measurement on the six simulated baseline sequences (doc/verification.md, "Lateral viewpoints"):
   /// recall at 100% precision rises on all six (KITTI 08 HDL-64E 0.655 -> 0.908, the procedural drive's
   /// lane-offset laps 0.10 -> 0.95); 2 m and 3 m do about as well, 4 m and two viewpoints a side worse.
   double lateral_offset_step = 2.5;
@@ -234,8 +234,8 @@ struct Config {
   /// gate_odometry_distance [m] + gate_odometry_drift [m per m] * (odometry path length between them)
   /// (needs poses; both 0 disables it). On by default at 20 m + 10 %: twice the position drift of the
   /// simulated odometry (1 % scale error and 0.003 deg/m heading drift) after 2 km of path. It removes
-  /// the look-alike streets a few hundred metres away that a repeated-building city offers (README,
-  /// "Geometric verification") and no true loop on the eleven baseline sequences. An odometry that
+  /// the look-alike streets a few hundred metres away that a repeated-building city offers (doc/verification.md,
+  /// "Odometry gate") and no true loop on the eleven baseline sequences. An odometry that
   /// drifts more needs a larger allowance; long loops get it by construction (a 3 km loop: 320 m).
   double gate_odometry_distance = 20.0;
   double gate_odometry_drift = 0.1;
@@ -246,7 +246,7 @@ struct Config {
   // ---- pairwise consistency of verified loops (consistency.h) ---------------------------------
   /// With verify: a verified loop is published only once at least this many other verified loops agree
   /// with it (0 disables the check); loops wait for that support for consistency_window keyframes.
-  /// 1 by measurement (README, "Consistency of loops"): it removed every false loop far from the truth
+  /// 1 by measurement (doc/verification.md, "Consistency of loops"): it removed every false loop far from the truth
   /// on the KITTI-trajectory sequences without losing a true one. Without verify it has no effect.
   int consistency_min_support = 1;
   /// Keyframes a verified loop waits for support before it is dropped; loops whose queries are further
@@ -263,7 +263,7 @@ struct Config {
   /// of that loop's query also tries the keyframe (of the loop's match session) nearest to where the
   /// loop and the odometry put it, registered from that pose guess, before the descriptor's candidates.
   /// Such a loop is reported when it agrees with the confirmed one (loopsAgree) and then carries the
-  /// track on; 0 disables tracking. 100 m by measurement (README, "Loop tracking"): the changed city
+  /// track on; 0 disables tracking. 100 m by measurement (doc/verification.md, "Loop tracking"): the changed city
   /// gains up to there (recall 0.93 -> 0.985 over 30 m), and 10-1000 m gave no false loop at 1% and 3% drift.
   double track_distance = 100.0;
 

@@ -2,7 +2,7 @@
 // closures as relative-pose factors with their covariance under a robust loss, solved with Ceres.
 // ROS-free (Eigen, Ceres, std); the `pose_graph` node wraps it.
 //
-// Conventions (the README's "Pose graph" section says the same):
+// Conventions (doc/pose_graph.md says the same):
 // - A pose is T_world<-keyframe (the sensor's pose, as the loop-closure node receives it).
 // - A factor between keyframes a and b measures T_a<-b. Its residual is
 //   [ p_ab - p̂_ab ; 2 vec(q̂_ab^-1 q_ab) ], with p̂_ab, q̂_ab the measurement and p_ab, q_ab the
@@ -30,7 +30,7 @@ struct PoseGraphConfig {
   /// translation). Translation in metres, rotation in radians. The defaults (1 cm + 1% of the step;
   /// 0.0005 rad + 0.0002 rad per metre, i.e. 0.03 deg + 0.011 deg/m) describe a LiDAR odometry that
   /// drifts about 1% of distance, mostly in translation. On the simulated drives of the baseline they
-  /// gave lower corrected errors than twice the translation and ten times the rotation noise (README).
+  /// gave lower corrected errors than twice the translation and ten times the rotation noise.
   double odometry_translation_floor = 0.01;
   double odometry_translation_per_metre = 0.01;
   double odometry_rotation_floor = 0.0005;
