@@ -89,7 +89,7 @@ Detection LoopDetector::process(const PointView& raw, const KeyframeInfo& info) 
   const Config& config = database_.config();
   if (!database_.acceptable(info, &detection.error)) return detection;
   // Query (from every viewpoint) before adding, so the keyframe never finds itself.
-  Described described;
+  GravityAlignedScan described;
   if (database_.session() != world_tilt_session_) {
     world_tilt_.reset();  // another session, another odometry frame
     world_tilt_session_ = database_.session();
@@ -115,11 +115,11 @@ Detection LoopDetector::process(const PointView& raw, const KeyframeInfo& info) 
     store_.add(detection.index, std::move(cloud));
     detection.verify_seconds = secondsSince(start);
   }
-  decide(&detection);
+  chooseLoops(&detection);
   return detection;
 }
 
-void LoopDetector::describeAndQuery(const PointView& raw, const KeyframeInfo& info, Described* out,
+void LoopDetector::describeAndQuery(const PointView& raw, const KeyframeInfo& info, GravityAlignedScan* out,
                                     Detection* detection) {
   const Config& config = database_.config();
   const auto t0 = Clock::now();
@@ -145,7 +145,7 @@ Detection LoopDetector::locate(const PointView& raw) {
   Detection detection;
   detection.index = database_.size();
   const KeyframeInfo info;  // no stamp or pose: only the windows of the earlier sessions apply
-  Described described;
+  GravityAlignedScan described;
   describeAndQuery(raw, info, &described, &detection);
   if (described.descriptor.empty() || !database_.config().verification.enabled) return detection;
   const auto t2 = Clock::now();
@@ -389,7 +389,7 @@ void LoopDetector::toSensorFrames(const Eigen::Matrix3f& query_levelling, std::s
   result->covariance = turn * result->covariance * turn.transpose();
 }
 
-void LoopDetector::decide(Detection* detection) {
+void LoopDetector::chooseLoops(Detection* detection) {
   const Config& config = database_.config();
   if (!config.verification.enabled) {
     if (!detection->query.matched) return;

@@ -22,9 +22,9 @@ constexpr double kConstraintMetres = 1.0, kConstraintDegrees = 2.0;
 /// Feeds keyframes through the pipeline and scores the query sequence's. A prior map (when given) comes
 /// first, as session 0: a prior sequence's keyframes fed through the pipeline, or a saved database's
 /// joining it; it is not scored.
-class Run {
+class SequenceScorer {
  public:
-  Run(const Config& config, double revisit_radius, Evaluation* e)
+  SequenceScorer(const Config& config, double revisit_radius, Evaluation* e)
       : pipeline_(config), radius_(revisit_radius), e_(*e) {}
 
   /// The prior's keyframes, then a new session.
@@ -106,7 +106,7 @@ class Run {
   std::vector<double> metres_;  // true distance along the query sequence to each keyframe
 };
 
-PriorOutcome Run::priorOutcome(const Sequence& s, std::size_t k) const {
+PriorOutcome SequenceScorer::priorOutcome(const Sequence& s, std::size_t k) const {
   PriorOutcome o;
   o.query = s.frames[k];
   o.seconds = s.stamps[k] - s.stamps.front();
@@ -124,7 +124,7 @@ PriorOutcome Run::priorOutcome(const Sequence& s, std::size_t k) const {
   return o;
 }
 
-void Run::scoreLoops(const Sequence& s, std::size_t k, const Detection& d) {
+void SequenceScorer::scoreLoops(const Sequence& s, std::size_t k, const Detection& d) {
   // Loops may be reported a few keyframes after their query (consistency check): score each one on
   // its own query's outcome.
   e_.loops_dropped += d.dropped.size();
@@ -162,7 +162,7 @@ void Run::scoreLoops(const Sequence& s, std::size_t k, const Detection& d) {
   }
 }
 
-void Run::score(const Sequence& s) {
+void SequenceScorer::score(const Sequence& s) {
   metres_.assign(s.frames.size(), 0.0);
   for (std::size_t k = 1; k < s.frames.size(); ++k) {
     metres_[k] = metres_[k - 1] + (s.truth[k].translation() - s.truth[k - 1].translation()).norm();
@@ -230,7 +230,7 @@ bool evaluate(const Sequence& s, const Config& config, const EvaluationOptions& 
     return false;
   }
   Evaluation e;
-  Run run(config, options.revisit_radius, &e);
+  SequenceScorer run(config, options.revisit_radius, &e);
   if (options.prior != nullptr) {
     run.buildPriorMap(*options.prior);
     e.prior_source = options.prior->dir;

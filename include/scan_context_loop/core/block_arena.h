@@ -31,8 +31,8 @@ class BlockArena final : public std::pmr::memory_resource {
 
   /// Whether the blocks are marked for transparent huge pages. Worth it for memory touched all at once
   /// (a database loaded), not for memory filled a little at a time: where the kernel compacts memory
-  /// to find a huge page, the first touch of each 2 MB can stall for milliseconds (scripts/measure/soak: the
-  /// cloud store's verification p99 rose from 3.4 to 5.2 ms), so such blocks ask for ordinary pages.
+  /// to find a huge page, the first touch of each 2 MB can stall for milliseconds (doc/testing.md, the
+  /// soak), so such blocks ask for ordinary pages.
   enum class Pages { kHuge, kOrdinary };
 
   /// A new arena whose blocks hold at least `block_bytes` (rounded up to 2 MB); a request larger than

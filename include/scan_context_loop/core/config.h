@@ -8,9 +8,8 @@ namespace scan_context_loop {
 
 /// What the rotation-invariant ring key holds for each ring.
 enum class RingKeyType {
-  /// Mean of the ring's max heights, empty sectors counting as 0 (the published Scan Context key).
-  /// The default: higher average precision than occupancy on all six simulated baseline sequences
-  /// (doc/core_library.md, "Conventions").
+  /// Mean of the ring's max heights, empty sectors counting as 0 (the published Scan Context key; the
+  /// default, doc/defaults.md says why).
   kMeanHeight,
   /// Fraction of the ring's sectors that hold points; does not depend on lidar_height.
   kOccupancy,
@@ -21,7 +20,7 @@ bool parseRingKeyType(const std::string& text, RingKeyType* out);
 const char* ringKeyTypeName(RingKeyType type);
 
 /// The fine registration geometric verification runs: the built-in voxel GICP over the prepared keyframe
-/// data (the default: doc/verification.md), or PCL's GICP, ICP or NDT over the voxel means.
+/// data (the default), or PCL's GICP, ICP or NDT over the voxel means.
 enum class RegistrationMethod { kVgicp, kGicp, kIcp, kNdt };
 
 /// Parses "vgicp" / "gicp" / "icp" / "ndt"; returns false for anything else.
@@ -43,14 +42,11 @@ bool parseLevellingMode(const std::string& text, LevellingMode* out);
 const char* levellingModeName(LevellingMode mode);
 
 /// Geometric verification: the verify_* keys (member `x` is key `verify_x`; `enabled` is `verify`)
-/// and the registration's fixed internals. Defaults chosen on the baseline sequences
-/// (doc/verification.md).
+/// and the registration's fixed internals. How the defaults were chosen: doc/defaults.md.
 struct VerificationConfig {
   /// Verify candidates by registration; a loop is then reported only when one is accepted.
   bool enabled = true;
-  /// Candidates whose descriptor distance is below this looser threshold are verified: the
-  /// descriptor's own best thresholds lie at 0.09-0.38 on the baseline sequences, and verified
-  /// precision stayed 1.000 up to 0.6.
+  /// Candidates whose descriptor distance is below this looser threshold are verified.
   double threshold = 0.5;
   /// At most this many candidates are verified per keyframe (best distance first): the cost bound.
   int max_candidates = 2;
@@ -62,22 +58,17 @@ struct VerificationConfig {
   double max_range = 40.0;
   /// Accept only when the symmetric structure overlap (the smaller of the two directions' fractions
   /// of vertical-structure voxels, within the region both sensors cover, that agree) is at least this.
-  /// Wrong places that pass the odometry checks reach 0.41 on ten baseline sequences and 0.57 among
-  /// repeated buildings (where the consistency check stops them); true ones sit at 0.55-0.83 (5th
-  /// percentile), 0.75-0.90 on the real KITTI pairs.
   double min_inlier_ratio = 0.55;
   /// A registration that passes every other test with an overlap in [supported_inlier_ratio,
   /// min_inlier_ratio) needs support: it is reported only once a confirmed loop that passed in full
-  /// agrees with it strictly through the odometry (ConsistencyFilter). Sparse sensors see less of the
-  /// same structure from a few metres aside (VLP-16 revisits 0.43-0.57 at the 5th percentile). Equal
-  /// to min_inlier_ratio: off. Without the consistency check such loops are not reported.
+  /// agrees with it strictly through the odometry (ConsistencyFilter): sparse sensors see less of the
+  /// same structure from a few metres aside. Equal to min_inlier_ratio: off. Without the consistency check such loops are not reported.
   double supported_inlier_ratio = 0.4;
-  /// Accept only when the agreeing voxels' mean squared point-to-plane distance is below this [m^2]:
-  /// true loops reach 0.0094 in simulation and 0.0066 on the real reverse revisit; a sanity bound.
+  /// Accept only when the agreeing voxels' mean squared point-to-plane distance is below this [m^2]
+  /// (a sanity bound).
   double max_fitness = 0.015;
   /// Largest share of either keyframe's structure that may stand where the other saw through (within
-  /// 25 m; free_space.h). True loops on dense scans stay under 0.33, sparse VLP-16 scans reach
-  /// 0.46-0.56, wrong places start at 0.06-0.23: a secondary test.
+  /// 25 m; free_space.h): a secondary test.
   double max_violation = 0.4;
   /// A registration over max_violation but at most this, passing every other test, needs support,
   /// like one under min_inlier_ratio. Equal to max_violation: off.
@@ -87,8 +78,8 @@ struct VerificationConfig {
   RegistrationMethod method = RegistrationMethod::kVgicp;
   /// A registered loop whose rotation disagrees with the odometry's relative rotation between the two
   /// keyframes by more than odometry_rotation + odometry_rotation_drift * (odometry path between them)
-  /// [deg, deg/m] is rejected (needs poses; 0 disables). Mirror-image streets register well the wrong
-  /// way round; 10 deg + 0.02 deg/m is 4-6x the simulator's default heading drift.
+  /// [deg, deg/m] is rejected (needs poses; 0 disables): mirror-image streets register well the wrong
+  /// way round.
   double odometry_rotation = 10.0;
   double odometry_rotation_drift = 0.02;
   /// Register against the candidate and this many keyframes on each side of it, moved into the
@@ -194,29 +185,19 @@ struct Config {
   int num_candidates = 10;
   /// Databases of up to this many searchable keyframes find the nearest ring keys exactly (one kd-tree,
   /// every branch that could hold a nearer key visited); above it, approximately (two randomized
-  /// kd-trees, 128 keys compared). An exact search in 20 dimensions costs about in proportion to the
-  /// database (p99 0.13 ms at 10,000 keyframes, 0.62 ms at 100,000 per viewpoint, more on a drive that
-  /// keeps revisiting the same places), the approximate one about the same at any size. 20,000 keeps
-  /// every evaluated drive exact (at most a few thousand keyframes) and holds a long run's search near
-  /// its cost at 20,000. 0: always approximate.
+  /// kd-trees, 128 keys compared). An exact search costs about in proportion to the database, the
+  /// approximate one about the same at any size. 0: always approximate.
   int exact_search_limit = 20000;
   /// Width of the local column search around the sector-key shift, as a fraction of num_sectors:
   /// +-(search_ratio / 2 * num_sectors) columns. 1.0 searches every shift exhaustively.
   double search_ratio = 0.1;
-  /// A match is reported when the best candidate's distance is below this threshold. 0.21 keeps 100%
-  /// precision on the four simulated sequences along the KITTI 00 and 08 trajectories (HDL-64E and
-  /// VLP-16; smallest false-positive distance 0.213) with recall 0.55-0.90. The procedural drive's
-  /// repeated suburban blocks give false positives from 0.149: no threshold keeps those out without
-  /// losing most reverse revisits (recall 0.28-0.37 on KITTI 08 at 0.15), which is what verification is
-  /// for (doc/verification.md, "Choosing the threshold").
+  /// A match is reported when the best candidate's distance is below this threshold (without
+  /// verification; with it, verify_threshold decides which candidates are registered).
   double distance_threshold = 0.21;
   /// Virtual viewpoints for revisits a lane or more to the side [m] (0 disables): besides the real one,
   /// the query is described from lateral_offset_count points on each side along the sensor's y axis,
   /// lateral_offset_step apart, and each of those descriptors searches the database too; a candidate
   /// keeps the viewpoint it scored best from, which also seeds verification with that translation.
-  /// 2.5 m by measurement on the six simulated baseline sequences (doc/verification.md, "Lateral viewpoints"):
-  /// recall at 100% precision rises on all six (KITTI 08 HDL-64E 0.655 -> 0.908, the procedural drive's
-  /// lane-offset laps 0.10 -> 0.95); 2 m and 3 m do about as well, 4 m and two viewpoints a side worse.
   double lateral_offset_step = 2.5;
   /// Virtual viewpoints on each side when lateral_offset_step > 0.
   int lateral_offset_count = 1;
@@ -232,11 +213,8 @@ struct Config {
 
   /// Odometry gate: a candidate is dropped when its odometry position is farther from the query's than
   /// gate_odometry_distance [m] + gate_odometry_drift [m per m] * (odometry path length between them)
-  /// (needs poses; both 0 disables it). On by default at 20 m + 10 %: twice the position drift of the
-  /// simulated odometry (1 % scale error and 0.003 deg/m heading drift) after 2 km of path. It removes
-  /// the look-alike streets a few hundred metres away that a repeated-building city offers (doc/verification.md,
-  /// "Odometry gate") and no true loop on the eleven baseline sequences. An odometry that
-  /// drifts more needs a larger allowance; long loops get it by construction (a 3 km loop: 320 m).
+  /// (needs poses; both 0 disables it). It removes look-alike streets a few hundred metres away; an
+  /// odometry that drifts more needs a larger allowance, and long loops get it by construction.
   double gate_odometry_distance = 20.0;
   double gate_odometry_drift = 0.1;
 
@@ -246,8 +224,7 @@ struct Config {
   // ---- pairwise consistency of verified loops (consistency.h) ---------------------------------
   /// With verify: a verified loop is published only once at least this many other verified loops agree
   /// with it (0 disables the check); loops wait for that support for consistency_window keyframes.
-  /// 1 by measurement (doc/verification.md, "Consistency of loops"): it removed every false loop far from the truth
-  /// on the KITTI-trajectory sequences without losing a true one. Without verify it has no effect.
+  /// Without verify it has no effect.
   int consistency_min_support = 1;
   /// Keyframes a verified loop waits for support before it is dropped; loops whose queries are further
   /// apart than this are not compared.
@@ -263,8 +240,7 @@ struct Config {
   /// of that loop's query also tries the keyframe (of the loop's match session) nearest to where the
   /// loop and the odometry put it, registered from that pose guess, before the descriptor's candidates.
   /// Such a loop is reported when it agrees with the confirmed one (loopsAgree) and then carries the
-  /// track on; 0 disables tracking. 100 m by measurement (doc/verification.md, "Loop tracking"): the changed city
-  /// gains up to there (recall 0.93 -> 0.985 over 30 m), and 10-1000 m gave no false loop at 1% and 3% drift.
+  /// track on; 0 disables tracking.
   double track_distance = 100.0;
 
   /// Human-readable problems, empty when the configuration is usable.

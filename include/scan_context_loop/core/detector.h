@@ -119,14 +119,14 @@ class LoopDetector {
  private:
   /// A cloud levelled (`levelled` holds the rotated points `points` views, when it was turned) and
   /// described.
-  struct Described {
+  struct GravityAlignedScan {
     Eigen::Matrix3f level = Eigen::Matrix3f::Identity();
     pcl::PointCloud<pcl::PointXYZ> levelled;
     PointView points;
     Descriptor descriptor;
   };
   /// Levels and describes `raw`, then queries the database from every viewpoint into detection->query.
-  void describeAndQuery(const PointView& raw, const KeyframeInfo& info, Described* out, Detection* detection);
+  void describeAndQuery(const PointView& raw, const KeyframeInfo& info, GravityAlignedScan* out, Detection* detection);
   /// Searches from the virtual viewpoints too and merges their candidates into detection->query.
   void queryViewpoints(const PointView& points, const KeyframeInfo& info, Detection* detection);
   /// Registers the `tracked` candidate (loop tracking; may be null), then detection->query's candidates
@@ -156,7 +156,10 @@ class LoopDetector {
   /// (Config::verify_odometry_rotation) and, when the odometry is relied on from a confirmed loop, its
   /// translation. A result they contradict is not accepted (VerificationResult::odometry_contradicted).
   void checkOdometry(std::size_t query, std::size_t match, VerificationResult* result) const;
-  void decide(Detection* detection);
+  /// Fills detection->loops: without verification, the descriptor's best candidate; with it, the
+  /// accepted candidate (or, with the consistency check, one waiting for support), published at once or
+  /// once the consistency filter confirms it.
+  void chooseLoops(Detection* detection);
 
   Database database_;
   CloudStore store_;

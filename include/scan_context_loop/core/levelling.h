@@ -51,8 +51,7 @@ struct GroundFitOptions {
   /// A point within this distance of the plane is ground [m]. Road camber and kerbs are within it.
   double inlier_distance = 0.15;
   /// Points sampled from the cloud at most, evenly by index (spinning LiDARs store their points ring
-  /// by ring, so this keeps every ring). Bounds the time: of a 121k-point KITTI scan, about 2,800 of
-  /// the 3,000 sampled are in the default range band, and the fit takes about 0.2 ms (tools/bench.cpp).
+  /// by ring, so this keeps every ring). Bounds the time of the fit (tools/bench.cpp measures it).
   std::size_t max_points = 3000;
   /// Plane hypotheses from three sampled points each.
   int iterations = 100;
@@ -63,9 +62,7 @@ struct GroundFitOptions {
   double min_inlier_ratio = 0.2;
   /// The ground hides what is under it: a plane with more than this many sampled points further than
   /// 2 x inlier_distance below it per point on it is a slab through something else (car bodies, hedges,
-  /// walls), not the ground. On the six KITTI scans in ../shared/data, as they are and tilted by up to
-  /// 20 degrees, the ground has at most 0.021; with everything lower than 1.2 m under the sensor
-  /// removed, the best planes (through car bodies and hedges) have 0.08-0.59. A sensor that sees land
+  /// walls), not the ground (doc/defaults.md gives the values on real scans). A sensor that sees land
   /// well below its own ground (from a bridge or a ledge) gets no fit either.
   double max_below_ratio = 0.1;
   /// Seed of the sampling: the same cloud always gives the same fit.

@@ -82,9 +82,8 @@ VoxelOptions voxelOptions(const VerificationConfig& config);
 /// The clouds' arrays are not on the heap: each keyframe's go into the arena of its level, the number
 /// of halvings that keep it (the trailing zero bits of its index: odd keyframes are level 0, the first
 /// to go). A halving drops one whole level, so its arena goes back to the system whole once its clouds
-/// are freed, and the heap never holds the holes that freeing half the store in place left (scripts/measure/soak:
-/// after the first halving at 49,500 keyframes the describe + query and verification medians rose by a
-/// quarter and stayed there, and the freed memory stayed resident). An arena maps 2 MB blocks of
+/// are freed, and the heap never holds the holes that freeing half the store in place left (they slowed
+/// every later keyframe and stayed resident: doc/testing.md, the soak). An arena maps 2 MB blocks of
 /// ordinary pages, so what is resident exceeds bytes() by less than a page a level (memoryBytes(), what
 /// is mapped, by less than 2 MB a level).
 class CloudStore {

@@ -29,8 +29,7 @@ struct PoseGraphConfig {
   /// Odometry noise per step: standard deviation = floor + per_metre x step length (the step's
   /// translation). Translation in metres, rotation in radians. The defaults (1 cm + 1% of the step;
   /// 0.0005 rad + 0.0002 rad per metre, i.e. 0.03 deg + 0.011 deg/m) describe a LiDAR odometry that
-  /// drifts about 1% of distance, mostly in translation. On the simulated drives of the baseline they
-  /// gave lower corrected errors than twice the translation and ten times the rotation noise.
+  /// drifts about 1% of distance, mostly in translation (doc/defaults.md says how they were chosen).
   double odometry_translation_floor = 0.01;
   double odometry_translation_per_metre = 0.01;
   double odometry_rotation_floor = 0.0005;

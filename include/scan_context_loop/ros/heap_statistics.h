@@ -6,10 +6,8 @@
 namespace scan_context_loop {
 
 /// glibc's mallinfo2 walks every free chunk of every malloc arena, each under the arena's lock: on a
-/// heap of a few GB with freed memory scattered through it, tens of ms (80 ms measured on a 1.3 GB heap
-/// with 0.6 GB free in small chunks), while every thread that allocates in that arena waits. Read
-/// from the diagnostics at 1 Hz it stalled the worker's allocations: the soak's per-keyframe p99 grew
-/// with the heap. So the worker reads them itself, every `interval` keyframes once its queue is empty
+/// heap of a few GB with freed memory scattered through it that takes tens of ms, while every thread
+/// that allocates in that arena waits (doc/testing.md, the soak). So the worker reads them itself, every `interval` keyframes once its queue is empty
 /// (a read never delays a waiting keyframe), and the diagnostics report the last values.
 /// Only the worker thread calls it.
 class HeapStatistics {
