@@ -49,7 +49,7 @@ bool LoopClosureRos::onSave(scan_context_loop::SaveDatabase::Request& request,
     save.include_clouds = request.include_clouds;
     std::string error;
     response.success = saveDatabase(processor_->pipeline().detector(), request.path, save, &error);
-    response.keyframes = static_cast<std::uint32_t>(processor_->pipeline().detector().database().size());
+    response.keyframes = static_cast<std::uint32_t>(processor_->database().size());
     response.message = response.success ? "saved " + std::to_string(response.keyframes) + " keyframes" : error;
   });
   if (!failure.empty()) response.message = failure;
@@ -63,8 +63,8 @@ bool LoopClosureRos::onLoad(scan_context_loop::LoadDatabase::Request& request,
     const std::string error = loadFile(request.path);
     response.success = error.empty();
     response.message = response.success ? "loaded" : error;
-    response.keyframes = static_cast<std::uint32_t>(processor_->pipeline().detector().database().size());
-    response.sessions = processor_->pipeline().detector().database().session() + 1;
+    response.keyframes = static_cast<std::uint32_t>(processor_->database().size());
+    response.sessions = processor_->database().session() + 1;
   });
   if (!failure.empty()) response.message = failure;
   if (!response.success) ROS_ERROR_NAMED(name_, "load_database %s: %s", request.path.c_str(), response.message.c_str());

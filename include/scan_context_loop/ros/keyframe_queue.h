@@ -63,8 +63,8 @@ class KeyframeQueue {
  private:
   const std::size_t capacity_;
   std::atomic<std::size_t>* const length_;
-  std::mutex mutex_;
-  std::condition_variable cv_;
+  std::mutex mutex_;  // guards every member below, and the writes to *length_
+  std::condition_variable cv_;  // the worker waits on it in take()
   std::deque<QueuedKeyframe> keyframes_;
   std::deque<std::function<void()>> tasks_;  // service work for the worker, in order
   bool redraw_ = false;
