@@ -11,6 +11,14 @@ add_library(scan_context_loop_ros
   src/ros/sensor_extrinsic.cpp
   src/ros/exception_barrier.cpp
   src/ros/heap_statistics.cpp
+  src/ros/stored_keyframe.cpp
+  src/ros/keyframe_queue.cpp
+  src/ros/keyframe_input.cpp
+  src/ros/keyframe_processor.cpp
+  src/ros/keyframe_worker.cpp
+  src/ros/loop_publisher.cpp
+  src/ros/marker_publisher.cpp
+  src/ros/node_diagnostics.cpp
   src/ros/database_services.cpp
   src/ros/loop_closure_ros.cpp
 )
@@ -122,10 +130,11 @@ endif()
 
 if(CATKIN_ENABLE_TESTING)
   # The dynamic_reconfigure description, the standard-type loops, cloud and pose input, frame ids, the
-  # sensor extrinsic and the worker's exception barrier and heap statistics: no ROS master needed.
+  # sensor extrinsic, the worker's exception barrier and heap statistics, and the stamps the database
+  # keeps: no ROS master needed.
   catkin_add_gtest(test_ros_units test/ros/test_live_settings.cpp test/ros/test_pose_input.cpp
     test/ros/test_cloud_input.cpp test/ros/test_frame_ids.cpp test/ros/test_sensor_extrinsic.cpp
-    test/ros/test_exception_barrier.cpp test/ros/test_heap_statistics.cpp)
+    test/ros/test_exception_barrier.cpp test/ros/test_heap_statistics.cpp test/ros/test_stored_keyframe.cpp)
   target_link_libraries(test_ros_units scan_context_loop_ros ${catkin_LIBRARIES})
 endif()
 

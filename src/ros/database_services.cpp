@@ -9,6 +9,7 @@
 #include "scan_context_loop/ros/cloud_input.h"
 #include "scan_context_loop/ros/loop_closure_ros.h"
 #include "scan_context_loop/ros/loop_pair.h"
+#include "scan_context_loop/ros/stored_keyframe.h"
 
 namespace scan_context_loop {
 
@@ -17,7 +18,6 @@ void LoopClosureRos::advertiseSessionServices() {
   load_srv_ = pnh_.advertiseService("load_database", &LoopClosureRos::onLoad, this);
   reset_srv_ = pnh_.advertiseService("reset", &LoopClosureRos::onReset, this);
   if (options_.mode == "relocalize") {
-    relocalization_pub_ = nh_.advertise<geometry_msgs::PoseWithCovarianceStamped>("relocalization", 10);
     relocalize_srv_ = pnh_.advertiseService("relocalize", &LoopClosureRos::onRelocalize, this);
   }
 }
@@ -25,41 +25,21 @@ void LoopClosureRos::advertiseSessionServices() {
 std::string LoopClosureRos::runOnWorker(std::function<void()> task) {
   auto done = std::make_shared<std::promise<std::string>>();
   std::future<std::string> finished = done->get_future();
-  {
-    std::lock_guard<std::mutex> lock(queue_mutex_);
-    if (stop_) return "the node is stopping";
-    tasks_.push_back([this, task, done] {
-      std::string what;
-      done->set_value(runGuarded("a service call", task, &what) ? "" : "failed: " + what);
-    });
-  }
-  queue_cv_.notify_all();
+  const bool queued = queue_->pushTask([this, task, done] {
+    std::string what;
+    done->set_value(worker_->runGuarded("a service call", task, &what) ? "" : "failed: " + what);
+  });
+  if (!queued) return "the node is stopping";
   return finished.get();
 }
 
 std::string LoopClosureRos::loadFile(const std::string& path) {
   std::string error;
-  if (!loadDatabase(path, pipeline_.get(), &error)) return error;
-  adoptDatabaseKeyframes();
+  if (!loadDatabase(path, &processor_->pipeline(), &error)) return error;
+  processor_->followDatabase();
   ROS_INFO_NAMED(name_, "loaded %s: the database now holds %zu keyframes in %u sessions", path.c_str(),
-                 pipeline_->detector().database().size(), pipeline_->detector().database().session() + 1);
+                 processor_->database().size(), processor_->database().session() + 1);
   return "";
-}
-
-void LoopClosureRos::adoptDatabaseKeyframes() {
-  const Database& database = pipeline_->detector().database();
-  for (std::size_t k = positions_.size(); k < database.size(); ++k) {
-    const Keyframe& keyframe = database.keyframe(k);
-    const Eigen::Isometry3d pose = keyframe.info.pose ? *keyframe.info.pose : Eigen::Isometry3d::Identity();
-    poses_.push_back(pose);
-    positions_.push_back(pose.translation());
-    stamps_.push_back(keyframe.info.stamp >= 0.0 && keyframe.info.stamp < 4e9 ? ros::Time(keyframe.info.stamp)
-                                                                               : ros::Time());
-    sessions_.push_back(keyframe.session);
-  }
-  database_size_ = database.size();
-  sessions_count_ = database.session() + 1;
-  markers_shown_ = MarkerState();  // redraw everything with the new keyframes
 }
 
 bool LoopClosureRos::onSave(scan_context_loop::SaveDatabase::Request& request,
@@ -68,8 +48,8 @@ bool LoopClosureRos::onSave(scan_context_loop::SaveDatabase::Request& request,
     SaveOptions save;
     save.include_clouds = request.include_clouds;
     std::string error;
-    response.success = saveDatabase(pipeline_->detector(), request.path, save, &error);
-    response.keyframes = static_cast<std::uint32_t>(pipeline_->detector().database().size());
+    response.success = saveDatabase(processor_->pipeline().detector(), request.path, save, &error);
+    response.keyframes = static_cast<std::uint32_t>(processor_->database().size());
     response.message = response.success ? "saved " + std::to_string(response.keyframes) + " keyframes" : error;
   });
   if (!failure.empty()) response.message = failure;
@@ -83,8 +63,8 @@ bool LoopClosureRos::onLoad(scan_context_loop::LoadDatabase::Request& request,
     const std::string error = loadFile(request.path);
     response.success = error.empty();
     response.message = response.success ? "loaded" : error;
-    response.keyframes = static_cast<std::uint32_t>(pipeline_->detector().database().size());
-    response.sessions = pipeline_->detector().database().session() + 1;
+    response.keyframes = static_cast<std::uint32_t>(processor_->database().size());
+    response.sessions = processor_->database().session() + 1;
   });
   if (!failure.empty()) response.message = failure;
   if (!response.success) ROS_ERROR_NAMED(name_, "load_database %s: %s", request.path.c_str(), response.message.c_str());
@@ -93,23 +73,11 @@ bool LoopClosureRos::onLoad(scan_context_loop::LoadDatabase::Request& request,
 
 bool LoopClosureRos::onReset(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& response) {
   const std::string failure = runOnWorker([&] {
-    pipeline_.reset(new KeyframePipeline(config_));
-    positions_.clear();
-    poses_.clear();
-    stamps_.clear();
-    sessions_.clear();
-    edges_.clear();
-    rejected_edges_.clear();
-    markers_shown_ = MarkerState();
-    database_size_ = 0;
-    sessions_count_ = 1;
-    loops_waiting_ = 0;
-    if (marker_pub_.getNumSubscribers() > 0) {
-      visualization_msgs::MarkerArray clear;
-      clear.markers.resize(1);
-      clear.markers[0].action = visualization_msgs::Marker::DELETEALL;
-      marker_pub_.publish(clear);
-    }
+    processor_->resetPipeline();
+    counters_.database_size = 0;
+    counters_.sessions = 1;
+    counters_.loops_waiting = 0;
+    markers_->clear();
     response.success = true;
     response.message = "database cleared";
     // In relocalize mode the map is read-only: it comes back.
@@ -136,7 +104,7 @@ bool LoopClosureRos::onRelocalize(scan_context_loop::Relocalize::Request& reques
       response.message = "cloud refused: " + why;
       return;
     }
-    const Detection detection = pipeline_->locate(view);
+    const Detection detection = processor_->pipeline().locate(view);
     if (!detection.verified) {
       response.message = detection.verifications.empty() ? "no candidate in the map"
                                                          : "no candidate verified: " +
@@ -144,28 +112,22 @@ bool LoopClosureRos::onRelocalize(scan_context_loop::Relocalize::Request& reques
       return;
     }
     const VerifiedCandidate& place = detection.verifications.back();
+    const Keyframe& match = processor_->database().keyframe(place.index);
     scan_context_loop::LoopClosure loop;
     loop.header.frame_id = options_.map_frame;
     loop.query_stamp = request.cloud.header.stamp;
-    loop.match_stamp = stamps_[place.index];
+    loop.match_stamp = keyframeStamp(match.info);
     loop.relative_pose = tf2::toMsg(place.result.relative);
     const Eigen::Matrix<double, 6, 6> covariance = loopCovariance(place.toLoop(detection.index), config_);
     for (int i = 0; i < 36; ++i) loop.covariance[i] = covariance(i / 6, i % 6);
-    response.pose = loopPair(loop, poses_[place.index])[1];
+    response.pose = loopPair(loop, keyframePose(match))[1];
     response.found = true;
     response.match_id = static_cast<std::uint32_t>(place.index);
-    response.match_session = sessions_[place.index];
+    response.match_session = match.session;
     response.message = "verified (fitness " + std::to_string(place.result.fitness) + ")";
   });
   if (!failure.empty()) response.message = failure;
   return true;
-}
-
-void LoopClosureRos::publishRelocalization(const scan_context_loop::LoopClosure& loop) {
-  if (loop.match_session == loop.query_session || !loop.verified) return;
-  geometry_msgs::PoseWithCovarianceStamped pose = loopPair(loop, poses_[loop.match_id])[1];
-  pose.header.frame_id = options_.map_frame;
-  relocalization_pub_.publish(pose);
 }
 
 }  // namespace scan_context_loop

@@ -51,11 +51,11 @@ std::size_t firstChangedChunk(std::size_t published) {
   return published == 0 ? 0 : (published - 1) / kMarkerChunk;
 }
 
-void addKeyframeChunk(const std::vector<Eigen::Vector3d>& positions, const std::vector<std::uint32_t>& sessions,
-                      std::size_t chunk, const std::string& frame, const ros::Time& stamp,
-                      visualization_msgs::MarkerArray* array) {
-  auto session = [&sessions](std::size_t k) { return k < sessions.size() ? sessions[k] : 0u; };
-  const std::size_t begin = chunk * kMarkerChunk, end = std::min(positions.size(), begin + kMarkerChunk);
+void addKeyframeChunk(const MarkerKeyframes& drawn, std::size_t chunk, const std::string& frame,
+                      const ros::Time& stamp, visualization_msgs::MarkerArray* array) {
+  const auto& session = drawn.session;
+  const std::size_t count = drawn.count;
+  const std::size_t begin = chunk * kMarkerChunk, end = std::min(count, begin + kMarkerChunk);
   auto keyframes = base(frame, stamp, "keyframes", static_cast<int>(chunk), visualization_msgs::Marker::SPHERE_LIST);
   keyframes.scale.x = keyframes.scale.y = keyframes.scale.z = 0.6;
   keyframes.color = sessionColour(0);
@@ -63,19 +63,20 @@ void addKeyframeChunk(const std::vector<Eigen::Vector3d>& positions, const std::
   trajectory.scale.x = 0.25;
   trajectory.color = colour(0.8f, 0.8f, 0.8f);
   for (std::size_t k = begin; k < end; ++k) {
-    keyframes.points.push_back(point(positions[k]));
+    const Eigen::Vector3d position = drawn.position(k);
+    keyframes.points.push_back(point(position));
     keyframes.colors.push_back(sessionColour(session(k)));
     // Each keyframe joins the next one of its session, the next chunk's first one too, so chunks join.
-    if (k + 1 < positions.size() && session(k + 1) == session(k)) {
-      trajectory.points.push_back(point(positions[k]));
-      trajectory.points.push_back(point(positions[k + 1]));
+    if (k + 1 < count && session(k + 1) == session(k)) {
+      trajectory.points.push_back(point(position));
+      trajectory.points.push_back(point(drawn.position(k + 1)));
     }
   }
   array->markers.push_back(keyframes);
   if (trajectory.points.size() >= 2) array->markers.push_back(trajectory);
 }
 
-void addLoop(const std::vector<Eigen::Vector3d>& positions, const LoopEdge& loop, std::size_t index,
+void addLoop(const MarkerKeyframes& keyframes, const LoopEdge& loop, std::size_t index,
              const std::string& frame, const ros::Time& stamp, double threshold,
              visualization_msgs::MarkerArray* array) {
   const int id = static_cast<int>(index);
@@ -89,11 +90,12 @@ void addLoop(const std::vector<Eigen::Vector3d>& positions, const LoopEdge& loop
   ends.scale.x = ends.scale.y = ends.scale.z = 2.5;
   ends.color = c;
   for (std::size_t end : {loop.query, loop.match}) {
-    edge.points.push_back(point(positions[end]));
-    ends.points.push_back(point(positions[end]));
+    const geometry_msgs::Point p = point(keyframes.position(end));
+    edge.points.push_back(p);
+    ends.points.push_back(p);
   }
   auto label = base(frame, stamp, "labels", id, visualization_msgs::Marker::TEXT_VIEW_FACING);
-  label.pose.position = point(positions[loop.query] + Eigen::Vector3d(0.0, 0.0, 3.5));
+  label.pose.position = point(keyframes.position(loop.query) + Eigen::Vector3d(0.0, 0.0, 3.5));
   label.scale.z = 1.5;
   label.color = colour(1.0f, 1.0f, 1.0f);
   char text[64];
@@ -104,7 +106,7 @@ void addLoop(const std::vector<Eigen::Vector3d>& positions, const LoopEdge& loop
   array->markers.push_back(label);
 }
 
-void addRejectedChunk(const std::vector<Eigen::Vector3d>& positions, const std::vector<LoopEdge>& rejected,
+void addRejectedChunk(const MarkerKeyframes& keyframes, const std::vector<LoopEdge>& rejected,
                       std::size_t chunk, const std::string& frame, const ros::Time& stamp,
                       visualization_msgs::MarkerArray* array) {
   auto lines = base(frame, stamp, "rejected", static_cast<int>(chunk), visualization_msgs::Marker::LINE_LIST);
@@ -112,9 +114,9 @@ void addRejectedChunk(const std::vector<Eigen::Vector3d>& positions, const std::
   lines.color = colour(0.6f, 0.6f, 0.6f, 0.25f);
   const std::size_t begin = chunk * kMarkerChunk, end = std::min(rejected.size(), begin + kMarkerChunk);
   for (std::size_t i = begin; i < end; ++i) {
-    if (rejected[i].query >= positions.size() || rejected[i].match >= positions.size()) continue;
-    lines.points.push_back(point(positions[rejected[i].query]));
-    lines.points.push_back(point(positions[rejected[i].match]));
+    if (rejected[i].query >= keyframes.count || rejected[i].match >= keyframes.count) continue;
+    lines.points.push_back(point(keyframes.position(rejected[i].query)));
+    lines.points.push_back(point(keyframes.position(rejected[i].match)));
   }
   if (!lines.points.empty()) array->markers.push_back(lines);
 }
@@ -126,26 +128,36 @@ visualization_msgs::MarkerArray makeLoopMarkers(const std::vector<Eigen::Vector3
                                                 const std::vector<LoopEdge>& loops,
                                                 const std::vector<LoopEdge>& rejected, const std::string& frame,
                                                 const ros::Time& stamp, double threshold, MarkerState* published) {
+  MarkerKeyframes keyframes;
+  keyframes.count = positions.size();
+  keyframes.position = [&positions](std::size_t k) { return positions[k]; };
+  keyframes.session = [&sessions](std::size_t k) { return k < sessions.size() ? sessions[k] : 0u; };
+  return makeLoopMarkers(keyframes, loops, rejected, frame, stamp, threshold, published);
+}
+
+visualization_msgs::MarkerArray makeLoopMarkers(const MarkerKeyframes& keyframes, const std::vector<LoopEdge>& loops,
+                                                const std::vector<LoopEdge>& rejected, const std::string& frame,
+                                                const ros::Time& stamp, double threshold, MarkerState* published) {
   MarkerState none;
   MarkerState& since = published != nullptr ? *published : none;
   visualization_msgs::MarkerArray array;
-  if (positions.size() > since.keyframes) {
-    const std::size_t last = (positions.size() - 1) / kMarkerChunk;
+  if (keyframes.count > since.keyframes) {
+    const std::size_t last = (keyframes.count - 1) / kMarkerChunk;
     for (std::size_t c = firstChangedChunk(since.keyframes); c <= last; ++c) {
-      addKeyframeChunk(positions, sessions, c, frame, stamp, &array);
+      addKeyframeChunk(keyframes, c, frame, stamp, &array);
     }
   }
   for (std::size_t i = since.loops; i < loops.size(); ++i) {
-    if (loops[i].query >= positions.size() || loops[i].match >= positions.size()) continue;
-    addLoop(positions, loops[i], i, frame, stamp, threshold, &array);
+    if (loops[i].query >= keyframes.count || loops[i].match >= keyframes.count) continue;
+    addLoop(keyframes, loops[i], i, frame, stamp, threshold, &array);
   }
   if (rejected.size() > since.rejected) {
     const std::size_t last = (rejected.size() - 1) / kMarkerChunk;
     for (std::size_t c = firstChangedChunk(since.rejected); c <= last; ++c) {
-      addRejectedChunk(positions, rejected, c, frame, stamp, &array);
+      addRejectedChunk(keyframes, rejected, c, frame, stamp, &array);
     }
   }
-  since.keyframes = positions.size();
+  since.keyframes = keyframes.count;
   since.loops = loops.size();
   since.rejected = rejected.size();
   return array;

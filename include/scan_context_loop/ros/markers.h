@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -25,6 +26,13 @@ struct MarkerState {
   std::size_t keyframes = 0, loops = 0, rejected = 0;
 };
 
+/// The keyframes the markers draw: how many, and each one's position and session (by keyframe number).
+struct MarkerKeyframes {
+  std::size_t count = 0;
+  std::function<Eigen::Vector3d(std::size_t)> position;
+  std::function<std::uint32_t(std::size_t)> session;
+};
+
 /// Keyframe positions (spheres, coloured by `sessions`: the session of each keyframe, or empty for one
 /// session), the trajectory (line segments between consecutive keyframes of one session), loop edges (lines from green at
 /// distance 0 to red at the threshold) with both ends marked, a label per loop ("query -> match,
@@ -35,6 +43,12 @@ struct MarkerState {
 visualization_msgs::MarkerArray makeLoopMarkers(const std::vector<Eigen::Vector3d>& positions,
                                                 const std::vector<std::uint32_t>& sessions,
                                                 const std::vector<LoopEdge>& loops,
+                                                const std::vector<LoopEdge>& rejected, const std::string& frame,
+                                                const ros::Time& stamp, double threshold,
+                                                MarkerState* published = nullptr);
+
+/// The same, for keyframes read through `keyframes`.
+visualization_msgs::MarkerArray makeLoopMarkers(const MarkerKeyframes& keyframes, const std::vector<LoopEdge>& loops,
                                                 const std::vector<LoopEdge>& rejected, const std::string& frame,
                                                 const ros::Time& stamp, double threshold,
                                                 MarkerState* published = nullptr);

@@ -1,0 +1,70 @@
+// One keyframe on the worker: its pose (from tf in tf mode; the sensor extrinsic applied in odom mode),
+// the core's pipeline (selection, description, query, verification, the database), then the counters,
+// the loops, the markers and the keyframe's timing.
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include <tf2_ros/buffer.h>
+
+#include "scan_context_loop/core/config.h"
+#include "scan_context_loop/core/keyframes.h"
+#include "scan_context_loop/ros/keyframe_queue.h"
+#include "scan_context_loop/ros/loop_publisher.h"
+#include "scan_context_loop/ros/marker_publisher.h"
+#include "scan_context_loop/ros/node_counters.h"
+#include "scan_context_loop/ros/parameters.h"
+#include "scan_context_loop/ros/sensor_extrinsic.h"
+
+namespace scan_context_loop {
+
+/// Worker-only: it owns the pipeline and with it the database, which only the worker thread touches
+/// (start() and the destructor too, before the worker starts and after it ended). No lock.
+class KeyframeProcessor {
+ public:
+  /// `config` and `options` are the worker's settings; `name` prefixes the logs. All must outlive this.
+  KeyframeProcessor(const std::string& name, const Config& config, const RosOptions& options, NodeCounters* counters,
+                    LoopPublisher* loops, MarkerPublisher* markers);
+  ~KeyframeProcessor();
+
+  /// Poses from tf (pose_source tf), and the sensor extrinsic when sensor_extrinsic_from_tf asks for it
+  /// in odom mode. `tf` must outlive this.
+  void useTf(const tf2_ros::Buffer& tf);
+  /// Whether keyframes may wait for the extrinsic from tf.
+  bool hasExtrinsic() const { return extrinsic_ != nullptr; }
+
+  KeyframePipeline& pipeline() { return *pipeline_; }
+  const Database& database() const { return pipeline_->detector().database(); }
+  /// An empty pipeline with the settings in force (reset).
+  void resetPipeline();
+  /// Keyframes entered the database beside process() (a load, or one whose processing threw): the
+  /// counters follow the database and the markers are drawn afresh.
+  void followDatabase();
+
+  /// The extrinsic `keyframe` needs (odometry of another frame than the sensor's: LeGO-LOAM's camera
+  /// axes, an IMU body), from tf without waiting: known (the identity when none is needed), waiting, or
+  /// given up.
+  SensorExtrinsic::State resolveExtrinsic(const QueuedKeyframe& keyframe);
+  /// Processes one keyframe (an unusable one is counted as rejected and logged).
+  void process(QueuedKeyframe keyframe);
+
+ private:
+  bool lookUpPose(QueuedKeyframe* keyframe);
+  /// Turns the pose into the sensor's with the extrinsic from tf (child <- sensor), once it is known.
+  void applyExtrinsic(QueuedKeyframe* keyframe);
+  /// Warns (throttled) while levelling finds the odometry's world frame tilted from gravity (world_tilt.h).
+  void reportWorldTilt(const Detection& detection);
+
+  std::string name_;
+  const Config& config_;
+  const RosOptions& options_;
+  NodeCounters* counters_;
+  LoopPublisher* loops_;
+  MarkerPublisher* markers_;
+  std::unique_ptr<KeyframePipeline> pipeline_;
+  const tf2_ros::Buffer* tf_ = nullptr;
+  std::unique_ptr<SensorExtrinsic> extrinsic_;  // child <- sensor (odom mode with sensor_extrinsic_from_tf)
+};
+
+}  // namespace scan_context_loop

@@ -1,0 +1,32 @@
+// The loop-closure node's counters and gauges: written by the input callbacks and the worker, read by the
+// diagnostics and the input checks. Each is an atomic on its own, so no lock guards them; a reader may
+// see one updated before another.
+#pragma once
+
+#include <atomic>
+#include <cstddef>
+
+namespace scan_context_loop {
+
+struct NodeCounters {
+  // Keyframes lost or refused: queue full or held too long (dropped), unusable (rejected), or a
+  // keyframe or service call that threw (failures).
+  std::atomic<std::size_t> dropped{0}, rejected{0}, failures{0};
+  // The worker's view of the database and the detector.
+  std::atomic<std::size_t> loops_found{0}, database_size{0}, loops_waiting{0}, lio_skipped{0}, sessions{1};
+  std::atomic<std::size_t> registration_bytes{0}, registration_memory{0}, database_bytes_per_keyframe{0};
+  std::atomic<std::size_t> queue_length{0};  ///< keyframes waiting in the queue
+  std::atomic<std::size_t> held{0};          ///< keyframes the worker holds for the tf extrinsic
+  // Clouds that reached the node, and those that became keyframes (paired with a pose, or taken alone
+  // with tf poses): a cloud lost before the node (roscpp's subscriber queue of sync_queue_size) is in
+  // neither; one whose pose never came is in the first only.
+  std::atomic<std::size_t> clouds_received{0}, clouds_paired{0};
+  std::atomic<long long> heap_allocated{-1}, heap_free{-1};  ///< malloc's statistics at the worker's last read
+  std::atomic<double> heap_statistics_ms{0.0};
+  std::atomic<double> last_query_ms{0.0}, last_keyframe_ms{0.0}, max_keyframe_ms{0.0};
+  // Wall times [s] of the last cloud, pose pair and odometry, and of the first cloud still unpaired (0:
+  // none), for the input checks.
+  std::atomic<double> last_cloud_wall{0.0}, last_pair_wall{0.0}, first_unpaired_wall{0.0}, last_odom_wall{0.0};
+};
+
+}  // namespace scan_context_loop

@@ -1,0 +1,204 @@
+#include "scan_context_loop/ros/keyframe_processor.h"
+
+#include <algorithm>
+#include <chrono>
+#include <utility>
+
+#include <sys/resource.h>
+#include <time.h>
+
+#include "scan_context_loop/ros/cloud_input.h"
+#include "scan_context_loop/ros/pose_input.h"
+#include "scan_context_loop/ros/stored_keyframe.h"
+
+namespace scan_context_loop {
+
+namespace {
+
+double wallNow() { return ros::WallTime::now().toSec(); }
+
+// A fixed extrinsic comes from a static tf publisher started with the stack: latched on /tf_static, it
+// arrives as soon as the listener connects; tf1's static_transform_publisher resends it every period
+// (10 ms in LeGO-LOAM's launch). Keyframes wait for it at most this long [s] (and at most queue_size of
+// them): processed with poses in the odometry's axes they would stay in the database with the wrong
+// poses, so waiting a little loses nothing. After it, tf is looked at again every kExtrinsicRecheck s.
+constexpr double kExtrinsicWait = 5.0;
+constexpr double kExtrinsicRecheck = 1.0;
+
+/// The calling thread's CPU time [ms], involuntary context switches and page faults so far.
+struct ThreadUsage {
+  double cpu_ms = 0.0;
+  long preemptions = 0, page_faults = 0;
+
+  static ThreadUsage now() {
+    ThreadUsage u;
+    timespec cpu{};
+    if (clock_gettime(CLOCK_THREAD_CPUTIME_ID, &cpu) == 0) u.cpu_ms = cpu.tv_sec * 1e3 + cpu.tv_nsec * 1e-6;
+    rusage r{};
+    if (getrusage(RUSAGE_THREAD, &r) == 0) {
+      u.preemptions = r.ru_nivcsw;
+      u.page_faults = r.ru_minflt + r.ru_majflt;
+    }
+    return u;
+  }
+};
+
+}  // namespace
+
+KeyframeProcessor::KeyframeProcessor(const std::string& name, const Config& config, const RosOptions& options,
+                                     NodeCounters* counters, LoopPublisher* loops, MarkerPublisher* markers)
+    : name_(name),
+      config_(config),
+      options_(options),
+      counters_(counters),
+      loops_(loops),
+      markers_(markers),
+      pipeline_(new KeyframePipeline(config)) {}
+
+KeyframeProcessor::~KeyframeProcessor() = default;
+
+void KeyframeProcessor::useTf(const tf2_ros::Buffer& tf) {
+  tf_ = &tf;
+  if (options_.pose_source == "odom" && options_.sensor_extrinsic_from_tf) {
+    extrinsic_.reset(new SensorExtrinsic(tf, name_, kExtrinsicWait, kExtrinsicRecheck));
+  }
+}
+
+void KeyframeProcessor::resetPipeline() { pipeline_.reset(new KeyframePipeline(config_)); }
+
+void KeyframeProcessor::followDatabase() {
+  counters_->database_size = database().size();
+  counters_->sessions = database().session() + 1;
+  markers_->forgetShown();  // redraw everything with the new keyframes
+}
+
+bool KeyframeProcessor::lookUpPose(QueuedKeyframe* keyframe) {
+  // A registered cloud's frame is the fixed frame: the sensor's own frame must be named.
+  const std::string& sensor = options_.sensor_frame.empty() ? keyframe->cloud_frame : options_.sensor_frame;
+  try {
+    const auto t = tf_->lookupTransform(options_.fixed_frame, sensor, keyframe->cloud->header.stamp,
+                                        ros::Duration(options_.tf_timeout));
+    std::string why;
+    if (!poseFromMsg(t.transform, &keyframe->pose, &why)) {
+      ++counters_->rejected;
+      ROS_ERROR_THROTTLE_NAMED(5.0, name_, "keyframe at %.3f skipped: the transform %s <- %s is unusable: %s",
+                               keyframe->cloud->header.stamp.toSec(), options_.fixed_frame.c_str(), sensor.c_str(),
+                               why.c_str());
+      return false;
+    }
+    keyframe->has_pose = true;
+    return true;
+  } catch (const tf2::TransformException& e) {
+    ++counters_->rejected;
+    ROS_WARN_THROTTLE_NAMED(5.0, name_, "keyframe skipped: no transform %s <- %s at its stamp: %s",
+                            options_.fixed_frame.c_str(), sensor.c_str(), e.what());
+    return false;
+  }
+}
+
+SensorExtrinsic::State KeyframeProcessor::resolveExtrinsic(const QueuedKeyframe& keyframe) {
+  if (!extrinsic_ || keyframe.child_frame.empty()) return SensorExtrinsic::State::kKnown;  // none needed
+  // A registered cloud's own frame is the world's: only a named sensor_frame says where the sensor is.
+  const std::string& sensor = !options_.sensor_frame.empty() ? options_.sensor_frame
+                              : config_.cloud_in_world_frame ? keyframe.child_frame
+                                                             : keyframe.cloud_frame;
+  return extrinsic_->resolve(keyframe.child_frame, sensor, wallNow());
+}
+
+void KeyframeProcessor::applyExtrinsic(QueuedKeyframe* keyframe) {
+  if (resolveExtrinsic(*keyframe) == SensorExtrinsic::State::kKnown && extrinsic_) {
+    keyframe->pose = keyframe->pose * extrinsic_->pose();
+  }
+}
+
+void KeyframeProcessor::process(QueuedKeyframe keyframe) {
+  const auto started = std::chrono::steady_clock::now();
+  const ThreadUsage usage_at_start = ThreadUsage::now();
+  const sensor_msgs::PointCloud2& msg = *keyframe.cloud;
+  if (!keyframe.has_pose && !lookUpPose(&keyframe)) return;
+  applyExtrinsic(&keyframe);
+  if (!keyframe.pose.matrix().allFinite()) {
+    ++counters_->rejected;
+    ROS_ERROR_THROTTLE_NAMED(5.0, name_, "keyframe at %.3f skipped: its pose is not finite", msg.header.stamp.toSec());
+    return;
+  }
+  PointView view;
+  std::string why;
+  if (!viewCloud(msg, &view, &why)) {
+    ++counters_->rejected;
+    ROS_ERROR_THROTTLE_NAMED(5.0, name_, "keyframe cloud at %.3f skipped: %s", msg.header.stamp.toSec(), why.c_str());
+    return;
+  }
+  KeyframeInfo info;
+  setKeyframeStamp(msg.header.stamp, &info);  // the database keeps the ROS stamp exactly (stored_keyframe.h)
+  info.pose = keyframe.pose;
+  // Keyframe selection, registered clouds back to the sensor frame, the voxel filter: in the core.
+  const Detection detection = pipeline_->process(view, info);
+  if (!detection.selected) return;
+  if (!detection.accepted) {
+    ++counters_->rejected;
+    ROS_ERROR_THROTTLE_NAMED(5.0, name_, "keyframe at %.3f skipped: %s", info.stamp, detection.error.c_str());
+    return;
+  }
+  if (detection.points_used == 0) {
+    ROS_WARN_THROTTLE_NAMED(5.0, name_,
+                            "keyframe %zu at %.3f has no usable point (%zu NaN/Inf or out of range): kept as a "
+                            "keyframe that never matches",
+                            detection.index, info.stamp, detection.points_skipped);
+  }
+  reportWorldTilt(detection);
+  const Database& database = pipeline_->detector().database();
+  if (detection.new_session) {
+    const double previous = keyframeStamp(database.keyframe(detection.index - 1).info).toSec();
+    ROS_WARN_NAMED(name_,
+                   "keyframe stamp %.3f is %.1f s before the previous keyframe's (a bag played again, a restarted "
+                   "odometry?): session %u starts; the %zu keyframes before it stay candidates",
+                   info.stamp, previous - info.stamp, database.session(), database.sessionStart());
+    counters_->sessions = database.session() + 1;
+  }
+  counters_->database_size = database.size();
+  counters_->registration_bytes = pipeline_->detector().cloudStore().bytes();
+  counters_->registration_memory = pipeline_->detector().cloudStore().memoryBytes();
+  counters_->database_bytes_per_keyframe = database.bytesPerKeyframe();
+  counters_->last_query_ms = (detection.descriptor_seconds + detection.query_seconds) * 1e3;
+  counters_->loops_waiting = pipeline_->detector().consistency().waiting();
+  loops_->publishLoops(detection, keyframe.pose_frame, database);
+  markers_->setFrame(keyframe.pose_frame);
+  if (markers_->listened()) markers_->publish(database);
+
+  // The keyframe's whole time on the worker, markers included.
+  const auto ms = [](std::chrono::steady_clock::duration d) {
+    return std::chrono::duration<double, std::milli>(d).count();
+  };
+  const double processing_ms = ms(std::chrono::steady_clock::now() - started);
+  counters_->last_keyframe_ms = processing_ms;
+  if (processing_ms > counters_->max_keyframe_ms.load()) counters_->max_keyframe_ms = processing_ms;
+  if (!loops_->timingListened()) return;
+  scan_context_loop::KeyframeTiming timing;
+  timing.header.stamp = msg.header.stamp;
+  timing.header.frame_id = keyframe.pose_frame;
+  timing.keyframe_id = static_cast<std::uint32_t>(detection.index);
+  timing.database_size = static_cast<std::uint32_t>(counters_->database_size.load());
+  timing.queue_ms = ms(started - keyframe.queued);
+  timing.processing_ms = processing_ms;
+  timing.describe_query_ms = (detection.descriptor_seconds + detection.query_seconds) * 1e3;
+  timing.verify_ms = detection.verify_seconds * 1e3;
+  timing.queue_length = static_cast<std::uint32_t>(keyframe.queue_length);
+  const ThreadUsage usage = ThreadUsage::now();
+  timing.cpu_ms = usage.cpu_ms - usage_at_start.cpu_ms;
+  timing.preemptions = static_cast<std::uint32_t>(std::max(0L, usage.preemptions - usage_at_start.preemptions));
+  timing.page_faults = static_cast<std::uint32_t>(std::max(0L, usage.page_faults - usage_at_start.page_faults));
+  loops_->publishTiming(timing);
+}
+
+void KeyframeProcessor::reportWorldTilt(const Detection& detection) {
+  if (detection.world_tilt_deg < LoopDetector::kLevellingSuspectDeg) return;
+  ROS_WARN_THROTTLE_NAMED(300.0, name_,
+                          "levelling: the odometry's world frame is %.1f deg off gravity (from %zu ground fits; A-LOAM "
+                          "and FAST-LIO start it at the first scan's frame, tilted as the sensor was): keyframes are "
+                          "levelled by that attitude, the same within this session; a database saved now does not "
+                          "match a session started at another tilt (doc/odometry_checks.md)",
+                          detection.world_tilt_deg, pipeline_->detector().worldTilt().fits());
+}
+
+}  // namespace scan_context_loop

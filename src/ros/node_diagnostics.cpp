@@ -1,0 +1,54 @@
+#include "scan_context_loop/ros/node_diagnostics.h"
+
+namespace scan_context_loop {
+
+NodeDiagnostics::NodeDiagnostics(const ros::NodeHandle& nh, const ros::NodeHandle& pnh, const std::string& name,
+                                 const NodeCounters& counters, bool extrinsic, bool lio_sam)
+    : counters_(counters), extrinsic_(extrinsic), lio_sam_(lio_sam) {
+  updater_.reset(new diagnostic_updater::Updater(nh, pnh, name));
+  updater_->setHardwareID("none");
+  updater_->add("loop closure", this, &NodeDiagnostics::diagnose);
+  timer_ = nh.createTimer(ros::Duration(1.0), [this](const ros::TimerEvent&) { updater_->update(); });
+}
+
+void NodeDiagnostics::diagnose(diagnostic_updater::DiagnosticStatusWrapper& status) {
+  const NodeCounters& c = counters_;
+  const std::size_t dropped = c.dropped.load(), failures = c.failures.load();
+  if (failures > 0) {
+    status.summaryf(diagnostic_msgs::DiagnosticStatus::WARN,
+                    "%zu keyframes or service calls failed with an exception (see the log)", failures);
+  } else if (dropped > 0) {
+    status.summaryf(diagnostic_msgs::DiagnosticStatus::WARN, "%zu keyframes dropped (queue full)", dropped);
+  } else {
+    status.summary(diagnostic_msgs::DiagnosticStatus::OK, "running");
+  }
+  status.add("database size", c.database_size.load());
+  status.add("database bytes per keyframe", c.database_bytes_per_keyframe.load());
+  status.add("registration data [bytes]", c.registration_bytes.load());
+  // The memory the registration data's arenas hold (outside the heap; see CloudStore).
+  status.add("registration memory [bytes]", c.registration_memory.load());
+  // What the process holds allocated through malloc, and what malloc holds free (fragmentation): with the
+  // resident memory, this tells a leak from a heap that keeps freed memory for reuse. Read by the worker
+  // (HeapStatistics: reading them here, on another thread, stalled the worker's allocations).
+  if (c.heap_allocated.load() >= 0) {
+    status.add("heap allocated [bytes]", c.heap_allocated.load());
+    status.add("heap free [bytes]", c.heap_free.load());
+    status.add("heap statistics read in [ms]", c.heap_statistics_ms.load());
+  }
+  status.add("sessions", c.sessions.load());
+  status.add("queue length", c.queue_length.load());
+  status.add("last query time [ms]", c.last_query_ms.load());
+  status.add("last keyframe time [ms]", c.last_keyframe_ms.load());
+  status.add("longest keyframe time [ms]", c.max_keyframe_ms.load());
+  status.add("loops found", c.loops_found.load());
+  status.add("verified loops waiting for support", c.loops_waiting.load());
+  status.add("clouds received", c.clouds_received.load());
+  status.add("clouds paired with a pose", c.clouds_paired.load());
+  status.add("keyframes dropped", dropped);
+  if (extrinsic_) status.add("keyframes held for the tf extrinsic", c.held.load());
+  status.add("keyframes rejected", c.rejected.load());
+  status.add("keyframes and service calls failed (exception)", failures);
+  if (lio_sam_) status.add("loops not sent to LIO-SAM (not verified, repeated or too soon)", c.lio_skipped.load());
+}
+
+}  // namespace scan_context_loop
