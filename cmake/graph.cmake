@@ -4,12 +4,13 @@
 if(NOT SCL_WITH_BACKEND)
   return()
 endif()
-add_library(scan_context_loop_graph src/graph/pose_graph.cpp src/graph/keyframe_map.cpp)
+add_library(scan_context_loop_graph src/graph/pose_graph.cpp src/graph/keyframe_map.cpp src/graph/pose_graph_settings.cpp)
 target_include_directories(scan_context_loop_graph PUBLIC include ${EIGEN3_INCLUDE_DIRS} ${PCL_INCLUDE_DIRS})
 # Ceres 1.14 exports no Ceres::ceres target: its CMake package names its library in CERES_LIBRARIES.
 target_include_directories(scan_context_loop_graph PRIVATE ${CERES_INCLUDE_DIRS})
-target_link_libraries(scan_context_loop_graph PUBLIC ${PCL_FILTERS_LIBRARIES} ${PCL_COMMON_LIBRARIES}
-  PRIVATE ${CERES_LIBRARIES})
+# The core's settings tables (core/settings.h) hold the node's keys too (graph/pose_graph_settings.h).
+target_link_libraries(scan_context_loop_graph PUBLIC scan_context_loop_core ${PCL_FILTERS_LIBRARIES}
+  ${PCL_COMMON_LIBRARIES} PRIVATE ${CERES_LIBRARIES})
 
 install(TARGETS scan_context_loop_graph
   ARCHIVE DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}

@@ -17,6 +17,24 @@ if(SCL_BUILD_TOOLS)
   target_link_libraries(scan_context_bench_database scan_context_loop_eval scan_context_loop_cli)
 endif()
 
+# doc/parameters.md from the settings tables of both nodes (the pose_graph node's come with the backend):
+# the tool (installed, `rosrun scan_context_loop scan_context_parameters`) prints it, test_eval compares it
+# with the file in the source tree.
+if(SCL_WITH_BACKEND)
+  add_library(scan_context_loop_parameters_page STATIC tools/parameters_page.cpp)
+  target_include_directories(scan_context_loop_parameters_page PUBLIC tools)
+  target_link_libraries(scan_context_loop_parameters_page PUBLIC scan_context_loop_graph)
+  if(SCL_BUILD_TOOLS)
+    add_executable(scan_context_parameters tools/parameters_main.cpp)
+    target_link_libraries(scan_context_parameters scan_context_loop_parameters_page scan_context_loop_cli)
+    install(TARGETS scan_context_parameters RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
+  endif()
+  if(CATKIN_ENABLE_TESTING)
+    target_sources(test_eval PRIVATE test/eval/test_parameters_page.cpp)
+    target_link_libraries(test_eval scan_context_loop_parameters_page)
+  endif()
+endif()
+
 if(CATKIN_ENABLE_TESTING)
   catkin_add_gtest(test_cli test/test_main.cpp test/tools/test_cli.cpp)
   target_link_libraries(test_cli scan_context_loop_cli)

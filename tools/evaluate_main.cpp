@@ -60,16 +60,18 @@ int main(int argc, char** argv) {
             "can be verified", &save_clouds);
   if (const int status = cli.parse(argc, argv); status >= 0) return status;
   if (save_clouds && save_database.empty()) return cli.fail("--save-clouds goes with --save-database FILE");
-  if (!config_file.empty() && !eval::loadConfigFile(config_file, &config, &error)) {
+  std::vector<std::string> warnings;
+  if (!config_file.empty() && !eval::loadConfigFile(config_file, &config, &error, &warnings)) {
     std::fprintf(stderr, "scan_context_evaluate: %s\n", error.c_str());
     return 2;
   }
   for (const auto& o : overrides) {
-    if (!eval::applyOverride(o, &config, &error)) {
+    if (!eval::applyOverride(o, &config, &error, &warnings)) {
       std::fprintf(stderr, "scan_context_evaluate: --set %s\n", error.c_str());
       return 2;
     }
   }
+  for (const auto& w : warnings) std::fprintf(stderr, "scan_context_evaluate: warning: %s\n", w.c_str());
   const auto problems = config.validate();
   if (!problems.empty() || !(radius > 0.0)) {
     for (const auto& p : problems) std::fprintf(stderr, "scan_context_evaluate: invalid configuration: %s\n", p.c_str());

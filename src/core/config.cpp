@@ -127,8 +127,9 @@ const std::vector<std::string>& configKeys() {
   return keys;
 }
 
-bool setConfigValue(Config* config, const std::string& key, const std::string& value, std::string* error) {
-  const Setting<Config>* setting = findSetting(configSettings(), key);
+bool setConfigValue(Config* config, const std::string& key, const std::string& value, std::string* error,
+                    std::string* warning) {
+  const Setting<Config>* setting = findSetting(configSettings(), key, warning);
   if (setting == nullptr) {
     if (error) *error = "unknown configuration key '" + key + "'";
     return false;

@@ -105,7 +105,7 @@ std::string settingsMismatch(const FileSettings& file, const FileSettings& ours)
       {"min_range", text(file.min_range), text(ours.min_range)},
       {"lidar_height", text(file.lidar_height), text(ours.lidar_height)},
       {"ring_key", ringKeyTypeName(file.ring_key), ringKeyTypeName(ours.ring_key)},
-      {"levelling", levellingModeName(file.levelling), levellingModeName(ours.levelling)},
+      {"gravity_alignment", levellingModeName(file.levelling), levellingModeName(ours.levelling)},
   };
   if (file.clouds) {
     rows.push_back({"verify_voxel_leaf", text(file.voxel_leaf), text(ours.voxel_leaf)});

@@ -1,168 +1,15 @@
 #include "scan_context_loop/core/settings.h"
 
 #include <cmath>
-#include <limits>
-#include <sstream>
+
+#include "setting_rows.h"
 
 namespace scan_context_loop {
 
 namespace {
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
+using namespace rows;
 
-bool parseBool(const std::string& text, bool* out) {
-  if (text == "true" || text == "1") {
-    *out = true;
-    return true;
-  }
-  if (text == "false" || text == "0") {
-    *out = false;
-    return true;
-  }
-  return false;
-}
-
-bool parseInt(const std::string& text, int* out) {
-  std::istringstream in(text);
-  long long v;
-  char extra;
-  if (!(in >> v) || (in >> extra) || v < -2147483647LL || v > 2147483647LL) return false;
-  *out = static_cast<int>(v);
-  return true;
-}
-
-bool parseDouble(const std::string& text, double* out) {
-  std::istringstream in(text);
-  double v;
-  char extra;
-  if (!(in >> v) || (in >> extra)) return false;
-  *out = v;
-  return true;
-}
-
-std::string textOf(double v) {
-  std::ostringstream out;
-  out.precision(15);
-  out << v;
-  return out.str();
-}
-
-/// An allowed interval; `open_low` / `open_high` exclude the bound.
-struct Range {
-  double low = -kInf, high = kInf;
-  bool open_low = false, open_high = false;
-  const char* note = "";  ///< appended to the rule, e.g. " (0 disables)"
-
-  bool contains(double v) const {
-    if (!std::isfinite(v)) return false;
-    return (open_low ? v > low : v >= low) && (open_high ? v < high : v <= high);
-  }
-  std::string rule() const {
-    std::string r;
-    if (low == -kInf && high == kInf) {
-      r = "must be finite";
-    } else if (high == kInf) {
-      r = std::string("must be finite and ") + (open_low ? "> " : ">= ") + textOf(low);
-    } else {
-      r = std::string("must be in ") + (open_low ? "(" : "[") + textOf(low) + ", " + textOf(high) +
-          (open_high ? ")" : "]");
-    }
-    return r + note;
-  }
-};
-
-Range closed(double low, double high, const char* note = "") { return {low, high, false, false, note}; }
-Range atLeast(double low, const char* note = "") { return {low, kInf, false, false, note}; }
-Range positive(const char* note = "") { return {0.0, kInf, true, false, note}; }
-
-template <typename T, typename V>
-using Ref = V& (*)(T&);
-
-/// A number member of type V (int or double), parsed with `parse` and printed with `print`.
-template <typename T, typename V>
-Setting<T> numberSetting(const char* key, SettingType type, Ref<T, V> ref, Range range, const char* doc,
-                         bool (*parse)(const std::string&, V*), std::string (*print)(V)) {
-  Setting<T> s;
-  s.key = key;
-  s.type = type;
-  s.doc = doc;
-  s.get = [ref, print](const T& t) { return print(ref(const_cast<T&>(t))); };
-  s.set = [ref, parse](T* t, const std::string& text) { return parse(text, &ref(*t)); };
-  s.check = [ref, range](const T& t) { return range.contains(ref(const_cast<T&>(t))) ? "" : range.rule(); };
-  return s;
-}
-
-std::string intText(int v) { return std::to_string(v); }
-
-template <typename T>
-Setting<T> intSetting(const char* key, Ref<T, int> ref, Range range, const char* doc) {
-  return numberSetting<T, int>(key, SettingType::kInt, ref, range, doc, parseInt, intText);
-}
-
-template <typename T>
-Setting<T> doubleSetting(const char* key, Ref<T, double> ref, Range range, const char* doc) {
-  return numberSetting<T, double>(key, SettingType::kDouble, ref, range, doc, parseDouble, textOf);
-}
-
-template <typename T>
-Setting<T> boolSetting(const char* key, Ref<T, bool> ref, const char* doc) {
-  Setting<T> s;
-  s.key = key;
-  s.type = SettingType::kBool;
-  s.doc = doc;
-  s.get = [ref](const T& t) { return std::string(ref(const_cast<T&>(t)) ? "true" : "false"); };
-  s.set = [ref](T* t, const std::string& text) { return parseBool(text, &ref(*t)); };
-  s.check = [](const T&) { return std::string(); };
-  return s;
-}
-
-/// A string member; `allowed` (empty: any) lists the accepted values.
-template <typename T>
-Setting<T> stringSetting(const char* key, Ref<T, std::string> ref, std::vector<std::string> allowed, const char* doc) {
-  Setting<T> s;
-  s.key = key;
-  s.type = allowed.empty() ? SettingType::kString : SettingType::kChoice;
-  s.doc = doc;
-  s.choices = allowed;
-  s.get = [ref](const T& t) { return ref(const_cast<T&>(t)); };
-  s.set = [ref, allowed](T* t, const std::string& text) {
-    for (const auto& a : allowed) {
-      if (a == text) {
-        ref(*t) = text;
-        return true;
-      }
-    }
-    if (!allowed.empty()) return false;
-    ref(*t) = text;
-    return true;
-  };
-  s.check = [](const T&) { return std::string(); };
-  return s;
-}
-
-/// An enum member with its parse and name functions.
-template <typename T, typename E>
-Setting<T> enumSetting(const char* key, Ref<T, E> ref, bool (*parse)(const std::string&, E*),
-                       const char* (*name)(E), std::vector<E> values, const char* doc) {
-  Setting<T> s;
-  s.key = key;
-  s.type = SettingType::kChoice;
-  s.doc = doc;
-  for (E v : values) s.choices.push_back(name(v));
-  s.get = [ref, name](const T& t) { return std::string(name(ref(const_cast<T&>(t)))); };
-  s.set = [ref, parse](T* t, const std::string& text) { return parse(text, &ref(*t)); };
-  s.check = [](const T&) { return std::string(); };
-  return s;
-}
-
-/// Marks a row Setting::live.
-template <typename T>
-Setting<T> live(Setting<T> s) {
-  s.live = true;
-  return s;
-}
-
-#define SCL_MEMBER(T, expr) +[](T& c) -> decltype((c.expr)) { return c.expr; }
 #define C(expr) SCL_MEMBER(Config, expr)
 #define N(expr) SCL_MEMBER(NodeOptions, expr)
 
@@ -196,18 +43,21 @@ std::vector<Setting<Config>> makeConfigSettings() {
       doubleSetting<Cfg>("lidar_height", C(lidar_height), {}, "added to every z before taking the bin maximum [m]"),
       enumSetting<Cfg, RingKeyType>("ring_key", C(ring_key), parseRingKeyType, ringKeyTypeName,
                                     {RingKeyType::kMeanHeight, RingKeyType::kOccupancy}, "what the ring key holds"),
-      enumSetting<Cfg, LevellingMode>("levelling", C(levelling), parseLevellingMode, levellingModeName,
-                                      {LevellingMode::kAuto, LevellingMode::kPose, LevellingMode::kGround,
-                                       LevellingMode::kOff},
-                                      "where each keyframe's gravity alignment comes from"),
-      doubleSetting<Cfg>("levelling_max_tilt", C(levelling_max_tilt), closed(0, 90),
-                         "auto levelling: a pose tilted more than this is not trusted [deg]"),
+      formerly({"levelling"},
+               enumSetting<Cfg, LevellingMode>("gravity_alignment", C(levelling), parseLevellingMode,
+                                               levellingModeName,
+                                               {LevellingMode::kAuto, LevellingMode::kPose, LevellingMode::kGround,
+                                                LevellingMode::kOff},
+                                               "where each keyframe's gravity alignment comes from")),
+      formerly({"levelling_max_tilt"},
+               doubleSetting<Cfg>("gravity_alignment_max_tilt", C(levelling_max_tilt), closed(0, 90),
+                                  "auto gravity alignment: a pose tilted more than this is not trusted [deg]")),
       // search
       live(intSetting<Cfg>("num_candidates", C(num_candidates), closed(1, 10000), "ring-key neighbours scored in full")),
       intSetting<Cfg>("exact_search_limit", C(exact_search_limit), atLeast(0, " (0: always approximate)"),
                       "databases up to this many keyframes are searched exactly, larger ones approximately"),
       live(doubleSetting<Cfg>("search_ratio", C(search_ratio), closed(0, 1), "column search width around the coarse shift")),
-      live(doubleSetting<Cfg>("distance_threshold", C(distance_threshold), {0, 2, true, false},
+      live(doubleSetting<Cfg>("distance_threshold", C(distance_threshold), openLow(0, 2),
                          "a descriptor match is below this distance")),
       doubleSetting<Cfg>("lateral_offset_step", C(lateral_offset_step), atLeast(0, " (0 disables)"),
                          "spacing of the virtual lateral viewpoints [m]"),
@@ -225,7 +75,7 @@ std::vector<Setting<Config>> makeConfigSettings() {
                          "odometry gate: allowance per metre of path")),
       // verification
       boolSetting<Cfg>("verify", C(verification.enabled), "verify candidates by registration"),
-      live(doubleSetting<Cfg>("verify_threshold", C(verification.threshold), {0, 2, true, false},
+      live(doubleSetting<Cfg>("verify_threshold", C(verification.threshold), openLow(0, 2),
                          "candidates below this distance are verified")),
       live(intSetting<Cfg>("verify_max_candidates", C(verification.max_candidates), closed(1, 100),
                       "candidates verified per keyframe at most")),
@@ -300,9 +150,36 @@ std::vector<Setting<NodeOptions>> makeNodeSettings() {
 
 #undef N
 #undef C
-#undef SCL_MEMBER
 
 }  // namespace
+
+bool SettingRange::contains(double v) const {
+  if (!std::isfinite(v)) return false;
+  return (open_low ? v > low : v >= low) && (open_high ? v < high : v <= high);
+}
+
+std::string SettingRange::interval() const {
+  if (!boundedBelow() && !boundedAbove()) return "any";
+  if (!boundedAbove()) return std::string(open_low ? "> " : ">= ") + numberText(low);
+  if (!boundedBelow()) return std::string(open_high ? "< " : "<= ") + numberText(high);
+  return std::string(open_low ? "(" : "[") + numberText(low) + ", " + numberText(high) + (open_high ? ")" : "]");
+}
+
+std::string SettingRange::rule() const {
+  std::string r;
+  if (!boundedBelow() && !boundedAbove()) {
+    r = "must be finite";
+  } else if (!boundedBelow() || !boundedAbove()) {
+    r = "must be finite and " + interval();
+  } else {
+    r = "must be in " + interval();
+  }
+  return r + note;
+}
+
+std::string deprecatedKeyWarning(const std::string& old_key, const std::string& key) {
+  return old_key + " is deprecated, use " + key;
+}
 
 const std::vector<Setting<Config>>& configSettings() {
   static const std::vector<Setting<Config>> table = makeConfigSettings();

@@ -4,6 +4,8 @@
 
 #include <pcl/filters/voxel_grid.h>
 
+#include "scan_context_loop/graph/pose_graph_settings.h"
+
 namespace scan_context_loop {
 
 namespace {
@@ -21,14 +23,7 @@ pcl::PointCloud<pcl::PointXYZ> thinned(const pcl::PointCloud<pcl::PointXYZ>::Ptr
 
 }  // namespace
 
-std::vector<std::string> KeyframeMapConfig::validate() const {
-  std::vector<std::string> problems;
-  // PCL's voxel grid refuses grids of more than 2^31 cells: a map of 10 km at 5 cm would be one.
-  if (!(voxel >= 0.05 && voxel <= 10.0)) problems.push_back("map_voxel must be in [0.05, 10] m");
-  if (!(max_range > 0.0 && max_range <= 1000.0)) problems.push_back("map_max_range must be in (0, 1000] m");
-  if (keyframe_stride < 1) problems.push_back("map_keyframe_stride must be at least 1");
-  return problems;
-}
+std::vector<std::string> KeyframeMapConfig::validate() const { return checkSettings(keyframeMapSettings(), *this); }
 
 KeyframeMap::KeyframeMap(const KeyframeMapConfig& config) : config_(config) {}
 

@@ -7,6 +7,7 @@
 #include <Eigen/Cholesky>
 
 #include "ceres_compat.h"
+#include "scan_context_loop/graph/pose_graph_settings.h"
 
 namespace scan_context_loop {
 
@@ -61,22 +62,7 @@ bool sqrtInformation(const Matrix6d& covariance, Matrix6d* out) {
 
 }  // namespace
 
-std::vector<std::string> PoseGraphConfig::validate() const {
-  std::vector<std::string> problems;
-  const auto positive = [&](const char* key, double value) {
-    if (!(value > 0.0) || !std::isfinite(value)) problems.push_back(std::string(key) + " must be > 0");
-  };
-  const auto non_negative = [&](const char* key, double value) {
-    if (!(value >= 0.0) || !std::isfinite(value)) problems.push_back(std::string(key) + " must be >= 0");
-  };
-  positive("odometry_translation_floor", odometry_translation_floor);
-  non_negative("odometry_translation_per_metre", odometry_translation_per_metre);
-  positive("odometry_rotation_floor", odometry_rotation_floor);
-  non_negative("odometry_rotation_per_metre", odometry_rotation_per_metre);
-  non_negative("loop_robust_scale", loop_robust_scale);
-  if (max_iterations < 1) problems.push_back("max_iterations must be >= 1");
-  return problems;
-}
+std::vector<std::string> PoseGraphConfig::validate() const { return checkSettings(poseGraphSettings(), *this); }
 
 Matrix6d odometryCovariance(const Eigen::Isometry3d& step, const PoseGraphConfig& config) {
   const double length = step.translation().norm();

@@ -36,7 +36,9 @@ LoopClosureRos::~LoopClosureRos() {
 }
 
 bool LoopClosureRos::start() {
-  const auto problems = readParameters(pnh_, &config_, &options_);
+  std::vector<std::string> warnings;
+  const auto problems = readParameters(pnh_, &config_, &options_, &warnings);
+  for (const auto& w : warnings) ROS_WARN_NAMED(name_, "parameter: %s", w.c_str());
   if (!problems.empty()) {
     for (const auto& p : problems) ROS_FATAL_NAMED(name_, "invalid parameter: %s", p.c_str());
     ROS_FATAL_NAMED(name_, "not starting: fix the parameters above (see config/default.yaml)");

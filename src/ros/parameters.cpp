@@ -9,12 +9,7 @@
 
 namespace scan_context_loop {
 
-namespace {
-
-/// The parameter's value as the text the settings table parses, or "" with `problem` set when its
-/// type does not fit: an integer for an int, a number for a double (an integer too), a boolean for a
-/// bool, a string for a string or a choice.
-std::string textOf(XmlRpc::XmlRpcValue& value, SettingType type, bool* ok) {
+std::string parameterText(XmlRpc::XmlRpcValue& value, SettingType type, bool* ok) {
   *ok = true;
   std::ostringstream out;
   out.precision(17);
@@ -41,34 +36,13 @@ std::string textOf(XmlRpc::XmlRpcValue& value, SettingType type, bool* ok) {
   return "";
 }
 
-template <typename T>
-void readTable(const ros::NodeHandle& pnh, const std::vector<Setting<T>>& table, T* target,
-               std::vector<std::string>* problems) {
-  for (const auto& s : table) {
-    XmlRpc::XmlRpcValue value;
-    if (!pnh.getParam(s.key, value)) continue;  // the default stays
-    bool ok = false;
-    const std::string text = textOf(value, s.type, &ok);
-    if (!ok || !s.set(target, text)) {
-      std::string given = value.toXml();
-      problems->push_back(s.key + ": expected " + settingTypeName(s.type, s.choices) + ", got " + given);
-    }
-  }
-}
-
-}  // namespace
-
-std::vector<std::string> readParameters(const ros::NodeHandle& pnh, Config* c, RosOptions* o) {
+std::vector<std::string> readParameters(const ros::NodeHandle& pnh, Config* c, RosOptions* o,
+                                        std::vector<std::string>* warnings) {
   std::vector<std::string> problems;
-  readTable(pnh, configSettings(), c, &problems);
-  readTable(pnh, nodeSettings(), o, &problems);
-
-  const auto known = [](const std::string& key) {
-    return findSetting(configSettings(), key) != nullptr || findSetting(nodeSettings(), key) != nullptr;
-  };
-  for (const auto& key : unknownPrivateParameters(pnh, known)) {
-    problems.push_back(key + ": unknown parameter (see config/default.yaml for the keys)");
-  }
+  readTable(pnh, configSettings(), c, &problems, warnings);
+  readTable(pnh, nodeSettings(), o, &problems, warnings);
+  reportUnknownParameters(pnh, {knownKeyOf(configSettings()), knownKeyOf(nodeSettings())}, "config/default.yaml",
+                          &problems);
 
   for (const auto& p : c->validate()) problems.push_back(p);
   for (const auto& p : checkSettings(nodeSettings(), *o)) problems.push_back(p);
@@ -80,6 +54,20 @@ std::vector<std::string> readParameters(const ros::NodeHandle& pnh, Config* c, R
   check(!(o->pose_source == "tf" && c->cloud_in_world_frame && o->sensor_frame.empty()),
         "sensor_frame must name the sensor's tf frame when pose_source is tf and cloud_in_world_frame is true");
   return problems;
+}
+
+void reportUnknownParameters(const ros::NodeHandle& pnh,
+                             const std::vector<std::function<bool(const std::string&)>>& tables,
+                             const std::string& where, std::vector<std::string>* problems) {
+  const auto known = [&](const std::string& key) {
+    for (const auto& table : tables) {
+      if (table(key)) return true;
+    }
+    return false;
+  };
+  for (const auto& key : unknownPrivateParameters(pnh, known)) {
+    problems->push_back(key + ": unknown parameter (see " + where + " for the keys)");
+  }
 }
 
 std::vector<std::string> unknownPrivateParameters(const ros::NodeHandle& pnh,

@@ -26,7 +26,9 @@ PoseGraphRos::~PoseGraphRos() {
 }
 
 bool PoseGraphRos::start() {
-  const auto problems = readPoseGraphParameters(pnh_, &graph_config_, &map_config_, &options_);
+  std::vector<std::string> warnings;
+  const auto problems = readPoseGraphParameters(pnh_, &graph_config_, &map_config_, &options_, &warnings);
+  for (const auto& w : warnings) ROS_WARN_NAMED(name_, "parameter: %s", w.c_str());
   if (!problems.empty()) {
     for (const auto& p : problems) ROS_FATAL_NAMED(name_, "invalid parameter: %s", p.c_str());
     ROS_FATAL_NAMED(name_, "not starting: fix the parameters above (see launch/pose_graph.launch)");

@@ -185,7 +185,7 @@ TEST(ConfigKeys, EveryKeyIsSettableAndBadValuesLeaveTheConfigAlone) {
   EXPECT_NE(error.find("max_radius"), std::string::npos);
   EXPECT_FALSE(setConfigValue(&config, "ring_key", "median", &error));
   EXPECT_FALSE(setConfigValue(&config, "verify_method", "sift", &error));
-  EXPECT_FALSE(setConfigValue(&config, "levelling", "gravity", &error));
+  EXPECT_FALSE(setConfigValue(&config, "gravity_alignment", "gravity", &error));
   EXPECT_FALSE(setConfigValue(&config, "rings", "20", &error));
   EXPECT_NE(error.find("unknown"), std::string::npos);
   EXPECT_EQ(config.num_rings, before.num_rings);

@@ -14,6 +14,7 @@
 #include "scan_context_loop/eval/trajectory_correction.h"
 #include "scan_context_loop/eval/kitti_io.h"
 #include "scan_context_loop/core/settings.h"
+#include "scan_context_loop/graph/pose_graph_settings.h"
 #include "scan_context_sim/sequence_writer.h"
 #include "scan_context_sim/trajectory.h"
 #include "../common/sim_drive.h"
@@ -55,30 +56,88 @@ TEST(ConfigFile, ReadsNodeKeysIgnoresRosKeysAndRejectsBadValues) {
   EXPECT_FALSE(applyOverride("search_ratio", &config, &error));
 }
 
-/// Checks that the file's keys are exactly the table's and that each value is the table's default.
+TEST(ConfigFile, DeprecatedKeyNamesSetTheNewKeysWithAWarning) {
+  std::ofstream(temp("old_names.yaml")) << "levelling: ground\nlevelling_max_tilt: 12\n";
+  std::ofstream(temp("new_names.yaml")) << "gravity_alignment: ground\ngravity_alignment_max_tilt: 12\n";
+  Config old_config, new_config;
+  std::string error;
+  std::vector<std::string> old_warnings, new_warnings;
+  ASSERT_TRUE(loadConfigFile(temp("old_names.yaml"), &old_config, &error, &old_warnings)) << error;
+  ASSERT_TRUE(loadConfigFile(temp("new_names.yaml"), &new_config, &error, &new_warnings)) << error;
+  EXPECT_EQ(old_config.levelling, LevellingMode::kGround);
+  EXPECT_DOUBLE_EQ(old_config.levelling_max_tilt, 12.0);
+  for (const auto& s : configSettings()) EXPECT_EQ(s.get(old_config), s.get(new_config)) << s.key;
+  EXPECT_TRUE(new_warnings.empty());
+  ASSERT_EQ(old_warnings.size(), 2u);
+  EXPECT_NE(old_warnings[0].find("levelling is deprecated, use gravity_alignment"), std::string::npos);
+  EXPECT_NE(old_warnings[1].find("levelling_max_tilt is deprecated, use gravity_alignment_max_tilt"),
+            std::string::npos);
+
+  // --set takes the old name too, with the same warning.
+  Config set_old, set_new;
+  std::vector<std::string> set_warnings;
+  ASSERT_TRUE(applyOverride("levelling=off", &set_old, &error, &set_warnings)) << error;
+  ASSERT_TRUE(applyOverride("gravity_alignment=off", &set_new, &error, &set_warnings)) << error;
+  EXPECT_EQ(set_old.levelling, LevellingMode::kOff);
+  for (const auto& s : configSettings()) EXPECT_EQ(s.get(set_old), s.get(set_new)) << s.key;
+  ASSERT_EQ(set_warnings.size(), 1u);
+  EXPECT_EQ(set_warnings[0], "levelling is deprecated, use gravity_alignment");
+}
+
+/// Checks that every key of the table is in the file (`name`, for messages) with the table's default,
+/// and that the default keeps the table's own rule.
 template <typename T>
-void expectDefaults(const YAML::Node& file, const std::vector<Setting<T>>& table, std::vector<std::string>* seen) {
+void expectDefaults(const YAML::Node& file, const std::string& name, const std::vector<Setting<T>>& table,
+                    std::vector<std::string>* seen) {
   const T defaults;
   for (const auto& s : table) {
     seen->push_back(s.key);
-    ASSERT_TRUE(file[s.key]) << s.key << " is missing from config/default.yaml";
+    ASSERT_TRUE(file[s.key]) << s.key << " is missing from " << name;
     T parsed;
     ASSERT_TRUE(s.set(&parsed, file[s.key].template as<std::string>())) << s.key;
-    EXPECT_EQ(s.get(parsed), s.get(defaults)) << s.key << ": config/default.yaml disagrees with the code";
+    EXPECT_EQ(s.get(parsed), s.get(defaults)) << s.key << ": " << name << " disagrees with the code";
     EXPECT_EQ(s.check(defaults), "") << s.key << ": the default breaks its own rule";
   }
 }
 
-TEST(ConfigFile, DefaultsFileListsEveryKeyWithTheCodesDefault) {
-  const YAML::Node file = YAML::LoadFile(std::string(SCL_PACKAGE_DIR) + "/config/default.yaml");
-  std::vector<std::string> keys;
-  expectDefaults(file, configSettings(), &keys);
-  expectDefaults(file, nodeSettings(), &keys);
+/// Checks that the file's keys are all among the tables' (`keys`) and, with `comment_each`, that every key
+/// has a comment line right above it (default.yaml comments some keys as a group).
+void expectOnlyKeys(const std::string& name, const std::vector<std::string>& keys, bool comment_each) {
+  const std::string path = std::string(SCL_PACKAGE_DIR) + "/" + name;
+  const YAML::Node file = YAML::LoadFile(path);
   for (const auto& item : file) {
     const std::string key = item.first.as<std::string>();
-    EXPECT_NE(std::find(keys.begin(), keys.end(), key), keys.end()) << key << " in config/default.yaml is no key";
+    EXPECT_NE(std::find(keys.begin(), keys.end(), key), keys.end()) << key << " in " << name << " is no key";
   }
+  if (!comment_each) return;
+  std::ifstream text(path);
+  std::string line, previous;
+  for (; std::getline(text, line); previous = line) {
+    if (line.empty() || line[0] == '#') continue;
+    EXPECT_EQ(previous.rfind("#", 0), 0u) << name << ": '" << line << "' has no comment above it";
+  }
+}
+
+TEST(ConfigFile, DefaultsFileListsEveryKeyWithTheCodesDefault) {
+  const std::string name = "config/default.yaml";
+  const YAML::Node file = YAML::LoadFile(std::string(SCL_PACKAGE_DIR) + "/" + name);
+  std::vector<std::string> keys;
+  expectDefaults(file, name, configSettings(), &keys);
+  expectDefaults(file, name, nodeSettings(), &keys);
+  expectOnlyKeys(name, keys, false);
   EXPECT_TRUE(Config().validate().empty());
+}
+
+TEST(ConfigFile, PoseGraphFileListsEveryKeyWithTheCodesDefault) {
+  const std::string name = "config/pose_graph.yaml";
+  const YAML::Node file = YAML::LoadFile(std::string(SCL_PACKAGE_DIR) + "/" + name);
+  std::vector<std::string> keys;
+  expectDefaults(file, name, poseGraphSettings(), &keys);
+  expectDefaults(file, name, keyframeMapSettings(), &keys);
+  expectDefaults(file, name, poseGraphNodeSettings(), &keys);
+  expectOnlyKeys(name, keys, true);
+  EXPECT_TRUE(PoseGraphConfig().validate().empty());
+  EXPECT_TRUE(KeyframeMapConfig().validate().empty());
 }
 
 /// True when the key is in the table and `text` parses to a value other than the table's default.

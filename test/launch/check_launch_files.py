@@ -10,7 +10,7 @@ own loader, without starting anything, and checks what they would start:
   the stack's fixed frame, config/loop_closure.rviz and the node's topics;
 - inside an enclosing <group ns>: the settings follow the node there;
 - the order of the layers: a sensor preset over the stack's settings, `overrides` over everything;
-- the stacks' settings: levelling auto everywhere (it measures a world frame that is not gravity
+- the stacks' settings: gravity_alignment auto everywhere (it measures a world frame that is not gravity
   aligned, A-LOAM's, FAST-LIO's and LeGO-LOAM's, and corrects a y-up one), a 30 s exclusion for
   LIO-SAM; every key of config/stacks/ is a key of config/default.yaml;
 - config/loop_closure.rviz subscribes only to relative topics and is framed on the fixed frame's origin.
@@ -39,15 +39,15 @@ STACKS = {
     "loop_closure": dict(cloud="keyframe_cloud", odom="keyframe_odom", lio="lio_loop", frame="odom",
                          settings={}),
     "aloam": dict(cloud="/velodyne_cloud_registered", odom="/aft_mapped_to_init", lio="lio_loop",
-                  frame="camera_init", settings={"levelling": "auto", "cloud_in_world_frame": True}),
+                  frame="camera_init", settings={"gravity_alignment": "auto", "cloud_in_world_frame": True}),
     "lego_loam": dict(cloud="/full_cloud_projected", odom="/integrated_to_init", lio="lio_loop", frame="map",
-                      settings={"levelling": "auto", "cloud_in_world_frame": False}),
+                      settings={"gravity_alignment": "auto", "cloud_in_world_frame": False}),
     "lio_sam": dict(cloud="/lio_sam/mapping/cloud_registered_raw", odom="/lio_sam/mapping/odometry",
                     lio="/lio_loop/loop_closure_detection", frame="odom",
-                    settings={"levelling": "auto", "exclude_recent_seconds": 30.0, "lio_sam_output": True,
+                    settings={"gravity_alignment": "auto", "exclude_recent_seconds": 30.0, "lio_sam_output": True,
                               "cloud_in_world_frame": True}),
     "fast_lio": dict(cloud="/cloud_registered_body", odom="/Odometry", lio="lio_loop", frame="camera_init",
-                     settings={"levelling": "auto", "cloud_in_world_frame": False}),
+                     settings={"gravity_alignment": "auto", "cloud_in_world_frame": False}),
 }
 # The non-default arguments, and the remaps they must give (node's name -> the topic it is remapped to).
 CUSTOM_ARGS = ["name:=other", "manager:=mgr", "cloud_topic:=/my/cloud", "odom_topic:=my_odom",
@@ -240,9 +240,9 @@ def case_layers(package, stack, path):
 def case_stack_settings(package):
     """The per-stack settings that match the stacks' world frames and LIO-SAM's hook."""
     errors = []
-    expected = {"aloam": {"levelling": "auto"}, "fast_lio": {"levelling": "auto"},
-                "lego_loam": {"levelling": "auto"},
-                "lio_sam": {"levelling": "auto", "exclude_recent_seconds": 30.0}}
+    expected = {"aloam": {"gravity_alignment": "auto"}, "fast_lio": {"gravity_alignment": "auto"},
+                "lego_loam": {"gravity_alignment": "auto"},
+                "lio_sam": {"gravity_alignment": "auto", "exclude_recent_seconds": 30.0}}
     for stack, settings in sorted(expected.items()):
         config = load(os.path.join(package, "launch", stack + ".launch"))
         if isinstance(config, str):

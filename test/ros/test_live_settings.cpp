@@ -1,6 +1,8 @@
 // The dynamic_reconfigure description (cfg/LoopClosure.cfg) against the settings tables, and the
 // conversion of its messages; the standard-type copy of a loop. No ROS master needed.
 #include <algorithm>
+#include <cstdint>
+#include <limits>
 #include <map>
 #include <string>
 
@@ -23,27 +25,74 @@ std::map<std::string, double> valuesOf(const dynamic_reconfigure::Config& messag
   return values;
 }
 
-TEST(LiveSettings, TheReconfigureDescriptionHasEveryLiveKeyWithItsDefault) {
-  dynamic_reconfigure::Config generated;
-  LoopClosureConfig::__getDefault__().__toMessage__(generated);
-  const auto described = valuesOf(generated);
-  const auto defaults = valuesOf(liveSettingsMessage(Config(), NodeOptions()));
-  EXPECT_EQ(described.size(), defaults.size());
-  for (const auto& d : defaults) {
-    const auto it = described.find(d.first);
-    ASSERT_NE(it, described.end()) << d.first << " is live but not in cfg/LoopClosure.cfg";
-    EXPECT_DOUBLE_EQ(it->second, d.second) << d.first;
+/// The cfg's name for a row's type (ParamDescription::type), "" for one dynamic_reconfigure cannot carry.
+std::string reconfigureType(SettingType type) {
+  switch (type) {
+    case SettingType::kInt: return "int";
+    case SettingType::kDouble: return "double";
+    case SettingType::kBool: return "bool";
+    case SettingType::kString:
+    case SettingType::kChoice: return "str";
   }
-  for (const auto& d : described) EXPECT_TRUE(defaults.count(d.first)) << d.first << " is not a live key";
-  // Every default lies within the slider's range.
-  dynamic_reconfigure::Config low, high;
+  return "";
+}
+
+/// The live row of `key` in either table: its type, default and range; false when there is none.
+struct LiveRow {
+  SettingType type;
+  double default_value;
+  SettingRange range;
+};
+
+template <typename T>
+bool findLive(const std::vector<Setting<T>>& table, const std::string& key, LiveRow* row) {
+  const Setting<T>* s = findSetting(table, key);
+  if (s == nullptr || s->key != key || !s->live) return false;
+  *row = {s->type, s->number ? s->number(T()) : 0.0, s->range};
+  return true;
+}
+
+// The rule between a table's range and the cfg's slider: a bound the table sets is the cfg's bound (an
+// open one too: a slider cannot leave out its end, the node refuses it); a side the table leaves
+// unbounded is dynamic_reconfigure's widest (the bound left out of the .cfg: -inf / inf for a double,
+// INT_MIN / INT_MAX for an int).
+double expectedBound(const LiveRow& row, bool low) {
+  const bool bounded = low ? row.range.boundedBelow() : row.range.boundedAbove();
+  if (bounded) return low ? row.range.low : row.range.high;
+  if (row.type == SettingType::kInt) {
+    return low ? double(std::numeric_limits<std::int32_t>::min()) : double(std::numeric_limits<std::int32_t>::max());
+  }
+  return low ? -std::numeric_limits<double>::infinity() : std::numeric_limits<double>::infinity();
+}
+
+TEST(LiveSettings, TheReconfigureDescriptionIsTheLiveRowsWithTheirTypesDefaultsAndRanges) {
+  dynamic_reconfigure::Config generated, low, high;
+  LoopClosureConfig::__getDefault__().__toMessage__(generated);
   LoopClosureConfig::__getMin__().__toMessage__(low);
   LoopClosureConfig::__getMax__().__toMessage__(high);
-  const auto lows = valuesOf(low), highs = valuesOf(high);
-  for (const auto& d : defaults) {
-    EXPECT_LE(lows.at(d.first), d.second) << d.first;
-    EXPECT_GE(highs.at(d.first), d.second) << d.first;
+  const auto defaults = valuesOf(generated), lows = valuesOf(low), highs = valuesOf(high);
+  std::vector<std::string> described;
+  for (const auto& d : LoopClosureConfig::__getParamDescriptions__()) {
+    const std::string& key = d->name;
+    described.push_back(key);
+    LiveRow row;
+    ASSERT_TRUE(findLive(configSettings(), key, &row) || findLive(nodeSettings(), key, &row))
+        << key << " in cfg/LoopClosure.cfg is not a live key of the settings tables";
+    EXPECT_EQ(d->type, reconfigureType(row.type)) << key;
+    EXPECT_DOUBLE_EQ(defaults.at(key), row.default_value) << key << ": the cfg's default is not the table's";
+    EXPECT_EQ(lows.at(key), expectedBound(row, true)) << key << ": the cfg's min is not the table's " << row.range.interval();
+    EXPECT_EQ(highs.at(key), expectedBound(row, false)) << key << ": the cfg's max is not the table's " << row.range.interval();
   }
+  // Every live row is in the cfg.
+  const auto expectDescribed = [&](const std::string& key, bool live) {
+    if (!live) return;
+    EXPECT_NE(std::find(described.begin(), described.end(), key), described.end())
+        << key << " is live but not in cfg/LoopClosure.cfg";
+  };
+  for (const auto& s : configSettings()) expectDescribed(s.key, s.live);
+  for (const auto& s : nodeSettings()) expectDescribed(s.key, s.live);
+  // The message of the live values carries the same keys.
+  EXPECT_EQ(valuesOf(liveSettingsMessage(Config(), NodeOptions())).size(), described.size());
 }
 
 dynamic_reconfigure::Config withDouble(const std::string& key, double value) {

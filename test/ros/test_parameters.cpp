@@ -48,6 +48,27 @@ TEST(Parameters, DefaultsWhenNothingIsSetAndEveryKeyIsRead) {
   EXPECT_EQ(options.fixed_frame, "map");
 }
 
+TEST(Parameters, DeprecatedKeyNamesSetTheNewKeysWithAWarning) {
+  ros::NodeHandle old_names("/old_names"), new_names("/new_names");
+  old_names.setParam("levelling", std::string("ground"));
+  old_names.setParam("levelling_max_tilt", 12.0);
+  new_names.setParam("gravity_alignment", std::string("ground"));
+  new_names.setParam("gravity_alignment_max_tilt", 12.0);
+  Config old_config, new_config;
+  RosOptions old_options, new_options;
+  std::vector<std::string> old_warnings, new_warnings;
+  const auto old_problems = readParameters(old_names, &old_config, &old_options, &old_warnings);
+  const auto new_problems = readParameters(new_names, &new_config, &new_options, &new_warnings);
+  EXPECT_TRUE(old_problems.empty()) << old_problems.front();
+  EXPECT_TRUE(new_problems.empty()) << new_problems.front();
+  EXPECT_EQ(old_config.levelling, LevellingMode::kGround);
+  for (const auto& s : configSettings()) EXPECT_EQ(s.get(old_config), s.get(new_config)) << s.key;
+  EXPECT_TRUE(new_warnings.empty());
+  ASSERT_EQ(old_warnings.size(), 2u);
+  EXPECT_EQ(old_warnings[0], "levelling is deprecated, use gravity_alignment");
+  EXPECT_EQ(old_warnings[1], "levelling_max_tilt is deprecated, use gravity_alignment_max_tilt");
+}
+
 TEST(Parameters, WrongTypesUnknownKeysAndBadValuesAreNamed) {
   ros::NodeHandle pnh("/bad");
   pnh.setParam("verify", 1);                      // an integer for a boolean

@@ -254,7 +254,9 @@ struct Config {
 const std::vector<std::string>& configKeys();
 
 /// Sets one member from its text form ("20", "0.25", "occupancy"). Returns false, leaving the config
-/// unchanged, for an unknown key or a value that does not parse as the member's type.
-bool setConfigValue(Config* config, const std::string& key, const std::string& value, std::string* error);
+/// unchanged, for an unknown key or a value that does not parse as the member's type. A deprecated name
+/// of a key (Setting::deprecated_keys) sets the key; `warning` (when given) then says so, else is cleared.
+bool setConfigValue(Config* config, const std::string& key, const std::string& value, std::string* error,
+                    std::string* warning = nullptr);
 
 }  // namespace scan_context_loop

@@ -1,9 +1,12 @@
 // Every configuration key, declared once: its name, the member it sets, its type, its range and a
 // one-line doc. Parsing (setConfigValue), validation (Config::validate), the YAML reader of the
-// evaluator, the node's ROS parameter reader and the check of config/default.yaml all read these tables.
+// evaluator, the nodes' ROS parameter reader, the generated doc/parameters.md and the checks of
+// config/*.yaml and cfg/LoopClosure.cfg all read these tables. The pose_graph node's tables use the same
+// Setting<T> (graph/pose_graph_settings.h).
 #pragma once
 
 #include <functional>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -14,22 +17,50 @@ namespace scan_context_loop {
 
 enum class SettingType { kInt, kDouble, kBool, kChoice, kString };
 
-/// One key of a settings table over the struct T (Config or NodeOptions).
+/// The interval a number row allows; `open_low` / `open_high` exclude the bound. Not finite values are
+/// never allowed. The default is unbounded (any finite number).
+struct SettingRange {
+  double low = -std::numeric_limits<double>::infinity();
+  double high = std::numeric_limits<double>::infinity();
+  bool open_low = false, open_high = false;
+  std::string note;  ///< appended to the rule, e.g. " (0 disables)"
+
+  bool boundedBelow() const { return low != -std::numeric_limits<double>::infinity(); }
+  bool boundedAbove() const { return high != std::numeric_limits<double>::infinity(); }
+  bool contains(double v) const;
+  /// The rule as text: "must be finite", "must be finite and >= 0 (0 disables)", "must be in (0, 2]".
+  std::string rule() const;
+  /// The interval alone: "any", ">= 0", "(0, 2]".
+  std::string interval() const;
+};
+
+/// One key of a settings table over the struct T (Config, NodeOptions, the pose_graph node's structs).
 template <typename T>
 struct Setting {
   std::string key;
   SettingType type = SettingType::kDouble;
   std::string doc;                   ///< one line
   std::vector<std::string> choices;  ///< kChoice: the accepted names
+  /// Earlier names of the key: still read (ROS parameters, YAML, --set), each with a warning.
+  std::vector<std::string> deprecated_keys;
   /// The value in `target` as text ("20", "0.25", "true", "occupancy").
   std::function<std::string(const T& target)> get;
   /// Parses `text` into `target`; false (target unchanged) when it is not a value of this type.
   std::function<bool(T* target, const std::string& text)> set;
-  /// "" when the value in `target` is allowed, else the rule it breaks ("must be in [1, 1000]").
-  std::function<std::string(const T& target)> check;
+  /// kInt, kDouble: the value as a number, checked against `range`.
+  std::function<double(const T& target)> number;
+  SettingRange range;
+  /// A rule beyond the range (none when empty): "" when the value is allowed, else the rule it breaks.
+  std::function<std::string(const T& target)> extra_check;
   /// Safe to change while running: read afresh for every keyframe and never baked into stored data
   /// (KeyframePipeline::reconfigure, the node's dynamic_reconfigure server).
   bool live = false;
+
+  /// "" when the value in `target` is allowed, else the rule it breaks ("must be in [1, 1000]").
+  std::string check(const T& target) const {
+    if (number && !range.contains(number(target))) return range.rule();
+    return extra_check ? extra_check(target) : std::string();
+  }
 };
 
 /// The core's keys (config/*.yaml, the node's private parameters, `scripts/evaluate --set`).
@@ -38,11 +69,24 @@ const std::vector<Setting<Config>>& configSettings();
 /// the evaluator.
 const std::vector<Setting<NodeOptions>>& nodeSettings();
 
-/// The row of `key`, or nullptr.
+/// "old is deprecated, use new": the warning for reading a row by one of its deprecated_keys.
+std::string deprecatedKeyWarning(const std::string& old_key, const std::string& key);
+
+/// The row of `key`, or of a row that lists `key` among its deprecated_keys, or nullptr. For an old
+/// name `deprecation` (when given) receives deprecatedKeyWarning; otherwise it is cleared.
 template <typename T>
-const Setting<T>* findSetting(const std::vector<Setting<T>>& table, const std::string& key) {
+const Setting<T>* findSetting(const std::vector<Setting<T>>& table, const std::string& key,
+                              std::string* deprecation = nullptr) {
+  if (deprecation) deprecation->clear();
   for (const auto& s : table) {
     if (s.key == key) return &s;
+  }
+  for (const auto& s : table) {
+    for (const auto& old_key : s.deprecated_keys) {
+      if (old_key != key) continue;
+      if (deprecation) *deprecation = deprecatedKeyWarning(old_key, s.key);
+      return &s;
+    }
   }
   return nullptr;
 }

@@ -11,11 +11,13 @@ namespace eval {
 
 /// Applies a flat YAML map of Config keys. The node's own keys (nodeSettings(), settings.h) are
 /// accepted and skipped. Returns false with a reason naming the key for an unreadable file, an unknown
-/// key or a bad value.
-bool loadConfigFile(const std::string& path, Config* config, std::string* error);
+/// key or a bad value. A deprecated name of a key sets the key and adds a line to `warnings` (when given).
+bool loadConfigFile(const std::string& path, Config* config, std::string* error,
+                    std::vector<std::string>* warnings = nullptr);
 
-/// Applies "key=value".
-bool applyOverride(const std::string& assignment, Config* config, std::string* error);
+/// Applies "key=value"; a deprecated key name adds a line to `warnings` (when given).
+bool applyOverride(const std::string& assignment, Config* config, std::string* error,
+                   std::vector<std::string>* warnings = nullptr);
 
 }  // namespace eval
 }  // namespace scan_context_loop

@@ -1,4 +1,5 @@
-// The pose_graph node's parameters, read once and validated.
+// The pose_graph node's parameters, read once through its settings tables (graph/pose_graph_settings.h)
+// and validated.
 #pragma once
 
 #include <string>
@@ -8,36 +9,15 @@
 
 #include "scan_context_loop/graph/keyframe_map.h"
 #include "scan_context_loop/graph/pose_graph.h"
+#include "scan_context_loop/graph/pose_graph_settings.h"
 
 namespace scan_context_loop {
 
-struct PoseGraphOptions {
-  /// The frame of the corrected poses, the map cloud and the paths; the tf map_frame -> odometry frame
-  /// carries the correction.
-  std::string map_frame = "map";
-  bool publish_tf = true;
-  /// How often the map_frame -> odometry frame transform is sent, stamped now [Hz].
-  double tf_rate = 20.0;
-  /// Only verified loops enter the graph (unverified ones carry the descriptor's yaw prior and a wide
-  /// covariance; with this false they enter too, under the robust loss).
-  bool verified_only = true;
-  /// A loop's and a cloud's stamp match a keyframe's within this [s].
-  double stamp_tolerance = 0.01;
-  /// Solve at most this often while loops keep coming [s] (0: after every batch with a new loop).
-  double min_solve_interval = 0.5;
-  /// The map_cloud topic is republished at most this often while it has subscribers and the graph
-  /// changed [s] (0: only when the publish_map service is called).
-  double map_period = 5.0;
-  /// Events (keyframes, clouds, loops) waiting for the worker.
-  int queue_size = 10000;
-  /// Keyframe clouds are kept for the map (false: the keyframe_cloud topic is not subscribed).
-  bool build_map = true;
-};
-
 /// Reads every key (each with the structs' default) from the private node handle. Returns the problems
 /// found, empty when all is well: a private parameter that is no key, a value of the wrong type, a
-/// value out of range.
+/// value out of range. A deprecated key name adds a line to `warnings` (when given).
 std::vector<std::string> readPoseGraphParameters(const ros::NodeHandle& pnh, PoseGraphConfig* graph,
-                                                 KeyframeMapConfig* map, PoseGraphOptions* options);
+                                                 KeyframeMapConfig* map, PoseGraphOptions* options,
+                                                 std::vector<std::string>* warnings = nullptr);
 
 }  // namespace scan_context_loop

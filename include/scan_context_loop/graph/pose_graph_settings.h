@@ -1,0 +1,46 @@
+// The pose_graph node's keys, declared once like the loop_closure node's (core/settings.h): three tables,
+// over the solver's PoseGraphConfig, the KeyframeMapConfig and the node's own PoseGraphOptions. The
+// ROS reader, the validation, config/pose_graph.yaml's check and doc/parameters.md read them.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "scan_context_loop/core/settings.h"
+#include "scan_context_loop/graph/keyframe_map.h"
+#include "scan_context_loop/graph/pose_graph.h"
+
+namespace scan_context_loop {
+
+/// The pose_graph node's own settings (ROS frames, tf, queues).
+struct PoseGraphOptions {
+  /// The frame of the corrected poses, the map cloud and the paths; the tf map_frame -> odometry frame
+  /// carries the correction.
+  std::string map_frame = "map";
+  bool publish_tf = true;
+  /// How often the map_frame -> odometry frame transform is sent, stamped now [Hz].
+  double tf_rate = 20.0;
+  /// Only verified loops enter the graph (unverified ones carry the descriptor's yaw prior and a wide
+  /// covariance; with this false they enter too, under the robust loss).
+  bool verified_only = true;
+  /// A loop's and a cloud's stamp match a keyframe's within this [s].
+  double stamp_tolerance = 0.01;
+  /// Solve at most this often while loops keep coming [s] (0: after every batch with a new loop).
+  double min_solve_interval = 0.5;
+  /// The map_cloud topic is republished at most this often while it has subscribers and the graph
+  /// changed [s] (0: only when the publish_map service is called).
+  double map_period = 5.0;
+  /// Events (keyframes, clouds, loops) waiting for the worker.
+  int queue_size = 10000;
+  /// Keyframe clouds are kept for the map (false: the keyframe_cloud topic is not subscribed).
+  bool build_map = true;
+};
+
+/// The solver's keys (odometry noise, robust loss, iterations).
+const std::vector<Setting<PoseGraphConfig>>& poseGraphSettings();
+/// The map's keys (map_voxel, map_max_range, map_keyframe_stride).
+const std::vector<Setting<KeyframeMapConfig>>& keyframeMapSettings();
+/// The node's own keys.
+const std::vector<Setting<PoseGraphOptions>>& poseGraphNodeSettings();
+
+}  // namespace scan_context_loop

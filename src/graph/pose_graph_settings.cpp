@@ -1,0 +1,86 @@
+#include "scan_context_loop/graph/pose_graph_settings.h"
+
+#include "../core/setting_rows.h"
+
+namespace scan_context_loop {
+
+namespace {
+
+using namespace rows;
+
+#define G(expr) SCL_MEMBER(PoseGraphConfig, expr)
+#define M(expr) SCL_MEMBER(KeyframeMapConfig, expr)
+#define O(expr) SCL_MEMBER(PoseGraphOptions, expr)
+
+std::vector<Setting<PoseGraphConfig>> makePoseGraphSettings() {
+  using PG = PoseGraphConfig;
+  return {
+      doubleSetting<PG>("odometry_translation_floor", G(odometry_translation_floor), positive(),
+                       "odometry noise per step: translation standard deviation floor [m]"),
+      doubleSetting<PG>("odometry_translation_per_metre", G(odometry_translation_per_metre), atLeast(0),
+                       "and its growth per metre of the step [m/m]"),
+      doubleSetting<PG>("odometry_rotation_floor", G(odometry_rotation_floor), positive(),
+                       "odometry noise per step: rotation standard deviation floor [rad]"),
+      doubleSetting<PG>("odometry_rotation_per_metre", G(odometry_rotation_per_metre), atLeast(0),
+                       "and its growth per metre of the step [rad/m]"),
+      doubleSetting<PG>("loop_robust_scale", G(loop_robust_scale), atLeast(0, " (0: none)"),
+                       "Cauchy loss scale on a loop's whitened residual (0: plain least squares)"),
+      intSetting<PG>("max_iterations", G(max_iterations), atLeast(1), "solver iterations per solve"),
+  };
+}
+
+std::vector<Setting<KeyframeMapConfig>> makeKeyframeMapSettings() {
+  using KM = KeyframeMapConfig;
+  return {
+      // PCL's voxel grid refuses grids of more than 2^31 cells: a map of 10 km at 5 cm would be one.
+      doubleSetting<KM>("map_voxel", M(voxel), closed(0.05, 10), "voxel edge of the stored clouds and of the map [m]"),
+      doubleSetting<KM>("map_max_range", M(max_range), openLow(0, 1000),
+                       "points beyond this horizontal range from the sensor are not kept [m]"),
+      intSetting<KM>("map_keyframe_stride", M(keyframe_stride), atLeast(1),
+                    "keep the cloud of every n-th keyframe only (1: all)"),
+  };
+}
+
+std::vector<Setting<PoseGraphOptions>> makePoseGraphNodeSettings() {
+  using PO = PoseGraphOptions;
+  const auto not_empty = [](const PO& o) { return o.map_frame.empty() ? std::string("must not be empty") : ""; };
+  return {
+      alsoCheck<PO>(not_empty, stringSetting<PO>("map_frame", O(map_frame), {},
+                                               "frame of the corrected poses; tf map_frame -> odometry frame is "
+                                               "the correction")),
+      boolSetting<PO>("publish_tf", O(publish_tf), "send the map_frame -> odometry frame transform"),
+      doubleSetting<PO>("tf_rate", O(tf_rate), openLow(0, 1000), "how often that transform is sent [Hz]"),
+      boolSetting<PO>("verified_only", O(verified_only), "only verified loops enter the graph"),
+      doubleSetting<PO>("stamp_tolerance", O(stamp_tolerance), closed(0, 1),
+                       "a loop's and a cloud's stamp match a keyframe's within this [s]"),
+      doubleSetting<PO>("min_solve_interval", O(min_solve_interval), atLeast(0),
+                       "solve at most this often while loops keep coming [s] (0: after every new loop)"),
+      doubleSetting<PO>("map_period", O(map_period), atLeast(0, " (0: on request only)"),
+                       "map_cloud is republished at most this often [s] (0: on the publish_map service only)"),
+      intSetting<PO>("queue_size", O(queue_size), closed(1, 1000000), "events waiting for the worker"),
+      boolSetting<PO>("build_map", O(build_map), "keep the keyframe clouds for the map"),
+  };
+}
+
+#undef O
+#undef M
+#undef G
+
+}  // namespace
+
+const std::vector<Setting<PoseGraphConfig>>& poseGraphSettings() {
+  static const std::vector<Setting<PoseGraphConfig>> table = makePoseGraphSettings();
+  return table;
+}
+
+const std::vector<Setting<KeyframeMapConfig>>& keyframeMapSettings() {
+  static const std::vector<Setting<KeyframeMapConfig>> table = makeKeyframeMapSettings();
+  return table;
+}
+
+const std::vector<Setting<PoseGraphOptions>>& poseGraphNodeSettings() {
+  static const std::vector<Setting<PoseGraphOptions>> table = makePoseGraphNodeSettings();
+  return table;
+}
+
+}  // namespace scan_context_loop
