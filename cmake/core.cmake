@@ -16,7 +16,7 @@ add_library(scan_context_loop_core
   src/core/verification.cpp
   src/core/consistency.cpp
   src/core/loop_tracking.cpp
-  src/core/levelling.cpp
+  src/core/gravity_alignment.cpp
   src/core/crc32.cpp
   src/core/file_io.cpp
   src/core/block_arena.cpp
@@ -51,7 +51,7 @@ if(CATKIN_ENABLE_TESTING)
     test/core/test_consistency.cpp
     test/core/test_loop_tracking.cpp
     test/core/test_viewpoints.cpp
-    test/core/test_levelling.cpp
+    test/core/test_gravity_alignment.cpp
     test/core/test_keyframes.cpp
     test/core/test_reconfigure.cpp
     test/core/test_sessions.cpp

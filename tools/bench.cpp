@@ -1,6 +1,6 @@
 // Prints the core's benchmark table: descriptor time on real KITTI scans (raw and 0.4 m voxel
-// downsampled), ground-plane levelling time on them, pair distance time, online insert + query time at several database sizes, and memory.
-// Usage: scan_context_bench [DATA_DIR [MAX_DATABASE_SIZE]]  (--help lists the arguments)
+// downsampled), ground-plane gravity alignment time on them, pair distance time, online insert + query time at several
+// database sizes, and memory. Usage: scan_context_bench [DATA_DIR [MAX_DATABASE_SIZE]]  (--help lists the arguments)
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -16,7 +16,7 @@
 #include "scan_context_loop/core/pcl_adapters.h"
 #include "scan_context_loop/core/alignment.h"
 #include "scan_context_loop/core/database.h"
-#include "scan_context_loop/core/levelling.h"
+#include "scan_context_loop/core/gravity_alignment.h"
 #include "scan_context_loop/core/verification.h"
 #include "cli.h"
 #include "bench_data.h"
@@ -66,7 +66,7 @@ int main(int argc, char** argv) {
   std::size_t max_size = 100000;
   scl::cli::Parser cli("scan_context_bench",
                        "Prints the core's benchmark table as Markdown: descriptor time on six real KITTI scans (raw "
-                       "and 0.4 m voxels), levelling, pair distance, online query + insert at 1k, 10k and 100k "
+                       "and 0.4 m voxels), gravity alignment, pair distance, online query + insert at 1k, 10k and 100k "
                        "keyframes (up to MAX_DATABASE_SIZE), verification, and bytes per keyframe.");
   cli.positional("DATA_DIR", "the real data, holding kitti/00 and kitti/08 (default ../shared/data)", &data, false)
       .positional("MAX_DATABASE_SIZE", "largest database size for the online rows (default 100000)",
@@ -113,7 +113,7 @@ int main(int argc, char** argv) {
         summarise(t), "ms");
   }
 
-  // Levelling from the ground plane: as is, and with 20 degrees of roll and pitch (the ground then
+  // Gravity-aligning from the ground plane: as is, and with 20 degrees of roll and pitch (the ground then
   // rises across the range band, which changes which points the fit considers).
   const float twenty_degrees = static_cast<float>(20.0 * M_PI / 180.0);
   const Eigen::Matrix3f tilt = (Eigen::AngleAxisf(twenty_degrees, Eigen::Vector3f::UnitY()) *
@@ -127,13 +127,14 @@ int main(int argc, char** argv) {
       points += view.count;
       const auto v = timeIt(100, [&] {
         Eigen::Matrix3d level;
-        volatile bool ok = scl::levellingFromGround(view, scl::GroundFitOptions(), &level, nullptr);
+        volatile bool ok = scl::gravityAlignmentFromGround(view, scl::GroundFitOptions(), &level, nullptr);
         (void)ok;
       });
       t.insert(t.end(), v.begin(), v.end());
     }
     for (double& x : t) x /= 1000.0;
-    row(pass == 0 ? "ground-plane levelling, raw scan" : "ground-plane levelling, raw scan tilted 20 deg roll + pitch",
+    row(pass == 0 ? "ground-plane gravity alignment, raw scan"
+                  : "ground-plane gravity alignment, raw scan tilted 20 deg roll + pitch",
         std::to_string(points / raw.size()), summarise(t), "ms");
   }
 

@@ -47,7 +47,7 @@ scl::PriorSessions makeKeyframes(std::size_t count, const std::vector<scl::Heigh
     sessions.keyframes.push_back(std::move(k));
     pose = pose * Eigen::Translation3d(1.0, 0.0, 0.0) * Eigen::AngleAxisd(0.01 * std::sin(0.001 * i), Eigen::Vector3d::UnitZ());
     if (!clouds.empty()) {
-      sessions.levelling.push_back(Eigen::Matrix3f::Identity());
+      sessions.gravity_alignment.push_back(Eigen::Matrix3f::Identity());
       sessions.clouds.push_back(std::make_unique<scl::VoxelCloud>(clouds[i % clouds.size()]));
     }
   }

@@ -40,10 +40,10 @@ const Named<RegistrationMethod> kMethods[] = {{"vgicp", RegistrationMethod::kVgi
                                               {"gicp", RegistrationMethod::kGicp},
                                               {"icp", RegistrationMethod::kIcp},
                                               {"ndt", RegistrationMethod::kNdt}};
-const Named<LevellingMode> kLevelling[] = {{"auto", LevellingMode::kAuto},
-                                           {"pose", LevellingMode::kPose},
-                                           {"ground", LevellingMode::kGround},
-                                           {"off", LevellingMode::kOff}};
+const Named<GravityAlignmentMode> kGravityAlignment[] = {{"auto", GravityAlignmentMode::kAuto},
+                                                         {"pose", GravityAlignmentMode::kPose},
+                                                         {"ground", GravityAlignmentMode::kGround},
+                                                         {"off", GravityAlignmentMode::kOff}};
 
 }  // namespace
 
@@ -51,8 +51,10 @@ bool parseRingKeyType(const std::string& text, RingKeyType* out) { return parseN
 const char* ringKeyTypeName(RingKeyType type) { return nameOf(kRingKeys, type); }
 bool parseRegistrationMethod(const std::string& text, RegistrationMethod* out) { return parseNamed(kMethods, text, out); }
 const char* registrationMethodName(RegistrationMethod method) { return nameOf(kMethods, method); }
-bool parseLevellingMode(const std::string& text, LevellingMode* out) { return parseNamed(kLevelling, text, out); }
-const char* levellingModeName(LevellingMode mode) { return nameOf(kLevelling, mode); }
+bool parseGravityAlignmentMode(const std::string& text, GravityAlignmentMode* out) {
+  return parseNamed(kGravityAlignment, text, out);
+}
+const char* gravityAlignmentModeName(GravityAlignmentMode mode) { return nameOf(kGravityAlignment, mode); }
 
 namespace {
 

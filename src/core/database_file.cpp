@@ -21,7 +21,7 @@ namespace {
 constexpr char kMagic[5] = {'S', 'C', 'L', 'D', 'B'};
 constexpr std::uint32_t kFlagClouds = 1u;
 /// magic, version, flags, num_rings, num_sectors, max_radius, min_range, lidar_height, ring_key,
-/// levelling, verify_voxel_leaf, verify_max_range, keyframes, sessions, payload bytes, payload CRC,
+/// gravity alignment, verify_voxel_leaf, verify_max_range, keyframes, sessions, payload bytes, payload CRC,
 /// header CRC (over every header byte before it).
 constexpr std::size_t kHeaderBytes = 5 + 4 + 4 + 4 + 4 + 8 + 8 + 8 + 1 + 1 + 8 + 8 + 8 + 4 + 8 + 4 + 4;
 /// Pose: rows 0-2 of the 4x4 matrix, row-major (row 3 is 0 0 0 1).
@@ -36,8 +36,8 @@ constexpr std::size_t kChunkBytes = std::size_t(4) << 20;
 
 // The file's codes for the enums, fixed whatever order the enums take.
 constexpr RingKeyType kRingKeyCodes[] = {RingKeyType::kMeanHeight, RingKeyType::kOccupancy};
-constexpr LevellingMode kLevellingCodes[] = {LevellingMode::kAuto, LevellingMode::kPose, LevellingMode::kGround,
-                                             LevellingMode::kOff};
+constexpr GravityAlignmentMode kGravityAlignmentCodes[] = {GravityAlignmentMode::kAuto, GravityAlignmentMode::kPose,
+                                                           GravityAlignmentMode::kGround, GravityAlignmentMode::kOff};
 
 template <typename E, std::size_t N>
 std::uint8_t codeOf(E value, const E (&codes)[N]) {
@@ -56,7 +56,7 @@ struct FileSettings {
   std::uint32_t num_rings = 0, num_sectors = 0;
   double max_radius = 0.0, min_range = 0.0, lidar_height = 0.0;
   RingKeyType ring_key = RingKeyType::kMeanHeight;
-  LevellingMode levelling = LevellingMode::kAuto;
+  GravityAlignmentMode gravity_alignment = GravityAlignmentMode::kAuto;
   /// Registration data included: their voxel settings (both 0 without).
   bool clouds = false;
   double voxel_leaf = 0.0, voxel_max_range = 0.0;
@@ -78,7 +78,7 @@ FileSettings settingsOf(const Config& config, bool clouds) {
   s.min_range = config.min_range;
   s.lidar_height = config.lidar_height;
   s.ring_key = config.ring_key;
-  s.levelling = config.levelling;
+  s.gravity_alignment = config.gravity_alignment;
   s.clouds = clouds;
   if (clouds) {
     s.voxel_leaf = config.verification.voxel_leaf;
@@ -105,7 +105,8 @@ std::string settingsMismatch(const FileSettings& file, const FileSettings& ours)
       {"min_range", text(file.min_range), text(ours.min_range)},
       {"lidar_height", text(file.lidar_height), text(ours.lidar_height)},
       {"ring_key", ringKeyTypeName(file.ring_key), ringKeyTypeName(ours.ring_key)},
-      {"gravity_alignment", levellingModeName(file.levelling), levellingModeName(ours.levelling)},
+      {"gravity_alignment", gravityAlignmentModeName(file.gravity_alignment),
+       gravityAlignmentModeName(ours.gravity_alignment)},
   };
   if (file.clouds) {
     rows.push_back({"verify_voxel_leaf", text(file.voxel_leaf), text(ours.voxel_leaf)});
@@ -131,7 +132,7 @@ std::vector<std::uint8_t> encodeHeader(const Header& h) {
   out.f64(h.settings.min_range);
   out.f64(h.settings.lidar_height);
   out.u8(codeOf(h.settings.ring_key, kRingKeyCodes));
-  out.u8(codeOf(h.settings.levelling, kLevellingCodes));
+  out.u8(codeOf(h.settings.gravity_alignment, kGravityAlignmentCodes));
   out.f64(h.settings.voxel_leaf);
   out.f64(h.settings.voxel_max_range);
   out.u64(h.keyframes);
@@ -145,7 +146,7 @@ std::vector<std::uint8_t> encodeHeader(const Header& h) {
 /// Decodes the header fields after magic and version (whose checksum the caller checked).
 std::string decodeHeader(ByteReader* in, Header* h) {
   std::uint32_t flags = 0;
-  std::uint8_t ring_key = 0, levelling = 0;
+  std::uint8_t ring_key = 0, gravity_alignment = 0;
   in->u32(&flags);
   in->u32(&h->settings.num_rings);
   in->u32(&h->settings.num_sectors);
@@ -153,7 +154,7 @@ std::string decodeHeader(ByteReader* in, Header* h) {
   in->f64(&h->settings.min_range);
   in->f64(&h->settings.lidar_height);
   in->u8(&ring_key);
-  in->u8(&levelling);
+  in->u8(&gravity_alignment);
   in->f64(&h->settings.voxel_leaf);
   in->f64(&h->settings.voxel_max_range);
   in->u64(&h->keyframes);
@@ -164,8 +165,8 @@ std::string decodeHeader(ByteReader* in, Header* h) {
   if ((flags & ~kFlagClouds) != 0) return "unknown flags " + text(flags) + " in the header";
   h->settings.clouds = (flags & kFlagClouds) != 0;
   if (!fromCode(ring_key, kRingKeyCodes, &h->settings.ring_key)) return "unknown ring_key code " + text(int(ring_key));
-  if (!fromCode(levelling, kLevellingCodes, &h->settings.levelling)) {
-    return "unknown levelling code " + text(int(levelling));
+  if (!fromCode(gravity_alignment, kGravityAlignmentCodes, &h->settings.gravity_alignment)) {
+    return "unknown gravity alignment code " + text(int(gravity_alignment));
   }
   return "";
 }
@@ -283,9 +284,9 @@ std::string decodeKeyframe(PayloadReader* payload, int rings, int sectors, Keyfr
   return "";
 }
 
-void encodeCloud(const Eigen::Matrix3f& levelling, const VoxelCloud* cloud, ByteWriter* out) {
+void encodeCloud(const Eigen::Matrix3f& gravity_alignment, const VoxelCloud* cloud, ByteWriter* out) {
   for (int r = 0; r < 3; ++r) {
-    for (int c = 0; c < 3; ++c) out->f32(levelling(r, c));
+    for (int c = 0; c < 3; ++c) out->f32(gravity_alignment(r, c));
   }
   out->u8(cloud ? 1 : 0);
   if (!cloud) return;
@@ -300,8 +301,8 @@ void encodeCloud(const Eigen::Matrix3f& levelling, const VoxelCloud* cloud, Byte
   out->bytes(packed.data(), static_cast<std::size_t>(packed_bytes));
 }
 
-/// Decodes one keyframe's levelling and registration data; returns what is wrong with them, or "".
-std::string decodeCloud(PayloadReader* payload, const FileSettings& settings, Eigen::Matrix3f* levelling,
+/// Decodes one keyframe's gravity alignment and registration data; returns what is wrong with them, or "".
+std::string decodeCloud(PayloadReader* payload, const FileSettings& settings, Eigen::Matrix3f* gravity_alignment,
                         std::unique_ptr<VoxelCloud>* cloud, std::vector<std::uint8_t>* scratch) {
   const char* const overrun = "the payload ends inside this keyframe's registration data: the counts and sizes disagree";
   ByteReader in(nullptr, 0);
@@ -311,10 +312,10 @@ std::string decodeCloud(PayloadReader* payload, const FileSettings& settings, Ei
   in.f32s(rows.data(), rows.size());
   in.u8(&has_cloud);
   if (!std::all_of(rows.begin(), rows.end(), [](float v) { return std::isfinite(v); })) {
-    return "the levelling rotation holds a value that is not finite";
+    return "the gravity alignment rotation holds a value that is not finite";
   }
   for (int r = 0; r < 3; ++r) {
-    for (int c = 0; c < 3; ++c) (*levelling)(r, c) = rows[3 * r + c];
+    for (int c = 0; c < 3; ++c) (*gravity_alignment)(r, c) = rows[3 * r + c];
   }
   if (has_cloud > 1) return "registration data flag " + text(int(has_cloud)) + " is neither 0 nor 1";
   if (!has_cloud) return "";
@@ -413,7 +414,7 @@ bool saveDatabase(const LoopDetector& detector, const std::string& path, const S
     if (!payload.flushIfFull(error)) return false;
   }
   for (std::size_t i = 0; options.include_clouds && i < database.size(); ++i) {
-    encodeCloud(detector.levelling(i), detector.cloudStore().get(i), payload.out());
+    encodeCloud(detector.gravityAlignment(i), detector.cloudStore().get(i), payload.out());
     if (!payload.flushIfFull(error)) return false;
   }
   if (!payload.flush(error)) return false;
@@ -502,12 +503,12 @@ bool readDatabase(ByteSource* source, const std::string& name, const Config& con
                    text(sessions_found));
   }
   if (header.settings.clouds) {
-    loaded.levelling.resize(loaded.keyframes.size());
+    loaded.gravity_alignment.resize(loaded.keyframes.size());
     loaded.clouds.resize(loaded.keyframes.size());
     std::vector<std::uint8_t> scratch;
     for (std::size_t i = 0; i < loaded.keyframes.size(); ++i) {
       const std::string problem =
-          decodeCloud(&payload, header.settings, &loaded.levelling[i], &loaded.clouds[i], &scratch);
+          decodeCloud(&payload, header.settings, &loaded.gravity_alignment[i], &loaded.clouds[i], &scratch);
       if (!problem.empty()) return checked("keyframe " + text(i) + ": " + problem);
     }
   }

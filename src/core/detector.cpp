@@ -6,7 +6,7 @@
 #include <cmath>
 #include <cstring>
 
-#include "scan_context_loop/core/levelling.h"
+#include "scan_context_loop/core/gravity_alignment.h"
 
 namespace scan_context_loop {
 
@@ -51,9 +51,9 @@ bool LoopDetector::appendSessions(PriorSessions sessions, std::string* error) {
     if (error) *error = why;
     return false;
   };
-  if (!sessions.levelling.empty() && sessions.levelling.size() != n) {
-    return fail(std::to_string(sessions.levelling.size()) + " levelling rotations for " + std::to_string(n) +
-                " keyframes");
+  if (!sessions.gravity_alignment.empty() && sessions.gravity_alignment.size() != n) {
+    return fail(std::to_string(sessions.gravity_alignment.size()) + " gravity alignment rotations for " +
+                std::to_string(n) + " keyframes");
   }
   if (!sessions.clouds.empty() && sessions.clouds.size() != n) {
     return fail(std::to_string(sessions.clouds.size()) + " registration clouds for " + std::to_string(n) + " keyframes");
@@ -73,10 +73,11 @@ bool LoopDetector::appendSessions(PriorSessions sessions, std::string* error) {
   }
   const std::size_t first = database_.size();
   if (!database_.appendSessions(std::move(sessions.keyframes), error)) return false;
-  if (sessions.levelling.empty()) {
-    levelling_.resize(first + n, Eigen::Matrix3f::Identity());
+  if (sessions.gravity_alignment.empty()) {
+    gravity_alignment_.resize(first + n, Eigen::Matrix3f::Identity());
   } else {
-    levelling_.insert(levelling_.end(), sessions.levelling.begin(), sessions.levelling.end());
+    gravity_alignment_.insert(gravity_alignment_.end(), sessions.gravity_alignment.begin(),
+                              sessions.gravity_alignment.end());
   }
   for (std::size_t i = 0; i < sessions.clouds.size(); ++i) {
     if (sessions.clouds[i]) store_.add(first + i, std::move(*sessions.clouds[i]));
@@ -104,7 +105,7 @@ Detection LoopDetector::process(const PointView& raw, const KeyframeInfo& info) 
   detection.accepted = database_.add(info, std::move(described.descriptor), &detection.error);
   detection.query_seconds += secondsSince(t2);
   if (!detection.accepted) return detection;
-  levelling_.push_back(level);
+  gravity_alignment_.push_back(level);
   if (config.verification.enabled) {
     const auto start = Clock::now();
     VoxelCloud cloud = prepareCloud(points, verification_);
@@ -123,12 +124,12 @@ void LoopDetector::describeAndQuery(const PointView& raw, const KeyframeInfo& in
                                     Detection* detection) {
   const Config& config = database_.config();
   const auto t0 = Clock::now();
-  // Levelled keyframes are described and registered in their gravity-aligned frame.
-  out->level = levellingOf(raw, info, detection);
+  // Gravity-aligned keyframes are described and registered in their gravity-aligned frame.
+  out->level = gravityAlignmentOf(raw, info, detection);
   out->points = raw;
   if (!out->level.isIdentity()) {
-    out->levelled = rotatedCloud(raw, out->level);
-    out->points = viewOf(out->levelled);
+    out->aligned = rotatedCloud(raw, out->level);
+    out->points = viewOf(out->aligned);
   }
   const HeightGrid grid = makeHeightGrid(out->points, config);
   detection->points_used = grid.points_used;
@@ -155,31 +156,32 @@ Detection LoopDetector::locate(const PointView& raw) {
   return detection;
 }
 
-Eigen::Matrix3f LoopDetector::levellingOf(const PointView& points, const KeyframeInfo& info, Detection* detection) const {
+Eigen::Matrix3f LoopDetector::gravityAlignmentOf(const PointView& points, const KeyframeInfo& info,
+                                                 Detection* detection) const {
   const Config& config = database_.config();
-  const LevellingMode mode = config.levelling;
+  const GravityAlignmentMode mode = config.gravity_alignment;
   Eigen::Matrix3d level = Eigen::Matrix3d::Identity();
   bool found = false;
   // The pose (auto: turned so that the world's up axis is z, world_tilt.h, and when its tilt is then
   // plausible). The world's remaining tilt is left in: A-LOAM's and FAST-LIO's worlds start at the first
   // scan's frame, a few degrees off, the same for every keyframe of the session; correcting it by an
   // estimate from ground fits added their error (on a VLP-16 pitched 6 degrees it cost 13 of 203 loops
-  // their rotation; levelling each keyframe by its own ground fit, 79).
-  if (info.pose && (mode == LevellingMode::kAuto || mode == LevellingMode::kPose)) {
+  // their rotation; gravity-aligning each keyframe by its own ground fit, 79).
+  if (info.pose && (mode == GravityAlignmentMode::kAuto || mode == GravityAlignmentMode::kPose)) {
     const Eigen::Matrix3d pose_R = info.pose->linear();
-    const Eigen::Matrix3d from_pose = levellingFromOrientation(
-        mode == LevellingMode::kAuto ? Eigen::Matrix3d(world_tilt_.axisCorrection() * pose_R) : pose_R);
+    const Eigen::Matrix3d from_pose = gravityAlignmentFromOrientation(
+        mode == GravityAlignmentMode::kAuto ? Eigen::Matrix3d(world_tilt_.axisCorrection() * pose_R) : pose_R);
     const double tilt = Eigen::AngleAxisd(from_pose).angle() * 180.0 / M_PI;
-    if (mode == LevellingMode::kPose || tilt <= config.levelling_max_tilt) {
+    if (mode == GravityAlignmentMode::kPose || tilt <= config.gravity_alignment_max_tilt) {
       level = from_pose;
       found = true;
-      detection->levelled_by = "pose";
+      detection->aligned_by = "pose";
     }
   }
-  if (!found && (mode == LevellingMode::kAuto || mode == LevellingMode::kGround) &&
-      levellingFromGround(points, GroundFitOptions(), &level, nullptr)) {
+  if (!found && (mode == GravityAlignmentMode::kAuto || mode == GravityAlignmentMode::kGround) &&
+      gravityAlignmentFromGround(points, GroundFitOptions(), &level, nullptr)) {
     found = true;
-    detection->levelled_by = "ground";
+    detection->aligned_by = "ground";
   }
   detection->tilt_deg = found ? Eigen::AngleAxisd(level).angle() * 180.0 / M_PI : 0.0;
   // Below half a degree the rotation changes nothing a descriptor or a registration would notice.
@@ -188,17 +190,16 @@ Eigen::Matrix3f LoopDetector::levellingOf(const PointView& points, const Keyfram
 }
 
 void LoopDetector::updateWorldTilt(const PointView& points, const KeyframeInfo& info, Detection* detection) {
-  const LevellingMode mode = database_.config().levelling;
-  if (!info.pose || !(mode == LevellingMode::kAuto || mode == LevellingMode::kPose)) return;
-  if (world_tilt_.established() && posed_keyframes_++ % kLevellingCheckInterval != 0) return;
+  const GravityAlignmentMode mode = database_.config().gravity_alignment;
+  if (!info.pose || !(mode == GravityAlignmentMode::kAuto || mode == GravityAlignmentMode::kPose)) return;
+  if (world_tilt_.established() && posed_keyframes_++ % kGravityCheckInterval != 0) return;
   Eigen::Matrix3d ground;
-  if (!levellingFromGround(points, GroundFitOptions(), &ground, nullptr)) return;
+  if (!gravityAlignmentFromGround(points, GroundFitOptions(), &ground, nullptr)) return;
   // Row 2 of L_R_sensor is the up direction in the sensor frame.
   const Eigen::Vector3d up_ground = ground.row(2).transpose().normalized();
   const Eigen::Matrix3d world_R_sensor = info.pose->linear();
   const Eigen::Vector3d up_pose = world_R_sensor.transpose() * Eigen::Vector3d::UnitZ();
-  detection->levelling_disagreement_deg =
-      std::acos(std::clamp(up_pose.dot(up_ground), -1.0, 1.0)) * 180.0 / M_PI;
+  detection->gravity_disagreement_deg = std::acos(std::clamp(up_pose.dot(up_ground), -1.0, 1.0)) * 180.0 / M_PI;
   world_tilt_.add(world_R_sensor, up_ground);
   if (world_tilt_.established()) detection->world_tilt_deg = world_tilt_.tiltDeg();
 }
@@ -256,8 +257,8 @@ void LoopDetector::verifyCandidates(const VoxelCloud& cloud, const Descriptor& q
     Candidate c;
     c.index = tracked->index;
     c.alignment = align(query, database_.keyframe(c.index).descriptor, config);
-    // The guess in the levelled frames the registration data are in.
-    const Eigen::Matrix3d lq = level.cast<double>(), lm = levelling_[c.index].cast<double>();
+    // The guess in the gravity-aligned frames the registration data are in.
+    const Eigen::Matrix3d lq = level.cast<double>(), lm = gravity_alignment_[c.index].cast<double>();
     Eigen::Isometry3d guess = Eigen::Isometry3d::Identity();
     guess.linear() = lq * tracked->guess.linear() * lm.transpose();
     guess.translation() = lq * tracked->guess.translation();
@@ -309,10 +310,11 @@ VoxelCloud LoopDetector::submapOf(std::size_t index, std::size_t query) const {
     const VoxelCloud* other = store_.get(static_cast<std::size_t>(k));
     const auto& pose = database_.keyframe(static_cast<std::size_t>(k)).info.pose;
     if (other == nullptr || !pose || !database_.sameSession(index, static_cast<std::size_t>(k))) continue;
-    // Levelled candidate frame <- levelled neighbour frame, through the odometry.
+    // Gravity-aligned candidate frame <- gravity-aligned neighbour frame, through the odometry.
     Eigen::Isometry3d moved = centre->inverse() * *pose;
-    moved.linear() = levelling_[index].cast<double>() * moved.linear() * levelling_[k].transpose().cast<double>();
-    moved.translation() = levelling_[index].cast<double>() * moved.translation();
+    moved.linear() =
+        gravity_alignment_[index].cast<double>() * moved.linear() * gravity_alignment_[k].transpose().cast<double>();
+    moved.translation() = gravity_alignment_[index].cast<double>() * moved.translation();
     const Eigen::Matrix3f R = moved.linear().cast<float>();
     const Eigen::Vector3f t = moved.translation().cast<float>();
     for (std::size_t i = 0; i < other->size(); ++i) {
@@ -375,9 +377,9 @@ void LoopDetector::checkOdometry(std::size_t query, std::size_t match, Verificat
                    (predicted.anchored ? " from a confirmed loop" : "") + ")";
 }
 
-void LoopDetector::toSensorFrames(const Eigen::Matrix3f& query_levelling, std::size_t match,
+void LoopDetector::toSensorFrames(const Eigen::Matrix3f& query_alignment, std::size_t match,
                                   VerificationResult* result) const {
-  const Eigen::Matrix3d lq = query_levelling.cast<double>(), lm = levelling_[match].cast<double>();
+  const Eigen::Matrix3d lq = query_alignment.cast<double>(), lm = gravity_alignment_[match].cast<double>();
   if (lq.isIdentity() && lm.isIdentity()) return;
   // T_query<-match = Lq^T * T_Lq<-Lm * Lm, and the covariance turned with Lq^T.
   Eigen::Isometry3d& t = result->relative;

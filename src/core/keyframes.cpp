@@ -5,7 +5,7 @@
 
 #include <pcl/filters/voxel_grid.h>
 
-#include "scan_context_loop/core/levelling.h"
+#include "scan_context_loop/core/gravity_alignment.h"
 #include "scan_context_loop/core/settings.h"
 
 namespace scan_context_loop {

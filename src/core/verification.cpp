@@ -24,8 +24,9 @@ VoxelOptions voxelOptions(const VerificationConfig& config) {
   return o;
 }
 
-VoxelCloud prepareCloud(const PointView& points, const VerificationConfig& config, const Eigen::Matrix3f& levelling) {
-  return makeVoxelCloud(points, voxelOptions(config), levelling);
+VoxelCloud prepareCloud(const PointView& points, const VerificationConfig& config,
+                        const Eigen::Matrix3f& gravity_alignment) {
+  return makeVoxelCloud(points, voxelOptions(config), gravity_alignment);
 }
 
 namespace {

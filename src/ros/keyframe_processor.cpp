@@ -192,13 +192,14 @@ void KeyframeProcessor::process(QueuedKeyframe keyframe) {
 }
 
 void KeyframeProcessor::reportWorldTilt(const Detection& detection) {
-  if (detection.world_tilt_deg < LoopDetector::kLevellingSuspectDeg) return;
-  ROS_WARN_THROTTLE_NAMED(300.0, name_,
-                          "levelling: the odometry's world frame is %.1f deg off gravity (from %zu ground fits; A-LOAM "
-                          "and FAST-LIO start it at the first scan's frame, tilted as the sensor was): keyframes are "
-                          "levelled by that attitude, the same within this session; a database saved now does not "
-                          "match a session started at another tilt (doc/odometry_checks.md)",
-                          detection.world_tilt_deg, pipeline_->detector().worldTilt().fits());
+  if (detection.world_tilt_deg < LoopDetector::kGravitySuspectDeg) return;
+  ROS_WARN_THROTTLE_NAMED(
+      300.0, name_,
+      "gravity alignment: the odometry's world frame is %.1f deg off gravity (from %zu ground fits; A-LOAM "
+      "and FAST-LIO start it at the first scan's frame, tilted as the sensor was): keyframes are "
+      "gravity-aligned by that attitude, the same within this session; a database saved now does not "
+      "match a session started at another tilt (doc/odometry_checks.md)",
+      detection.world_tilt_deg, pipeline_->detector().worldTilt().fits());
 }
 
 }  // namespace scan_context_loop

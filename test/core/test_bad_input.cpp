@@ -175,7 +175,7 @@ TEST(ConfigKeys, EveryKeyIsSettableAndBadValuesLeaveTheConfigAlone) {
   EXPECT_EQ(config.ring_key, RingKeyType::kOccupancy);
   EXPECT_EQ(config.verification.method, RegistrationMethod::kNdt);
   EXPECT_EQ(config.lateral_offset_step, 3.0);
-  EXPECT_EQ(config.levelling, LevellingMode::kOff);
+  EXPECT_EQ(config.gravity_alignment, GravityAlignmentMode::kOff);
   EXPECT_EQ(config.verification.max_violation, 3.0);
   EXPECT_TRUE(config.verification.allow_degenerate);
   const Config before = config;

@@ -267,7 +267,7 @@ TEST(DatabaseFile, WithCloudsTheLoadedKeyframesVerifyTheSameLoop) {
     EXPECT_EQ(x.means, y.means);
     EXPECT_EQ(x.normals, y.normals);
     EXPECT_EQ(x.resolution, y.resolution);
-    EXPECT_TRUE(original.levelling(i) == loaded.levelling(i));
+    EXPECT_TRUE(original.gravityAlignment(i) == loaded.gravityAlignment(i));
   }
 
   // The drive comes back to street 21 in a new session.
@@ -493,12 +493,12 @@ TEST_F(DamagedFile, ValuesThatAreNotFinite) {
 
 TEST_F(DamagedFile, BadRegistrationData) {
   // Four keyframe records with poses (29 + 96 bytes and the 20 x 60 descriptor's 5,184), then the first
-  // keyframe's registration data: its levelling (9 f32), the flag, the voxel count, the compressed size.
+  // keyframe's registration data: its gravity alignment (9 f32), the flag, the voxel count, the compressed size.
   const std::size_t clouds = kHeaderBytes + 4 * (29 + 96 + 5184), flag = clouds + 36;
-  std::vector<std::uint8_t> levelling = good_;
-  put(&levelling, clouds, std::numeric_limits<float>::quiet_NaN());
-  rewriteChecksums(&levelling);
-  expectRefused(levelling, {"keyframe 0", "levelling rotation", "not finite"});
+  std::vector<std::uint8_t> gravity_alignment = good_;
+  put(&gravity_alignment, clouds, std::numeric_limits<float>::quiet_NaN());
+  rewriteChecksums(&gravity_alignment);
+  expectRefused(gravity_alignment, {"keyframe 0", "gravity alignment rotation", "not finite"});
   std::vector<std::uint8_t> flagged = good_;
   flagged[flag] = 2;
   rewriteChecksums(&flagged);

@@ -84,20 +84,20 @@ TEST(HardRevisits, ChangedWorldReverseRevisitOneLaneOverIsVerified) {
   expectTrueLoop(detect(s, early, s.times[k], late, s.times.back()), late.inverse() * early, "changed, reversed");
 }
 
-TEST(HardRevisits, TiltedSensorIsLevelledAndVerified) {
+TEST(HardRevisits, TiltedSensorIsGravityAlignedAndVerified) {
   const Street s(0.0);
   const std::size_t k = 900;
   const Eigen::Isometry3d level = s.pose(k, 0.0, 0.0);
   // The same place seen by a hand-held sensor half a metre to the side, turned 10 deg, rolled 8 deg and
-  // pitched -6 deg (10 deg of tilt): levelled, its descriptor distance is 0.32. Levelling undoes the
+  // pitched -6 deg (10 deg of tilt): gravity-aligned, its descriptor distance is 0.32. Gravity alignment undoes the
   // rotation, not what the tilt hides (on one side the beams now end higher, on the other lower): rolled
-  // 12 and pitched -9 deg, the distance is 0.72 unlevelled and 0.36 levelled, above verify_threshold.
+  // 12 and pitched -9 deg, the distance is 0.72 not gravity-aligned and 0.36 gravity-aligned, above verify_threshold.
   Eigen::Isometry3d tilted = s.pose(k, 0.5, 10.0 * kDeg);
   tilted.linear() = tilted.linear() * (Eigen::AngleAxisd(8.0 * kDeg, Eigen::Vector3d::UnitX()) *
                                        Eigen::AngleAxisd(-6.0 * kDeg, Eigen::Vector3d::UnitY())).toRotationMatrix();
   const Detection d = detect(s, level, s.times[k], tilted, s.times[k] + 60.0);
   for (const auto& c : d.query.candidates) std::printf("tilted: candidate distance %.3f\n", c.alignment.distance);
-  EXPECT_STREQ(d.levelled_by, "pose");
+  EXPECT_STREQ(d.aligned_by, "pose");
   EXPECT_GT(d.tilt_deg, 9.0);
   expectTrueLoop(d, tilted.inverse() * level, "tilted");
 }

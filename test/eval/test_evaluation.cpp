@@ -64,8 +64,8 @@ TEST(ConfigFile, DeprecatedKeyNamesSetTheNewKeysWithAWarning) {
   std::vector<std::string> old_warnings, new_warnings;
   ASSERT_TRUE(loadConfigFile(temp("old_names.yaml"), &old_config, &error, &old_warnings)) << error;
   ASSERT_TRUE(loadConfigFile(temp("new_names.yaml"), &new_config, &error, &new_warnings)) << error;
-  EXPECT_EQ(old_config.levelling, LevellingMode::kGround);
-  EXPECT_DOUBLE_EQ(old_config.levelling_max_tilt, 12.0);
+  EXPECT_EQ(old_config.gravity_alignment, GravityAlignmentMode::kGround);
+  EXPECT_DOUBLE_EQ(old_config.gravity_alignment_max_tilt, 12.0);
   for (const auto& s : configSettings()) EXPECT_EQ(s.get(old_config), s.get(new_config)) << s.key;
   EXPECT_TRUE(new_warnings.empty());
   ASSERT_EQ(old_warnings.size(), 2u);
@@ -78,7 +78,7 @@ TEST(ConfigFile, DeprecatedKeyNamesSetTheNewKeysWithAWarning) {
   std::vector<std::string> set_warnings;
   ASSERT_TRUE(applyOverride("levelling=off", &set_old, &error, &set_warnings)) << error;
   ASSERT_TRUE(applyOverride("gravity_alignment=off", &set_new, &error, &set_warnings)) << error;
-  EXPECT_EQ(set_old.levelling, LevellingMode::kOff);
+  EXPECT_EQ(set_old.gravity_alignment, GravityAlignmentMode::kOff);
   for (const auto& s : configSettings()) EXPECT_EQ(s.get(set_old), s.get(set_new)) << s.key;
   ASSERT_EQ(set_warnings.size(), 1u);
   EXPECT_EQ(set_warnings[0], "levelling is deprecated, use gravity_alignment");

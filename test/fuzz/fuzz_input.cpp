@@ -41,9 +41,9 @@ Config smallConfig(std::uint8_t choice) {
   config.verification.voxel_leaf = 2.0;
   config.verification.max_range = 10.0;
   config.cloud_in_world_frame = (choice & 1) != 0;
-  constexpr LevellingMode kModes[] = {LevellingMode::kAuto, LevellingMode::kPose, LevellingMode::kGround,
-                                      LevellingMode::kOff};
-  config.levelling = kModes[(choice >> 1) & 3];
+  constexpr GravityAlignmentMode kModes[] = {GravityAlignmentMode::kAuto, GravityAlignmentMode::kPose,
+                                             GravityAlignmentMode::kGround, GravityAlignmentMode::kOff};
+  config.gravity_alignment = kModes[(choice >> 1) & 3];
   config.verification.enabled = (choice & 8) != 0;
   if (choice & 16) {
     config.accumulate_seconds = 2.0;

@@ -47,7 +47,7 @@ class FuzzBytes {
 /// A configuration small enough for thousands of inputs a second: a 5 x 12 grid of 20 m, verification
 /// voxels of 2 m within 10 m, no recent
 /// keyframes excluded, so that a second keyframe queries the first. The bits of `choice` turn on
-/// registered clouds (1), the levelling mode (2 bits from 2), verification (8), scan accumulation
+/// registered clouds (1), the gravity alignment mode (2 bits from 2), verification (8), scan accumulation
 /// (16), keyframe selection by motion (32), the voxel filter (64) and the occupancy ring key (128).
 Config smallConfig(std::uint8_t choice);
 

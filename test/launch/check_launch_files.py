@@ -324,7 +324,7 @@ def main():
         cases.append(("%s_renamed_in_namespace_with_manager_rviz_sim_time" % stack, case_renamed(package, stack, path)))
         cases.append(("%s_in_enclosing_group" % stack, case_in_group(package, stack, path)))
         cases.append(("%s_preset_over_stack_overrides_last" % stack, case_layers(package, stack, path)))
-    cases.append(("stack_levelling_and_lio_sam_exclusion", case_stack_settings(package)))
+    cases.append(("stack_gravity_alignment_and_lio_sam_exclusion", case_stack_settings(package)))
     cases.append(("stack_settings_use_known_keys", case_stack_keys(package)))
     cases.append(("rviz_config_relative_topics_origin_view", case_rviz_config(package)))
     return report("launch_files", cases, args.xunit)

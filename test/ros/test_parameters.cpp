@@ -61,7 +61,7 @@ TEST(Parameters, DeprecatedKeyNamesSetTheNewKeysWithAWarning) {
   const auto new_problems = readParameters(new_names, &new_config, &new_options, &new_warnings);
   EXPECT_TRUE(old_problems.empty()) << old_problems.front();
   EXPECT_TRUE(new_problems.empty()) << new_problems.front();
-  EXPECT_EQ(old_config.levelling, LevellingMode::kGround);
+  EXPECT_EQ(old_config.gravity_alignment, GravityAlignmentMode::kGround);
   for (const auto& s : configSettings()) EXPECT_EQ(s.get(old_config), s.get(new_config)) << s.key;
   EXPECT_TRUE(new_warnings.empty());
   ASSERT_EQ(old_warnings.size(), 2u);

@@ -27,19 +27,19 @@ enum class RegistrationMethod { kVgicp, kGicp, kIcp, kNdt };
 bool parseRegistrationMethod(const std::string& text, RegistrationMethod* out);
 const char* registrationMethodName(RegistrationMethod method);
 
-/// Where the levelling (gravity alignment) of each keyframe comes from (levelling.h).
-enum class LevellingMode {
-  /// The pose's roll and pitch when the keyframe has a pose whose tilt is within levelling_max_tilt
+/// Where the gravity alignment of each keyframe comes from (gravity_alignment.h).
+enum class GravityAlignmentMode {
+  /// The pose's roll and pitch when the keyframe has a pose whose tilt is within gravity_alignment_max_tilt
   /// (a larger one means a world frame that is not z-up), else a ground-plane fit, else none.
   kAuto,
-  kPose,    ///< the pose's roll and pitch only (keyframes without a pose are not levelled)
+  kPose,    ///< the pose's roll and pitch only (keyframes without a pose are not gravity-aligned)
   kGround,  ///< a ground-plane fit only
   kOff,
 };
 
 /// Parses "auto" / "pose" / "ground" / "off"; returns false for anything else.
-bool parseLevellingMode(const std::string& text, LevellingMode* out);
-const char* levellingModeName(LevellingMode mode);
+bool parseGravityAlignmentMode(const std::string& text, GravityAlignmentMode* out);
+const char* gravityAlignmentModeName(GravityAlignmentMode mode);
 
 /// Geometric verification: the verify_* keys (member `x` is key `verify_x`; `enabled` is `verify`)
 /// and the registration's fixed internals. How the defaults were chosen: doc/defaults.md.
@@ -172,13 +172,13 @@ struct Config {
   /// Ring key content, see RingKeyType.
   RingKeyType ring_key = RingKeyType::kMeanHeight;
 
-  /// Levelling: each keyframe is rotated into a gravity-aligned frame (same heading) before it is
+  /// Gravity alignment: each keyframe is rotated into a gravity-aligned frame (same heading) before it is
   /// described and registered, so a sensor tilted 10-20 degrees (hand-held, backpack, legged) still
   /// matches a level pass. Tilts below 0.5 degrees are left alone. Loop poses are reported in the
-  /// sensor frames all the same; the yaw prior is that of the levelled frames.
-  LevellingMode levelling = LevellingMode::kAuto;
-  /// kAuto: a pose tilted more than this [deg] is not trusted for levelling (ground fit instead).
-  double levelling_max_tilt = 30.0;
+  /// sensor frames all the same; the yaw prior is that of the gravity-aligned frames.
+  GravityAlignmentMode gravity_alignment = GravityAlignmentMode::kAuto;
+  /// kAuto: a pose tilted more than this [deg] is not trusted for gravity alignment (ground fit instead).
+  double gravity_alignment_max_tilt = 30.0;
 
   // ---- search -----------------------------------------------------------------------------
   /// Nearest ring keys fetched from the kd-tree and scored with the full descriptor distance.

@@ -1,5 +1,5 @@
 // The database file: a detector's keyframes (descriptors, stamps, poses, tags, path lengths, sessions)
-// and optionally their levelling and registration data, saved for a later run to start from. The
+// and optionally their gravity alignment and registration data, saved for a later run to start from. The
 // layout, its version and its checks are in doc/database_file.md.
 #pragma once
 
@@ -19,7 +19,7 @@ namespace scan_context_loop {
 constexpr std::uint32_t kDatabaseFileVersion = 1;
 
 struct SaveOptions {
-  /// Also save each keyframe's levelling rotation and registration data (the cloud store's
+  /// Also save each keyframe's gravity alignment rotation and registration data (the cloud store's
   /// VoxelClouds, LZ4-compressed), so that loaded keyframes can be verified. Without them a loaded
   /// keyframe is a candidate that verification reports as unverifiable.
   bool include_clouds = false;

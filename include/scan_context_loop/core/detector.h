@@ -42,15 +42,15 @@ struct Detection {
   /// Candidates among the earlier keyframes, from every viewpoint (Config::lateral_offset_step), best
   /// first, at most Config::num_candidates.
   QueryResult query;
-  /// Levelling of this keyframe: "pose", "ground" or "none", and the tilt it removed [deg] (tilts
+  /// Gravity alignment of this keyframe: "pose", "ground" or "none", and the tilt it removed [deg] (tilts
   /// below 0.5 deg are left alone).
-  const char* levelled_by = "none";
+  const char* aligned_by = "none";
   double tilt_deg = 0.0;
-  /// With a pose (levelling auto or pose), the ground is fitted too, on every keyframe until the world's
-  /// tilt is known (world_tilt.h) and every LoopDetector::kLevellingCheckInterval keyframes after:
-  /// the angle between the up the pose gives and the ground's [deg] (negative: not checked). `world_tilt_deg`: how far the odometry's world frame is from
-  /// gravity, once known (negative before).
-  double levelling_disagreement_deg = -1.0;
+  /// With a pose (gravity alignment auto or pose), the ground is fitted too, on every keyframe until the world's
+  /// tilt is known (world_tilt.h) and every LoopDetector::kGravityCheckInterval keyframes after:
+  /// the angle between the up the pose gives and the ground's [deg] (negative: not checked). `world_tilt_deg`: how far
+  /// the odometry's world frame is from gravity, once known (negative before).
+  double gravity_disagreement_deg = -1.0;
   double world_tilt_deg = -1.0;
   std::size_t points_used = 0;
   std::size_t points_skipped = 0;
@@ -81,14 +81,14 @@ class LoopDetector {
   Detection process(const PointView& points, const KeyframeInfo& info);
 
   /// The ground fits behind the world's tilt (Detection::world_tilt_deg), once it is known.
-  static constexpr std::size_t kLevellingCheckInterval = 10;
+  static constexpr std::size_t kGravityCheckInterval = 10;
   /// A world tilted more than this from gravity deserves a warning [deg].
-  static constexpr double kLevellingSuspectDeg = 4.0;
-  /// The odometry's world frame as far as levelling knows it (world_tilt.h).
+  static constexpr double kGravitySuspectDeg = 4.0;
+  /// The odometry's world frame as far as gravity alignment knows it (world_tilt.h).
   const WorldTilt& worldTilt() const { return world_tilt_; }
 
   /// Where a cloud is among the stored keyframes, without storing it (relocalization on request):
-  /// levelled by its ground, described from every viewpoint, queried (the candidates the windows allow:
+  /// gravity-aligned by its ground, described from every viewpoint, queried (the candidates the windows allow:
   /// with Config::prior_sessions_only, every keyframe of the earlier sessions) and verified. The result
   /// has `accepted` false (nothing was added) and `index` the database size; `verified` and the last of
   /// `verifications` say where it is. Needs verification on (else nothing is verified).
@@ -98,10 +98,10 @@ class LoopDetector {
   void startSession() { database_.startSession(); }
 
   /// Adds keyframes of earlier runs (a saved database, database_file.h) after the current ones as
-  /// earlier sessions (Database::appendSessions), with their levelling and registration data (which
+  /// earlier sessions (Database::appendSessions), with their gravity alignment and registration data (which
   /// the cloud store keeps within its budget, CloudStore::add); keyframes from now on form a new
   /// session. Returns false and changes nothing when they do not fit this detector: a descriptor or
-  /// session problem (Database::appendSessions), levelling or cloud lists of another length than the
+  /// session problem (Database::appendSessions), gravity alignment or cloud lists of another length than the
   /// keyframes', or registration data made with other voxel settings. `error` then says which.
   bool appendSessions(PriorSessions sessions, std::string* error = nullptr);
 
@@ -112,16 +112,16 @@ class LoopDetector {
   const Database& database() const { return database_; }
   const Config& config() const { return database_.config(); }
   const CloudStore& cloudStore() const { return store_; }
-  /// L_R_sensor of keyframe `index`: the levelling its descriptor and registration data were made in.
-  const Eigen::Matrix3f& levelling(std::size_t index) const { return levelling_.at(index); }
+  /// L_R_sensor of keyframe `index`: the gravity alignment its descriptor and registration data were made in.
+  const Eigen::Matrix3f& gravityAlignment(std::size_t index) const { return gravity_alignment_.at(index); }
   const ConsistencyFilter& consistency() const { return consistency_; }
 
  private:
-  /// A cloud levelled (`levelled` holds the rotated points `points` views, when it was turned) and
+  /// A cloud gravity-aligned (`aligned` holds the rotated points `points` views, when it was turned) and
   /// described.
   struct GravityAlignedScan {
     Eigen::Matrix3f level = Eigen::Matrix3f::Identity();
-    pcl::PointCloud<pcl::PointXYZ> levelled;
+    pcl::PointCloud<pcl::PointXYZ> aligned;
     PointView points;
     Descriptor descriptor;
   };
@@ -130,28 +130,28 @@ class LoopDetector {
   /// Searches from the virtual viewpoints too and merges their candidates into detection->query.
   void queryViewpoints(const PointView& points, const KeyframeInfo& info, Detection* detection);
   /// Registers the `tracked` candidate (loop tracking; may be null), then detection->query's candidates
-  /// onto `cloud` (levelled by `level`; `query` its descriptor) until one is accepted. detection->index is
+  /// onto `cloud` (gravity-aligned by `level`; `query` its descriptor) until one is accepted. detection->index is
   /// the query's keyframe number; `query_stored` says whether the query is in the database (then the
   /// odometry rotation check runs).
   void verifyCandidates(const VoxelCloud& cloud, const Descriptor& query, const Eigen::Matrix3f& level,
                         bool query_stored, const TrackedCandidate* tracked, Detection* detection);
-  /// Registers candidate `c` from `guesses` (T_query<-match in the levelled frames) and appends the
+  /// Registers candidate `c` from `guesses` (T_query<-match in the gravity-aligned frames) and appends the
   /// outcome to detection->verifications; returns whether it was accepted.
   bool verifyOne(const Candidate& c, bool tracked, const std::vector<Eigen::Isometry3d>& guesses,
                  const Eigen::Matrix3f& level, bool query_stored, Detection* detection);
   /// Registration guesses for a candidate (T_query<-match): its alignment, then other yaw hypotheses.
   std::vector<Eigen::Isometry3d> hypotheses(const Candidate& candidate, const Descriptor& query) const;
   static constexpr int kYawHypotheses = 3;
-  /// L_R_sensor of a new keyframe (Config::levelling), identity when it is not levelled.
-  Eigen::Matrix3f levellingOf(const PointView& points, const KeyframeInfo& info, Detection* detection) const;
-  /// For a keyframe with a pose (levelling auto or pose): fits the ground of `points` (every keyframe until
-  /// the world's tilt is known, every kLevellingCheckInterval after), adds it to the world's tilt and
+  /// L_R_sensor of a new keyframe (Config::gravity alignment), identity when it is not gravity-aligned.
+  Eigen::Matrix3f gravityAlignmentOf(const PointView& points, const KeyframeInfo& info, Detection* detection) const;
+  /// For a keyframe with a pose (gravity alignment auto or pose): fits the ground of `points` (every keyframe until
+  /// the world's tilt is known, every kGravityCheckInterval after), adds it to the world's tilt and
   /// records how far pose and ground disagree in `detection`.
   void updateWorldTilt(const PointView& points, const KeyframeInfo& info, Detection* detection);
   /// The candidate's data with its Config::verify_submap neighbours on each side (older than `query`).
   VoxelCloud submapOf(std::size_t index, std::size_t query) const;
-  /// Registration results are in the levelled frames; loops are reported in the sensor frames.
-  void toSensorFrames(const Eigen::Matrix3f& query_levelling, std::size_t match, VerificationResult* result) const;
+  /// Registration results are in the gravity-aligned frames; loops are reported in the sensor frames.
+  void toSensorFrames(const Eigen::Matrix3f& query_alignment, std::size_t match, VerificationResult* result) const;
   /// The odometry checks of an accepted result (odometry_trust.h): its rotation against the odometry's
   /// (Config::verify_odometry_rotation) and, when the odometry is relied on from a confirmed loop, its
   /// translation. A result they contradict is not accepted (VerificationResult::odometry_contradicted).
@@ -165,7 +165,7 @@ class LoopDetector {
   CloudStore store_;
   VerificationConfig verification_;
   Verifier verifier_;
-  std::vector<Eigen::Matrix3f> levelling_;  // L_R_sensor per keyframe
+  std::vector<Eigen::Matrix3f> gravity_alignment_;  // L_R_sensor per keyframe
   WorldTilt world_tilt_;                     // of the current session's odometry frame
   std::uint32_t world_tilt_session_ = 0;     // the session it is of
   std::size_t posed_keyframes_ = 0;          // keyframes with a pose since the world's tilt is known

@@ -15,9 +15,9 @@ namespace scan_context_loop {
 struct PriorSessions {
   /// In database order, sessions numbered 0, 1, ... (Database::appendSessions).
   std::vector<Keyframe> keyframes;
-  /// L_R_sensor of each keyframe (the levelling its descriptor and registration data were made in), or
+  /// L_R_sensor of each keyframe (the gravity alignment its descriptor and registration data were made in), or
   /// empty for identity throughout.
-  std::vector<Eigen::Matrix3f> levelling;
+  std::vector<Eigen::Matrix3f> gravity_alignment;
   /// The registration data of each keyframe (null where none was kept), or empty for none at all.
   std::vector<std::unique_ptr<VoxelCloud>> clouds;
 };

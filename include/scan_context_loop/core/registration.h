@@ -19,7 +19,7 @@
 
 namespace scan_context_loop {
 
-/// The prepared registration data of one keyframe, in its (levelled) sensor frame. Its arrays are on
+/// The prepared registration data of one keyframe, in its (gravity-aligned) sensor frame. Its arrays are on
 /// the heap unless it was made with another memory resource (CloudStore keeps its clouds in arenas of
 /// their own); a plain copy is always on the heap.
 struct VoxelCloud {
@@ -72,7 +72,7 @@ struct VoxelOptions {
   int min_points = 3;        ///< voxels with fewer points are dropped (no plane)
 };
 
-/// Accumulates the finite points within the crop, after rotating them by `rotation` (a levelling
+/// Accumulates the finite points within the crop, after rotating them by `rotation` (a gravity alignment
 /// rotation; identity for none), into voxels. Reuses an internal scratch grid per thread.
 VoxelCloud makeVoxelCloud(const PointView& points, const VoxelOptions& options,
                           const Eigen::Matrix3f& rotation = Eigen::Matrix3f::Identity());

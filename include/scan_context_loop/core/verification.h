@@ -120,10 +120,10 @@ class CloudStore {
   std::vector<std::unique_ptr<VoxelCloud>> releasing_;  // dropped, memory not yet freed
 };
 
-/// The registration data of a keyframe: finite points within max_range, rotated by `levelling`
-/// (identity when the cloud is not levelled), in voxels.
+/// The registration data of a keyframe: finite points within max_range, rotated by `gravity_alignment`
+/// (identity when the cloud is not gravity-aligned), in voxels.
 VoxelCloud prepareCloud(const PointView& points, const VerificationConfig& config,
-                        const Eigen::Matrix3f& levelling = Eigen::Matrix3f::Identity());
+                        const Eigen::Matrix3f& gravity_alignment = Eigen::Matrix3f::Identity());
 
 /// Verifies candidates against one query. Holds the query's index, built once in setQuery() and
 /// reused for every candidate and hypothesis, and a scratch index for the candidate side. Not

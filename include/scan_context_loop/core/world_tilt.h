@@ -1,13 +1,13 @@
 // How the odometry's world frame is tilted from gravity, estimated from the ground under the keyframes.
 //
-// Levelling by the pose (levellingFromOrientation) assumes the odometry's world frame is z up. LiDAR-only
+// Gravity-aligning by the pose (gravityAlignmentFromOrientation) assumes the odometry's world frame is z up. LiDAR-only
 // odometry (A-LOAM, LeGO-LOAM) and FAST-LIO start their world frame at the first scan's (or IMU's) frame,
 // as tilted as the sensor was then; LeGO-LOAM's is y up. Each ground fit says where up is in the sensor
 // frame; turned into the world frame with the pose, it says where up is in the odometry's world. Their
 // mean over many keyframes is accurate where one fit is not (road camber, slopes and a sparse sensor's
 // ground make single fits a degree or two off).
 //
-// Levelling uses two things of it: the axis of the world frame that points up (z for most stacks, y for
+// Gravity alignment uses two things of it: the axis of the world frame that points up (z for most stacks, y for
 // LeGO-LOAM's camera axes), known exactly from the first fit, so poses in a y-up world are turned into a
 // z-up one from the first keyframe on; and the remaining tilt, only to warn about it (within a session it
 // is the same for every keyframe, and correcting it by an estimate would add the estimate's error).

@@ -53,7 +53,7 @@ class KeyframeProcessor {
   bool lookUpPose(QueuedKeyframe* keyframe);
   /// Turns the pose into the sensor's with the extrinsic from tf (child <- sensor), once it is known.
   void applyExtrinsic(QueuedKeyframe* keyframe);
-  /// Warns (throttled) while levelling finds the odometry's world frame tilted from gravity (world_tilt.h).
+  /// Warns (throttled) while gravity alignment finds the odometry's world frame tilted from gravity (world_tilt.h).
   void reportWorldTilt(const Detection& detection);
 
   std::string name_;

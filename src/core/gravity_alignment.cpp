@@ -1,5 +1,5 @@
 #include "scan_context_loop/core/pcl_adapters.h"
-#include "scan_context_loop/core/levelling.h"
+#include "scan_context_loop/core/gravity_alignment.h"
 
 #include <algorithm>
 #include <cmath>
@@ -164,7 +164,7 @@ std::string describeLimits(const GroundFitOptions& o) {
 
 }  // namespace
 
-Eigen::Matrix3d levellingFromUp(const Eigen::Vector3d& up) {
+Eigen::Matrix3d gravityAlignmentFromUp(const Eigen::Vector3d& up) {
   const double length = up.norm();
   if (!(length > 0.0) || !std::isfinite(length)) return Eigen::Matrix3d::Identity();
   const Eigen::Vector3d z = up / length;
@@ -184,15 +184,15 @@ Eigen::Matrix3d levellingFromUp(const Eigen::Vector3d& up) {
   return L_R_sensor;
 }
 
-Eigen::Matrix3d levellingFromOrientation(const Eigen::Matrix3d& world_R_sensor) {
+Eigen::Matrix3d gravityAlignmentFromOrientation(const Eigen::Matrix3d& world_R_sensor) {
   // World up seen from the sensor is the world's z row of world_R_sensor. Built from it, the result
   // equals Rz(-psi) * world_R_sensor and stays a rotation even when world_R_sensor has drifted a little
   // from orthonormal.
-  return levellingFromUp(world_R_sensor.row(2).transpose());
+  return gravityAlignmentFromUp(world_R_sensor.row(2).transpose());
 }
 
-bool levellingFromGround(const PointView& points, const GroundFitOptions& options, Eigen::Matrix3d* L_R_sensor,
-                         GroundFit* fit) {
+bool gravityAlignmentFromGround(const PointView& points, const GroundFitOptions& options, Eigen::Matrix3d* L_R_sensor,
+                                GroundFit* fit) {
   GroundFit result;
   const auto fail = [&](std::string reason) {
     result.reason = std::move(reason);
@@ -242,14 +242,14 @@ bool levellingFromGround(const PointView& points, const GroundFitOptions& option
   result.tilt_deg = std::acos(std::min(1.0, best.normal.z())) / kRadPerDeg;
   describeSupport(pts, best, threshold, &result);
   if (result.inliers < needed) {
-    return fail(formatted("too few ground points: %zu of %zu sampled lie on the best plane, need %zu",
-                          result.inliers, pts.size(), needed));
+    return fail(formatted("too few ground points: %zu of %zu sampled lie on the best plane, need %zu", result.inliers,
+                          pts.size(), needed));
   }
   if (static_cast<double>(result.below) > options.max_below_ratio * static_cast<double>(result.inliers)) {
-    return fail(formatted("not the ground: %zu sampled points lie below the plane, %zu on it", result.below,
-                          result.inliers));
+    return fail(
+        formatted("not the ground: %zu sampled points lie below the plane, %zu on it", result.below, result.inliers));
   }
-  if (L_R_sensor != nullptr) *L_R_sensor = levellingFromUp(result.normal);
+  if (L_R_sensor != nullptr) *L_R_sensor = gravityAlignmentFromUp(result.normal);
   if (fit != nullptr) *fit = result;
   return true;
 }
