@@ -296,6 +296,18 @@ void CloudStore::add(std::size_t index, const VoxelCloud& cloud) {
   bytes_ += size;
 }
 
+std::string cloudStoreHalvingWarning(std::size_t previous_stride, const CloudStore& store, std::size_t keyframes) {
+  if (store.stride() <= previous_stride) return "";
+  const std::size_t without = keyframes > store.stored() ? keyframes - store.stored() : 0;
+  std::ostringstream out;
+  out << "the registration data reached verify_max_bytes (" << store.maxBytes() / (1024 * 1024)
+      << " MiB): one keyframe in " << store.stride() << " keeps its data from now on; " << without << " of "
+      << keyframes
+      << " keyframes have none, so loops to them cannot be verified and a database saved with clouds holds "
+         "none for them; raise verify_max_bytes to keep more";
+  return out.str();
+}
+
 std::size_t CloudStore::memoryBytes() const {
   std::size_t total = 0;
   for (const auto& level : levels_) total += level ? level->mappedBytes() : 0;

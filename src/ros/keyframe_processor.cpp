@@ -64,12 +64,29 @@ void KeyframeProcessor::useTf(const tf2_ros::Buffer& tf) {
   }
 }
 
-void KeyframeProcessor::resetPipeline() { pipeline_.reset(new KeyframePipeline(config_)); }
+void KeyframeProcessor::resetPipeline() {
+  pipeline_.reset(new KeyframePipeline(config_));
+  followCloudStore();
+}
 
 void KeyframeProcessor::followDatabase() {
   counters_->database_size = database().size();
   counters_->sessions = database().session() + 1;
+  followCloudStore();
   markers_->forgetShown();  // redraw everything with the new keyframes
+}
+
+void KeyframeProcessor::followCloudStore() {
+  const CloudStore& store = pipeline_->detector().cloudStore();
+  counters_->registration_bytes = store.bytes();
+  counters_->registration_memory = store.memoryBytes();
+  if (!config_.verification.enabled) return;
+  const std::size_t keyframes = database().size();
+  counters_->keyframes_without_registration = keyframes > store.stored() ? keyframes - store.stored() : 0;
+  // A halving happens at most a few dozen times in a run: each one is worth a warning of its own.
+  const std::string warning = cloudStoreHalvingWarning(counters_->registration_stride, store, keyframes);
+  if (!warning.empty()) ROS_WARN_NAMED(name_, "%s", warning.c_str());
+  counters_->registration_stride = store.stride();
 }
 
 bool KeyframeProcessor::lookUpPose(QueuedKeyframe* keyframe) {
@@ -157,8 +174,7 @@ void KeyframeProcessor::process(QueuedKeyframe keyframe) {
     counters_->sessions = database.session() + 1;
   }
   counters_->database_size = database.size();
-  counters_->registration_bytes = pipeline_->detector().cloudStore().bytes();
-  counters_->registration_memory = pipeline_->detector().cloudStore().memoryBytes();
+  followCloudStore();
   counters_->database_bytes_per_keyframe = database.bytesPerKeyframe();
   counters_->last_query_ms = (detection.descriptor_seconds + detection.query_seconds) * 1e3;
   counters_->loops_waiting = pipeline_->detector().consistency().waiting();

@@ -27,6 +27,9 @@ void NodeDiagnostics::diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat
   status.add("registration data [bytes]", c.registration_bytes.load());
   // The memory the registration data's arenas hold (outside the heap; see CloudStore).
   status.add("registration memory [bytes]", c.registration_memory.load());
+  // After the budget (verify_max_bytes) was reached: one keyframe in this many keeps its data.
+  status.add("registration data kept for one keyframe in", c.registration_stride.load());
+  status.add("keyframes without registration data", c.keyframes_without_registration.load());
   // What the process holds allocated through malloc, and what malloc holds free (fragmentation): with the
   // resident memory, this tells a leak from a heap that keeps freed memory for reuse. Read by the worker
   // (HeapStatistics: reading them here, on another thread, stalled the worker's allocations).

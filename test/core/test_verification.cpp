@@ -300,6 +300,22 @@ TEST(CloudStore, HalvesItsDensityToStayWithinItsBudget) {
   EXPECT_GE(early, 2u);
 }
 
+TEST(CloudStore, AHalvingIsReportedWithWhatItLost) {
+  const std::size_t per_cloud = cloudOf(100).bytes();
+  CloudStore store(10 * per_cloud);
+  for (std::size_t i = 0; i < 10; ++i) store.add(i, cloudOf(100));
+  EXPECT_EQ(store.stride(), 1u);
+  EXPECT_EQ(cloudStoreHalvingWarning(1, store, 10), "");
+  store.add(10, cloudOf(100));
+  ASSERT_EQ(store.stride(), 2u);
+  const std::string warning = cloudStoreHalvingWarning(1, store, 11);
+  EXPECT_NE(warning.find("verify_max_bytes"), std::string::npos) << warning;
+  EXPECT_NE(warning.find("one keyframe in 2"), std::string::npos) << warning;
+  // Keyframes 0, 2, ..., 10 keep their data: 5 of the 11 have none.
+  EXPECT_NE(warning.find("5 of 11 keyframes have none"), std::string::npos) << warning;
+  EXPECT_EQ(cloudStoreHalvingWarning(2, store, 11), "") << "reported twice";
+}
+
 TEST(CloudStore, HalvingFreesTheDroppedCloudsAFewAtATime) {
   // 1,000 clouds fill the budget; the next one halves the density: 500 leave the store at once, but
   // their memory is freed at most kReleasedPerAdd per later add, not all by the keyframe that halved it.

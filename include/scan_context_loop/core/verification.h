@@ -99,6 +99,10 @@ class CloudStore {
   std::size_t memoryBytes() const;
   std::size_t stored() const;
   std::size_t dropped() const { return dropped_; }
+  /// Data are kept for the keyframe numbers that are multiples of this (1 until the budget is reached;
+  /// doubled by each halving).
+  std::size_t stride() const { return stride_; }
+  std::size_t maxBytes() const { return max_bytes_; }
   /// Dropped clouds still to be freed: halving the density takes them out at once (get() no longer
   /// serves them, bytes() no longer counts them) but frees at most kReleasedPerAdd of them in each later
   /// add(), so no single keyframe pays for freeing half the store; their level's memory goes back to the
@@ -119,6 +123,11 @@ class CloudStore {
   std::vector<BlockArena::Handle> levels_;  // by level; null before its first cloud and once dropped
   std::vector<std::unique_ptr<VoxelCloud>> releasing_;  // dropped, memory not yet freed
 };
+
+/// The warning for a store whose stride grew past `previous_stride` (one or more halvings since), "" when
+/// it did not: what was lost, what it means for verification and saving, and what to change.
+/// `keyframes` is the database's size.
+std::string cloudStoreHalvingWarning(std::size_t previous_stride, const CloudStore& store, std::size_t keyframes);
 
 /// The registration data of a keyframe: finite points within max_range, rotated by `gravity_alignment`
 /// (identity when the cloud is not gravity-aligned), in voxels.

@@ -51,6 +51,8 @@ class KeyframeProcessor {
 
  private:
   bool lookUpPose(QueuedKeyframe* keyframe);
+  /// The cloud store's counters; warns when it halved its density since the last call.
+  void followCloudStore();
   /// Turns the pose into the sensor's with the extrinsic from tf (child <- sensor), once it is known.
   void applyExtrinsic(QueuedKeyframe* keyframe);
   /// Warns (throttled) while gravity alignment finds the odometry's world frame tilted from gravity (world_tilt.h).

@@ -15,6 +15,9 @@ struct NodeCounters {
   // The worker's view of the database and the detector.
   std::atomic<std::size_t> loops_found{0}, database_size{0}, loops_waiting{0}, lio_skipped{0}, sessions{1};
   std::atomic<std::size_t> registration_bytes{0}, registration_memory{0}, database_bytes_per_keyframe{0};
+  // The cloud store's density (one keyframe in registration_stride keeps its data) and the keyframes
+  // whose data it does not hold (with verification on).
+  std::atomic<std::size_t> registration_stride{1}, keyframes_without_registration{0};
   std::atomic<std::size_t> queue_length{0};  ///< keyframes waiting in the queue
   std::atomic<std::size_t> held{0};          ///< keyframes the worker holds for the tf extrinsic
   // Clouds that reached the node, and those that became keyframes (paired with a pose, or taken alone
