@@ -72,6 +72,9 @@ bool LoopDetector::appendSessions(PriorSessions sessions, std::string* error) {
     }
   }
   const std::size_t first = database_.size();
+  // Room first, so that once the database holds the keyframes, extending the side array cannot fail and
+  // leave every later keyframe's gravity alignment one off.
+  gravity_alignment_.reserve(first + n);
   if (!database_.appendSessions(std::move(sessions.keyframes), error)) return false;
   if (sessions.gravity_alignment.empty()) {
     gravity_alignment_.resize(first + n, Eigen::Matrix3f::Identity());
@@ -102,6 +105,10 @@ Detection LoopDetector::process(const PointView& raw, const KeyframeInfo& info) 
   const PointView& points = described.points;
   const auto t2 = Clock::now();
   detection.index = database_.size();
+  // Room first: once the database holds the keyframe, its gravity alignment must be stored too.
+  if (gravity_alignment_.capacity() == gravity_alignment_.size()) {
+    gravity_alignment_.reserve(2 * gravity_alignment_.size() + 64);
+  }
   detection.accepted = database_.add(info, std::move(described.descriptor), &detection.error);
   detection.query_seconds += secondsSince(t2);
   if (!detection.accepted) return detection;
@@ -111,8 +118,15 @@ Detection LoopDetector::process(const PointView& raw, const KeyframeInfo& info) 
     VoxelCloud cloud = prepareCloud(points, verification_);
     const std::optional<TrackedCandidate> tracked = tracker_.predict(
         database_, detection.index, detection.query.eligible, [this](std::size_t i) { return store_.get(i) != nullptr; });
-    verifyCandidates(cloud, database_.keyframe(detection.index).descriptor, level, true,
-                     tracked ? &*tracked : nullptr, &detection);
+    try {
+      verifyCandidates(cloud, database_.keyframe(detection.index).descriptor, level, true,
+                       tracked ? &*tracked : nullptr, &detection);
+    } catch (...) {
+      // The keyframe is in the database: its registration data go with it even when verifying it threw
+      // (the caller's exception barrier reports that), so later keyframes can still verify loops to it.
+      store_.add(detection.index, std::move(cloud));
+      throw;
+    }
     store_.add(detection.index, std::move(cloud));
     detection.verify_seconds = secondsSince(start);
   }
