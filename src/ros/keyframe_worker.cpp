@@ -10,6 +10,17 @@
 
 namespace scan_context_loop {
 
+namespace {
+
+/// How the logs name a keyframe: "keyframe at STAMP".
+std::string contextOf(const QueuedKeyframe& keyframe) {
+  char context[64];
+  std::snprintf(context, sizeof context, "keyframe at %.3f", keyframe.cloud->header.stamp.toSec());
+  return context;
+}
+
+}  // namespace
+
 KeyframeWorker::KeyframeWorker(const std::string& name, const RosOptions& options, KeyframeQueue* queue,
                                KeyframeProcessor* processor, MarkerPublisher* markers, NodeCounters* counters,
                                std::function<void()> between_jobs)
@@ -36,17 +47,21 @@ void KeyframeWorker::work() {
     // Keyframes held for the extrinsic: look at tf again every 50 ms (never waiting on it).
     const std::chrono::milliseconds poll(held_.empty() ? 0 : 50);
     if (!queue_->take(poll, &job)) return;
-    between_jobs_();
+    // Everything the worker runs is behind the exception barrier: a throw is logged and counted, and
+    // the worker goes on with the next job (a service task guards itself: runOnWorker).
+    runGuarded("taking the reconfigured settings", between_jobs_);
     if (job.task) job.task();
-    if (job.redraw_markers) markers_->redraw(processor_->database());
-    releaseHeld();
-    if (job.has_keyframe) processOrHold(std::move(job.keyframe));
+    if (job.redraw_markers) runGuarded("redrawing the markers", [&] { markers_->redraw(processor_->database()); });
+    runGuarded("releasing the keyframes held for the extrinsic", [&] { releaseHeld(); });
+    if (job.has_keyframe) {
+      const std::string context = contextOf(job.keyframe);
+      runGuarded(context, [&] { processOrHold(std::move(job.keyframe)); });
+    }
   }
 }
 
 void KeyframeWorker::processGuarded(QueuedKeyframe keyframe) {
-  char context[64];
-  std::snprintf(context, sizeof context, "keyframe at %.3f", keyframe.cloud->header.stamp.toSec());
+  const std::string context = contextOf(keyframe);
   runGuarded(context, [&] { processor_->process(std::move(keyframe)); });
   if (heap_.afterKeyframe(counters_->queue_length.load() == 0)) {
     counters_->heap_allocated = heap_.allocatedBytes();
