@@ -134,7 +134,8 @@ if(CATKIN_ENABLE_TESTING)
   # keeps: no ROS master needed.
   catkin_add_gtest(test_ros_units test/ros/test_live_settings.cpp test/ros/test_pose_input.cpp
     test/ros/test_cloud_input.cpp test/ros/test_frame_ids.cpp test/ros/test_sensor_extrinsic.cpp
-    test/ros/test_exception_barrier.cpp test/ros/test_heap_statistics.cpp test/ros/test_stored_keyframe.cpp)
+    test/ros/test_exception_barrier.cpp test/ros/test_heap_statistics.cpp test/ros/test_stored_keyframe.cpp
+    test/ros/test_keyframe_worker.cpp)
   target_link_libraries(test_ros_units scan_context_loop_ros ${catkin_LIBRARIES})
 endif()
 

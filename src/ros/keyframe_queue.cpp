@@ -39,12 +39,15 @@ void KeyframeQueue::wake() {
   cv_.notify_one();
 }
 
-void KeyframeQueue::stop() {
+std::size_t KeyframeQueue::stop() {
+  std::size_t discarded = 0;
   {
     std::lock_guard<std::mutex> lock(mutex_);
     stop_ = true;
+    discarded = keyframes_.size();
   }
   cv_.notify_all();
+  return discarded;
 }
 
 bool KeyframeQueue::take(std::chrono::milliseconds poll, WorkerJob* job) {

@@ -48,9 +48,9 @@ void KeyframeWorker::work() {
     const std::chrono::milliseconds poll(held_.empty() ? 0 : 50);
     if (!queue_->take(poll, &job)) return;
     // Everything the worker runs is behind the exception barrier: a throw is logged and counted, and
-    // the worker goes on with the next job (a service task guards itself: runOnWorker).
+    // the worker goes on with the next job (a service's task reports its own failure: runOnWorker).
     runGuarded("taking the reconfigured settings", between_jobs_);
-    if (job.task) job.task();
+    if (job.task) runGuarded("a task", job.task);
     if (job.redraw_markers) runGuarded("redrawing the markers", [&] { markers_->redraw(processor_->database()); });
     runGuarded("releasing the keyframes held for the extrinsic", [&] { releaseHeld(); });
     if (job.has_keyframe) {

@@ -16,7 +16,14 @@ LoopClosureRos::~LoopClosureRos() {
   for (auto* service : {&save_srv_, &load_srv_, &reset_srv_, &relocalize_srv_}) service->shutdown();
   if (input_) input_->stop();
   if (diagnostics_) diagnostics_->stop();
-  if (queue_) queue_->stop();
+  if (queue_) {
+    const std::size_t discarded = queue_->stop();
+    if (discarded > 0) {
+      counters_.dropped += discarded;
+      ROS_WARN_NAMED(name_, "%zu keyframes still queued at shutdown were not processed (%zu dropped in all)",
+                     discarded, counters_.dropped.load());
+    }
+  }
   if (worker_) worker_->join();
   // Callbacks that reach the queue or settings_mutex_ (a new marker subscriber, a live reconfigure) end
   // here, while both live.

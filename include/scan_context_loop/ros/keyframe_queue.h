@@ -53,8 +53,9 @@ class KeyframeQueue {
   void requestRedraw();
   /// Wakes the worker for work it finds elsewhere (settings dynamic_reconfigure accepted).
   void wake();
-  /// The worker's next take() returns false; tasks queued before are never run.
-  void stop();
+  /// The worker's next take() returns false; tasks queued before are never run. Returns how many keyframes
+  /// were still queued: they will not be processed.
+  std::size_t stop();
 
   /// Worker: waits for work (at most `poll` when it is not zero) and takes it. False once stop() was
   /// called.
