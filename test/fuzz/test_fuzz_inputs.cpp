@@ -129,5 +129,22 @@ TEST(DatabaseBytes, LoadedVoxelMeansFarOutsideTheGridAreIgnoredByVerification) {
   EXPECT_FALSE(found.verified);
 }
 
+TEST(FuzzInputs, TheFixedCloudReachesTheRegistration) {
+  // The fuzz targets' clouds must get past the structure floor, or no fuzz input ever exercises the
+  // registration and its acceptance tests.
+  LoopDetector detector(fuzz::smallConfig(fuzz::kDatabaseChoice));
+  bool registered = false;
+  for (int i = 0; i < 4; ++i) {
+    KeyframeInfo info;
+    info.stamp = i;
+    info.pose = Eigen::Isometry3d(Eigen::Translation3d(0.2 * i, 0.0, 0.0));
+    const Detection d = detector.process(fuzz::fixedCloud(), info);
+    for (const auto& v : d.verifications) {
+      registered |= v.result.rejected_by != "unverifiable" && v.result.rejected_by != "structure";
+    }
+  }
+  EXPECT_TRUE(registered) << "no candidate of the fixed cloud got past the structure test";
+}
+
 }  // namespace
 }  // namespace scan_context_loop
