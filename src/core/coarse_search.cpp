@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "grid_cell.h"
+
 namespace scan_context_loop {
 
 StructureMap structureMap(const VoxelCloud& cloud, float cell) {
@@ -14,8 +16,8 @@ StructureMap structureMap(const VoxelCloud& cloud, float cell) {
   std::vector<std::uint8_t> solid(map.value.size(), 0);
   for (std::size_t i = 0; i < cloud.size(); ++i) {
     if (!cloud.vertical(i)) continue;
-    const int ix = static_cast<int>(std::floor((cloud.means[i].x() + map.radius) / cell));
-    const int iy = static_cast<int>(std::floor((cloud.means[i].y() + map.radius) / cell));
+    const int ix = gridCell((cloud.means[i].x() + map.radius) / cell);
+    const int iy = gridCell((cloud.means[i].y() + map.radius) / cell);
     if (ix < 0 || iy < 0 || ix >= map.size || iy >= map.size) continue;
     solid[static_cast<std::size_t>(iy) * map.size + ix] = 1;
   }
@@ -40,8 +42,7 @@ std::vector<Eigen::Vector2f> structureColumns(const VoxelCloud& cloud, float cel
   std::vector<std::pair<int, int>> keys;
   for (std::size_t i = 0; i < cloud.size(); ++i) {
     if (!cloud.vertical(i)) continue;
-    keys.emplace_back(static_cast<int>(std::floor(cloud.means[i].x() / cell)),
-                      static_cast<int>(std::floor(cloud.means[i].y() / cell)));
+    keys.emplace_back(gridCell(cloud.means[i].x() / cell), gridCell(cloud.means[i].y() / cell));
   }
   std::sort(keys.begin(), keys.end());
   keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
@@ -78,8 +79,8 @@ std::vector<CoarseHit> coarseSearch(const StructureMap& query, const std::vector
       cells.clear();
       for (const Eigen::Vector2f& c : columns) {
         const Eigen::Vector2f m = R * c + t;
-        cells.emplace_back(static_cast<int>(std::floor((m.x() + query.radius) / query.cell)),
-                           static_cast<int>(std::floor((m.y() + query.radius) / query.cell)));
+        cells.emplace_back(gridCell((m.x() + query.radius) / query.cell),
+                           gridCell((m.y() + query.radius) / query.cell));
       }
       for (int dy = -steps; dy <= steps; ++dy) {
         for (int dx = -steps; dx <= steps; ++dx) {

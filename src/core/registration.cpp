@@ -6,6 +6,8 @@
 
 #include <Eigen/Eigenvalues>
 
+#include "grid_cell.h"
+
 namespace scan_context_loop {
 
 namespace {
@@ -154,9 +156,9 @@ void VoxelIndex::build(const VoxelCloud& cloud) {
   }
   for (std::size_t i = 0; i < cloud.size(); ++i) {
     const Eigen::Vector3f& m = cloud.means[i];
-    const int ix = static_cast<int>(std::floor((m.x() - min_xy_) * inv_res_));
-    const int iy = static_cast<int>(std::floor((m.y() - min_xy_) * inv_res_));
-    const int iz = static_cast<int>(std::floor((m.z() - min_z_) * inv_res_));
+    const int ix = gridCell((m.x() - min_xy_) * inv_res_);
+    const int iy = gridCell((m.y() - min_xy_) * inv_res_);
+    const int iz = gridCell((m.z() - min_z_) * inv_res_);
     const int c = cell(ix, iy, iz);
     if (c < 0) continue;
     stamp_[c] = generation_;
@@ -171,18 +173,18 @@ int VoxelIndex::cell(int ix, int iy, int iz) const {
 
 int VoxelIndex::at(const Eigen::Vector3f& p) const {
   if (cloud_ == nullptr) return -1;
-  const int c = cell(static_cast<int>(std::floor((p.x() - min_xy_) * inv_res_)),
-                     static_cast<int>(std::floor((p.y() - min_xy_) * inv_res_)),
-                     static_cast<int>(std::floor((p.z() - min_z_) * inv_res_)));
+  const int c = cell(gridCell((p.x() - min_xy_) * inv_res_),
+                     gridCell((p.y() - min_xy_) * inv_res_),
+                     gridCell((p.z() - min_z_) * inv_res_));
   return c >= 0 && stamp_[c] == generation_ ? index_[c] : -1;
 }
 
 int VoxelIndex::nearest(const Eigen::Vector3f& p, float max_distance) const {
   if (cloud_ == nullptr) return -1;
   static const int kOffsets[7][3] = {{0, 0, 0}, {1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
-  const int ix = static_cast<int>(std::floor((p.x() - min_xy_) * inv_res_));
-  const int iy = static_cast<int>(std::floor((p.y() - min_xy_) * inv_res_));
-  const int iz = static_cast<int>(std::floor((p.z() - min_z_) * inv_res_));
+  const int ix = gridCell((p.x() - min_xy_) * inv_res_);
+  const int iy = gridCell((p.y() - min_xy_) * inv_res_);
+  const int iz = gridCell((p.z() - min_z_) * inv_res_);
   int best = -1;
   float best2 = max_distance * max_distance;
   for (const auto& o : kOffsets) {
