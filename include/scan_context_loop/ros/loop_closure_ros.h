@@ -8,7 +8,8 @@
 //   loop_publisher      loops, rejected candidates, lio_loop, pairs and array, relocalization, timing
 //   marker_publisher    RViz markers
 //   node_counters, node_diagnostics   the counters and the diagnostic task that reports them
-//   database_services.cpp             the save / load / reset / relocalize services
+//   database_services.cpp             the save / load / reset / relocalize services, the shutdown save
+//   database_paths      where saves may write (the map directory), the file beside a kept map
 //
 // Threads and locks:
 //   - spinner threads run the input callbacks and timers, the services, dynamic_reconfigure and the
