@@ -19,6 +19,7 @@ add_library(scan_context_loop_ros
   src/ros/loop_publisher.cpp
   src/ros/marker_publisher.cpp
   src/ros/node_diagnostics.cpp
+  src/ros/database_paths.cpp
   src/ros/database_services.cpp
   src/ros/loop_closure_ros.cpp
 )
@@ -82,6 +83,8 @@ endif()
 if(CATKIN_ENABLE_TESTING)
   catkin_add_gtest(test_ros_markers test/test_main.cpp test/ros/test_markers.cpp)
   target_link_libraries(test_ros_markers scan_context_loop_ros)
+  catkin_add_gtest(test_ros_database_paths test/test_main.cpp test/ros/test_database_paths.cpp)
+  target_link_libraries(test_ros_database_paths scan_context_loop_ros)
 endif()
 
 if(CATKIN_ENABLE_TESTING)

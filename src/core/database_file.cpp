@@ -394,6 +394,18 @@ bool loadInto(const std::string& path, Target* target, std::string* error) {
   return false;
 }
 
+/// False, with the reason, when `path` holds a file that is not empty and not a database of ours: a
+/// save replaces an earlier database, never someone's other file.
+bool mayReplace(const std::string& path, std::string* error) {
+  FileReader file;
+  std::string why;
+  if (!file.open(path, &why) || file.size() == 0) return true;  // absent, a directory: the writer says
+  const std::uint8_t* head = file.take(sizeof(kMagic));
+  if (head != nullptr && std::memcmp(head, kMagic, sizeof(kMagic)) == 0) return true;
+  if (error) *error = path + " exists and is not a Scan Context database (it does not begin with \"SCLDB\"): not replaced";
+  return false;
+}
+
 }  // namespace
 
 bool saveDatabase(const LoopDetector& detector, const std::string& path, const SaveOptions& options,
@@ -402,8 +414,10 @@ bool saveDatabase(const LoopDetector& detector, const std::string& path, const S
   Header header;
   header.settings = settingsOf(detector.config(), options.include_clouds);
   header.keyframes = database.size();
+  if (!mayReplace(path, error)) return false;
   AtomicFileWriter file;
   if (!file.open(path, error)) return false;
+  if (options.keep_backup) file.keepBackup(path + ".bak");
   const std::vector<std::uint8_t> placeholder(kHeaderBytes, 0);
   if (!file.write(placeholder.data(), placeholder.size(), error)) return false;
   PayloadWriter payload(&file);

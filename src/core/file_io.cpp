@@ -23,6 +23,25 @@ std::string directoryOf(const std::string& path) {
   return slash == 0 ? "/" : path.substr(0, slash);
 }
 
+/// Makes the file at `path` (if there is one) also `backup`: a hard link under a temporary name renamed
+/// over `backup`, so that `backup` is at every moment a whole file, the old backup or the new one.
+bool linkBackup(const std::string& path, const std::string& backup, std::string* error) {
+  struct stat st;
+  if (::lstat(path.c_str(), &st) != 0 || !S_ISREG(st.st_mode)) return true;  // nothing to keep
+  std::string name = backup + ".tmp.XXXXXX";
+  const int fd = ::mkstemp(&name[0]);
+  if (fd < 0) return fail(error, "cannot create a temporary file in " + directoryOf(backup));
+  ::close(fd);
+  ::unlink(name.c_str());
+  if (::link(path.c_str(), name.c_str()) != 0) return fail(error, "cannot keep " + path + " as " + backup);
+  if (::rename(name.c_str(), backup.c_str()) != 0) {
+    const bool ok = fail(error, "cannot rename " + name + " to " + backup);
+    ::unlink(name.c_str());
+    return ok;
+  }
+  return true;
+}
+
 }  // namespace
 
 FileReader::~FileReader() {
@@ -85,12 +104,14 @@ bool AtomicFileWriter::open(const std::string& path, std::string* error) {
     if (error) *error = "cannot write " + path + ": it is a directory";
     return false;
   }
+  const bool replacing = ::stat(path.c_str(), &st) == 0;
   std::string name = path + ".tmp.XXXXXX";
   fd_ = ::mkstemp(&name[0]);
   if (fd_ < 0) return fail(error, "cannot create a temporary file in " + directoryOf(path));
   temporary_ = name;
-  // mkstemp makes the file private (0600); the result is an ordinary data file.
-  ::fchmod(fd_, 0644);
+  // mkstemp makes the file private (0600): a new file is an ordinary data file, a replaced one keeps
+  // the mode its owner gave it.
+  ::fchmod(fd_, replacing ? (st.st_mode & 07777) : 0644);
   return true;
 }
 
@@ -133,6 +154,10 @@ bool AtomicFileWriter::commit(std::string* error) {
     const bool ok = fail(error, "cannot close " + temporary_);
     discard();
     return ok;
+  }
+  if (!backup_.empty() && !linkBackup(path_, backup_, error)) {
+    discard();
+    return false;
   }
   if (::rename(temporary_.c_str(), path_.c_str()) != 0) {
     const bool ok = fail(error, "cannot rename " + temporary_ + " to " + path_);

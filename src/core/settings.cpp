@@ -147,6 +147,9 @@ std::vector<Setting<NodeOptions>> makeNodeSettings() {
       stringSetting<O>("database_load", N(database_load), {}, "database file loaded at start (empty: none)"),
       stringSetting<O>("database_save", N(database_save), {}, "database file written at shutdown (empty: none)"),
       boolSetting<O>("database_save_clouds", N(database_save_clouds), "saved databases include the registration clouds"),
+      stringSetting<O>("database_directory", N(database_directory), {},
+                       "~save_database writes only here (empty: the directory of database_save, else of "
+                       "database_load, else $ROS_HOME/scan_context_loop)"),
       doubleSetting<O>("unsynchronised_warning", N(unsynchronised_warning), positive(),
                        "warn when clouds come without poses this long [s]"),
       doubleSetting<O>("no_input_warning", N(no_input_warning), positive(),

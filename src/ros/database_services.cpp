@@ -1,5 +1,6 @@
 // The node's database services (save, load, reset), relocalization in a loaded map, and the database
 // file at start and shutdown. The worker owns the database: each service hands it a task and waits.
+#include <ctime>
 #include <future>
 #include <memory>
 
@@ -7,6 +8,7 @@
 
 #include "scan_context_loop/core/database_file.h"
 #include "scan_context_loop/ros/cloud_input.h"
+#include "scan_context_loop/ros/database_paths.h"
 #include "scan_context_loop/ros/loop_closure_ros.h"
 #include "scan_context_loop/ros/loop_pair.h"
 #include "scan_context_loop/ros/stored_keyframe.h"
@@ -42,15 +44,46 @@ std::string LoopClosureRos::loadFile(const std::string& path) {
   return "";
 }
 
+void LoopClosureRos::saveAtShutdown() {
+  std::string path = options_.database_save;
+  std::string why = keep_reason_;
+  if (!sameFile(path, kept_file_)) why = reset_ && fileExists(path) ? "~reset emptied the database in this run" : "";
+  if (!why.empty()) {
+    path = besidePath(options_.database_save, std::time(nullptr));
+    ROS_WARN_NAMED(name_, "database_save %s is kept as it was (%s): this run's database goes beside it, to %s",
+                   options_.database_save.c_str(), why.c_str(), path.c_str());
+  }
+  SaveOptions save;
+  save.include_clouds = options_.database_save_clouds;
+  save.keep_backup = true;
+  const std::string backup = fileExists(path) ? "; the file it replaced is kept as " + path + ".bak" : "";
+  std::string error;
+  if (saveDatabase(processor_->pipeline().detector(), path, save, &error)) {
+    ROS_INFO_NAMED(name_, "database saved to %s (%zu keyframes)%s", path.c_str(), processor_->database().size(),
+                   backup.c_str());
+  } else {
+    ROS_ERROR_NAMED(name_, "database not saved: %s", error.c_str());
+  }
+}
+
 bool LoopClosureRos::onSave(scan_context_loop::SaveDatabase::Request& request,
                             scan_context_loop::SaveDatabase::Response& response) {
   const std::string failure = runOnWorker([&] {
     SaveOptions save;
     save.include_clouds = request.include_clouds;
-    std::string error;
-    response.success = saveDatabase(processor_->pipeline().detector(), request.path, save, &error);
+    save.keep_backup = true;
+    std::string path, error;
     response.keyframes = static_cast<std::uint32_t>(processor_->database().size());
-    response.message = response.success ? "saved " + std::to_string(response.keyframes) + " keyframes" : error;
+    response.success = servicePath(mapDirectory(options_), request.path, &path, &error);
+    const bool replacing = response.success && fileExists(path);
+    response.success = response.success && saveDatabase(processor_->pipeline().detector(), path, save, &error);
+    if (!response.success) {
+      response.message = error;
+      return;
+    }
+    response.message = "saved " + std::to_string(response.keyframes) + " keyframes to " + path +
+                       (replacing ? "; the file it replaced is kept as " + path + ".bak" : "");
+    ROS_INFO_NAMED(name_, "save_database: %s", response.message.c_str());
   });
   if (!failure.empty()) response.message = failure;
   if (!response.success) ROS_ERROR_NAMED(name_, "save_database %s: %s", request.path.c_str(), response.message.c_str());
@@ -78,6 +111,7 @@ bool LoopClosureRos::onReset(std_srvs::Trigger::Request&, std_srvs::Trigger::Res
     counters_.sessions = 1;
     counters_.loops_waiting = 0;
     markers_->clear();
+    reset_ = true;
     response.success = true;
     response.message = "database cleared";
     // In relocalize mode the map is read-only: it comes back.

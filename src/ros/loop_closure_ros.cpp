@@ -2,6 +2,7 @@
 
 #include "scan_context_loop/core/database_file.h"
 #include "scan_context_loop/core/settings.h"
+#include "scan_context_loop/ros/database_paths.h"
 #include "scan_context_loop/ros/frame_ids.h"
 #include "scan_context_loop/ros/live_settings.h"
 
@@ -29,17 +30,7 @@ LoopClosureRos::~LoopClosureRos() {
   // here, while both live.
   if (markers_) markers_->shutdown();
   reconfigure_server_.reset();
-  if (processor_ && !options_.database_save.empty() && options_.mode != "relocalize") {
-    SaveOptions save;
-    save.include_clouds = options_.database_save_clouds;
-    std::string error;
-    if (saveDatabase(processor_->pipeline().detector(), options_.database_save, save, &error)) {
-      ROS_INFO_NAMED(name_, "database saved to %s (%zu keyframes)", options_.database_save.c_str(),
-                     processor_->database().size());
-    } else {
-      ROS_ERROR_NAMED(name_, "database not saved: %s", error.c_str());
-    }
-  }
+  if (processor_ && !options_.database_save.empty() && options_.mode != "relocalize") saveAtShutdown();
 }
 
 bool LoopClosureRos::start() {
@@ -61,8 +52,23 @@ bool LoopClosureRos::start() {
   worker_.reset(new KeyframeWorker(name_, options_, queue_.get(), processor_.get(), markers_.get(), &counters_,
                                    [this] { takeReconfigured(); }));
   if (!options_.database_load.empty()) {
-    const std::string error = loadFile(options_.database_load);
-    if (!error.empty()) ROS_ERROR_NAMED(name_, "database_load %s: %s", options_.database_load.c_str(), error.c_str());
+    std::string error;
+    try {
+      error = loadFile(options_.database_load);
+    } catch (const std::exception& e) {
+      error = std::string("the load threw: ") + e.what();
+    } catch (...) {
+      error = "the load threw an unknown exception";
+    }
+    if (!error.empty()) {
+      ROS_ERROR_NAMED(name_, "database_load %s: %s", options_.database_load.c_str(), error.c_str());
+      // The file may be a map this build cannot read (other settings, another version, a read error):
+      // the run goes on with an empty database, and the shutdown save never replaces that file.
+      if (fileExists(options_.database_load)) {
+        kept_file_ = options_.database_load;
+        keep_reason_ = "its load at start failed";
+      }
+    }
   }
   if (options_.mode == "relocalize" && processor_->database().size() == 0) {
     ROS_WARN_NAMED(name_, "mode relocalize without a map: nothing is published until ~load_database loads one");

@@ -531,21 +531,54 @@ TEST(DatabaseFileSave, AMissingDirectoryFailsAndLeavesNothingBehind) {
   EXPECT_TRUE(fs::is_empty(dir.file("folder")));
 }
 
-TEST(DatabaseFileSave, SavingOverAFileReplacesItWhole) {
+TEST(DatabaseFileSave, SavingOverAFileThatIsNoDatabaseIsRefusedAndOverADatabaseReplacesItWhole) {
   TempDir dir;
-  writeBytes(dir.file("db.scl"), std::vector<std::uint8_t>(4 << 20, 'x'));
+  const std::vector<std::uint8_t> other(4 << 20, 'x');
+  writeBytes(dir.file("db.scl"), other);
   LoopDetector detector(descriptorConfig());
   drive(&detector);
   std::string error;
-  ASSERT_TRUE(saveDatabase(detector, dir.file("db.scl"), SaveOptions(), &error)) << error;
+  EXPECT_FALSE(saveDatabase(detector, dir.file("db.scl"), SaveOptions(), &error));
+  EXPECT_NE(error.find("not a Scan Context database"), std::string::npos) << error;
+  EXPECT_EQ(readBytes(dir.file("db.scl")), other) << "the other file is left as it was";
   EXPECT_EQ(dir.entries(), std::vector<std::string>{"db.scl"}) << "no temporary file is left";
-  EXPECT_LT(fs::file_size(dir.file("db.scl")), std::uintmax_t(4 << 20));
+  // An empty file holds nothing to lose: it is replaced.
+  writeBytes(dir.file("db.scl"), {});
+  ASSERT_TRUE(saveDatabase(detector, dir.file("db.scl"), SaveOptions(), &error)) << error;
   LoopDetector loaded(descriptorConfig());
   ASSERT_TRUE(loadDatabase(dir.file("db.scl"), &loaded, &error)) << error;
   EXPECT_EQ(loaded.database().size(), detector.database().size());
-  // Saved twice, the file is the same byte for byte.
+  // Saved over a database, the file is replaced whole: the same byte for byte.
   const std::vector<std::uint8_t> first = readBytes(dir.file("db.scl"));
   ASSERT_TRUE(saveDatabase(detector, dir.file("db.scl"), SaveOptions(), &error)) << error;
+  EXPECT_EQ(readBytes(dir.file("db.scl")), first);
+  EXPECT_EQ(dir.entries(), std::vector<std::string>{"db.scl"});
+}
+
+TEST(DatabaseFileSave, TheReplacedFileIsKeptAsABackupAndKeepsItsMode) {
+  TempDir dir;
+  LoopDetector empty(descriptorConfig());
+  LoopDetector detector(descriptorConfig());
+  drive(&detector);
+  SaveOptions save;
+  save.keep_backup = true;
+  std::string error;
+  ASSERT_TRUE(saveDatabase(empty, dir.file("db.scl"), save, &error)) << error;
+  EXPECT_EQ(dir.entries(), std::vector<std::string>{"db.scl"}) << "no backup of a file that was not there";
+  EXPECT_EQ(fs::status(dir.file("db.scl")).permissions() & fs::perms::all,
+            fs::perms::owner_read | fs::perms::owner_write | fs::perms::group_read | fs::perms::others_read);
+  const std::vector<std::uint8_t> first = readBytes(dir.file("db.scl"));
+  fs::permissions(dir.file("db.scl"), fs::perms::owner_read | fs::perms::owner_write);
+  ASSERT_TRUE(saveDatabase(detector, dir.file("db.scl"), save, &error)) << error;
+  EXPECT_EQ(dir.entries(), (std::vector<std::string>{"db.scl", "db.scl.bak"}));
+  EXPECT_EQ(readBytes(dir.file("db.scl.bak")), first);
+  EXPECT_NE(readBytes(dir.file("db.scl")), first);
+  EXPECT_EQ(fs::status(dir.file("db.scl")).permissions() & fs::perms::all,
+            fs::perms::owner_read | fs::perms::owner_write) << "the replaced file's mode is kept";
+  // A third save: the backup is now the second save's file.
+  const std::vector<std::uint8_t> second = readBytes(dir.file("db.scl"));
+  ASSERT_TRUE(saveDatabase(empty, dir.file("db.scl"), save, &error)) << error;
+  EXPECT_EQ(readBytes(dir.file("db.scl.bak")), second);
   EXPECT_EQ(readBytes(dir.file("db.scl")), first);
 }
 

@@ -1,13 +1,19 @@
 // rostest: the database services and relocalization. Node a maps a drive, saves its database, is reset
 // and loads it back, then closes loops from a second pass into the loaded session; node b loads the saved
 // map and relocalizes a second run whose odometry has its own origin, by topic and by service.
+#include <dirent.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
+#include <fstream>
+#include <iterator>
 #include <string>
 #include <vector>
 
 #include <geometry_msgs/PoseWithCovarianceStamped.h>
 #include <gtest/gtest.h>
+#include <nodelet/NodeletLoad.h>
+#include <nodelet/NodeletUnload.h>
 #include <std_srvs/Trigger.h>
 #include <tf2_eigen/tf2_eigen.h>
 
@@ -148,6 +154,143 @@ TEST(Relocalization, SaveResetLoadThenRelocalizeASecondRunInTheSavedMap) {
   ASSERT_TRUE(ros::service::call("b/loop_closure/relocalize", where));
   EXPECT_TRUE(where.response.found) << where.response.message;
   unlink(path.c_str());
+}
+
+std::string readFile(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+void writeFile(const std::string& path, const std::string& bytes) { std::ofstream(path, std::ios::binary) << bytes; }
+
+bool exists(const std::string& path) {
+  struct stat st;
+  return ::lstat(path.c_str(), &st) == 0;
+}
+
+/// The files in /tmp whose names begin with `prefix`, but for `except`.
+std::vector<std::string> tmpFiles(const std::string& prefix, const std::string& except) {
+  std::vector<std::string> names;
+  DIR* dir = ::opendir("/tmp");
+  for (dirent* e = dir ? ::readdir(dir) : nullptr; e; e = ::readdir(dir)) {
+    const std::string name = e->d_name;
+    if (name.compare(0, prefix.size(), prefix) == 0 && "/tmp/" + name != except) names.push_back("/tmp/" + name);
+  }
+  if (dir) ::closedir(dir);
+  return names;
+}
+
+/// Saves node a's database to `name` in its map directory (/tmp).
+void saveFromA(const std::string& name) {
+  SaveDatabase save;
+  save.request.path = name;
+  ASSERT_TRUE(ros::service::call("a/loop_closure/save_database", save));
+  ASSERT_TRUE(save.response.success) << save.response.message;
+}
+
+// ~save_database writes only inside database_directory (/tmp for node a), never over a file that is no
+// database; a replaced database is kept as <path>.bak and the file keeps its mode.
+TEST(Relocalization, SavesStayInTheMapDirectoryKeepABackupAndReplaceNoOtherFile) {
+  ros::NodeHandle a_nh("a");
+  Harness a(a_nh);
+  ASSERT_TRUE(a.waitForNode(30.0));
+  const std::string id = std::to_string(getpid());
+  const auto refused = [](const std::string& path, const std::string& why) {
+    SaveDatabase save;
+    save.request.path = path;
+    EXPECT_TRUE(ros::service::call("a/loop_closure/save_database", save));
+    EXPECT_FALSE(save.response.success) << path;
+    EXPECT_NE(save.response.message.find(why), std::string::npos) << path << ": " << save.response.message;
+  };
+  refused("../scl_up_" + id + ".scdb", "\"..\"");
+  EXPECT_FALSE(exists("/scl_up_" + id + ".scdb"));
+  refused("/etc/scl_outside_" + id + ".scdb", "outside the map directory");
+  EXPECT_FALSE(exists("/etc/scl_outside_" + id + ".scdb"));
+  refused("/var/tmp/scl_outside_" + id + ".scdb", "outside the map directory");
+  EXPECT_FALSE(exists("/var/tmp/scl_outside_" + id + ".scdb"));
+  const std::string link = "/tmp/scl_link_" + id;
+  ASSERT_EQ(::symlink("/var/tmp", link.c_str()), 0);
+  refused("scl_link_" + id + "/map.scdb", "outside the map directory");
+  EXPECT_FALSE(exists("/var/tmp/map.scdb"));
+  ::unlink(link.c_str());
+  ASSERT_EQ(::symlink(("/tmp/scl_link_target_" + id).c_str(), link.c_str()), 0);
+  refused("scl_link_" + id, "symbolic link");
+  EXPECT_FALSE(exists("/tmp/scl_link_target_" + id));
+  ::unlink(link.c_str());
+  const std::string notes = "/tmp/scl_notes_" + id + ".txt";
+  writeFile(notes, "not a map\n");
+  refused("scl_notes_" + id + ".txt", "not a Scan Context database");
+  EXPECT_EQ(readFile(notes), "not a map\n");
+  EXPECT_FALSE(exists(notes + ".bak"));
+  ::unlink(notes.c_str());
+
+  const std::string map = "/tmp/scl_map_" + id + ".scdb";
+  saveFromA("scl_map_" + id + ".scdb");
+  EXPECT_FALSE(exists(map + ".bak")) << "nothing was replaced";
+  const std::string first = readFile(map);
+  ASSERT_FALSE(first.empty());
+  ASSERT_EQ(::chmod(map.c_str(), 0600), 0);
+  saveFromA(map);
+  EXPECT_EQ(readFile(map + ".bak"), first) << "the backup is the file the second save replaced";
+  struct stat st;
+  ASSERT_EQ(::stat(map.c_str(), &st), 0);
+  EXPECT_EQ(st.st_mode & 07777, 0600u) << "the replaced file's mode is kept";
+  ::unlink(map.c_str());
+  ::unlink((map + ".bak").c_str());
+}
+
+/// Loads a loop-closure nodelet named `name` into /manager with `database_load` and `database_save`
+/// both `map` (and `num_sectors` when non-zero), runs `between` while it is up, then unloads it.
+void runNodeletOver(const std::string& name, const std::string& map, int num_sectors,
+                    const std::function<void()>& between) {
+  ros::param::set(name + "/database_load", map);
+  ros::param::set(name + "/database_save", map);
+  if (num_sectors > 0) ros::param::set(name + "/num_sectors", num_sectors);
+  nodelet::NodeletLoad load;
+  load.request.name = name;
+  load.request.type = "scan_context_loop/LoopClosureNodelet";
+  ASSERT_TRUE(ros::service::call("/manager/load_nodelet", load));
+  ASSERT_TRUE(load.response.success);
+  EXPECT_TRUE(ros::service::waitForService(name + "/reset", 30000));
+  between();
+  nodelet::NodeletUnload unload;
+  unload.request.name = name;
+  ASSERT_TRUE(ros::service::call("/manager/unload_nodelet", unload));
+  EXPECT_TRUE(unload.response.success);
+}
+
+// A map the node cannot load at start (other settings: 30 sectors against its 60) is not saved over at
+// shutdown: it stays byte for byte, and the run's database goes beside it. The same after a ~reset.
+TEST(Relocalization, AMapThatFailedToLoadOrWasResetIsNeverSavedOver) {
+  ros::NodeHandle a_nh("a");
+  Harness a(a_nh);
+  ASSERT_TRUE(a.waitForNode(30.0));
+  const std::string id = std::to_string(getpid());
+
+  const std::string other = "/tmp/scl_other_settings_" + id + ".scdb";
+  saveFromA(other);
+  const std::string bytes = readFile(other);
+  runNodeletOver("/c/loop_closure", other, 30, [] {});
+  EXPECT_EQ(readFile(other), bytes) << "the map that failed to load is kept byte for byte";
+  EXPECT_FALSE(exists(other + ".bak"));
+  const std::vector<std::string> beside = tmpFiles("scl_other_settings_" + id + ".", other);
+  ASSERT_EQ(beside.size(), 1u) << "the shutdown save goes beside the map";
+  EXPECT_NE(beside[0].find(".scdb"), std::string::npos) << beside[0];
+  EXPECT_EQ(readFile(beside[0]).compare(0, 5, "SCLDB"), 0) << beside[0];
+
+  const std::string reset_map = "/tmp/scl_reset_" + id + ".scdb";
+  saveFromA(reset_map);
+  const std::string reset_bytes = readFile(reset_map);
+  runNodeletOver("/d/loop_closure", reset_map, 0, [] {
+    std_srvs::Trigger reset;
+    ASSERT_TRUE(ros::service::call("/d/loop_closure/reset", reset));
+    EXPECT_TRUE(reset.response.success);
+  });
+  EXPECT_EQ(readFile(reset_map), reset_bytes) << "the map is kept byte for byte after a ~reset";
+  EXPECT_EQ(tmpFiles("scl_reset_" + id + ".", reset_map).size(), 1u) << "the shutdown save goes beside the map";
+
+  for (const auto& path : tmpFiles("scl_other_settings_" + id, "")) ::unlink(path.c_str());
+  for (const auto& path : tmpFiles("scl_reset_" + id, "")) ::unlink(path.c_str());
 }
 
 }  // namespace

@@ -23,11 +23,14 @@ struct SaveOptions {
   /// VoxelClouds, LZ4-compressed), so that loaded keyframes can be verified. Without them a loaded
   /// keyframe is a candidate that verification reports as unverifiable.
   bool include_clouds = false;
+  /// The file replaced (if any) is kept as `<path>.bak`, itself replaced atomically.
+  bool keep_backup = false;
 };
 
 /// Writes every keyframe of `detector` to `path` atomically (AtomicFileWriter): a temporary file in
-/// the same directory, flushed to disk, renamed over `path`. On failure, `error` says why and an
-/// existing file at `path` is left as it was.
+/// the same directory, flushed to disk, renamed over `path`; a file replaced keeps its mode. A file at
+/// `path` that is not empty and does not begin with the database magic is never replaced. On failure,
+/// `error` says why and an existing file at `path` is left as it was.
 bool saveDatabase(const LoopDetector& detector, const std::string& path, const SaveOptions& options,
                   std::string* error);
 

@@ -67,7 +67,7 @@ class FileReader : public ByteSource {
 /// Writes a file so that readers see either the old file or the whole new one: the data go to a
 /// temporary file in the target's directory, which commit() flushes to disk (fsync) and renames over
 /// the target. Until commit() succeeds the target is untouched; a writer destroyed without a successful
-/// commit removes its temporary file. Not copyable.
+/// commit removes its temporary file. A file replaced keeps its mode (a new one is 0644). Not copyable.
 class AtomicFileWriter {
  public:
   AtomicFileWriter() = default;
@@ -78,6 +78,8 @@ class AtomicFileWriter {
   /// Creates the temporary file for `path`; false with *error when the directory does not exist or
   /// is not writable.
   bool open(const std::string& path, std::string* error);
+  /// commit() first makes the file it replaces (if any) `backup`, itself replaced atomically.
+  void keepBackup(const std::string& backup) { backup_ = backup; }
   /// Appends to the temporary file.
   bool write(const void* data, std::size_t size, std::string* error);
   /// Overwrites bytes already written, at `offset` (a header whose fields are known only at the end).
@@ -87,7 +89,7 @@ class AtomicFileWriter {
 
  private:
   void discard();
-  std::string path_, temporary_;
+  std::string path_, temporary_, backup_;
   int fd_ = -1;
   std::size_t written_ = 0;
 };

@@ -8,7 +8,8 @@
 //   loop_publisher      loops, rejected candidates, lio_loop, pairs and array, relocalization, timing
 //   marker_publisher    RViz markers
 //   node_counters, node_diagnostics   the counters and the diagnostic task that reports them
-//   database_services.cpp             the save / load / reset / relocalize services
+//   database_services.cpp             the save / load / reset / relocalize services, the shutdown save
+//   database_paths      where saves may write (the map directory), the file beside a kept map
 //
 // Threads and locks:
 //   - spinner threads run the input callbacks and timers, the services, dynamic_reconfigure and the
@@ -72,6 +73,9 @@ class LoopClosureRos {
   std::string runOnWorker(std::function<void()> task);
   /// Loads a database file into the pipeline (worker, or start() before the worker runs); "" or why not.
   std::string loadFile(const std::string& path);
+  /// The database to `database_save` at shutdown; beside it when it is the map a failed start-up load
+  /// or a ~reset left out of this run's database (keep_reason_).
+  void saveAtShutdown();
   void advertiseSessionServices();
   /// dynamic_reconfigure: checks the live settings and hands them to the worker (applied before its
   /// next keyframe); a refused change is logged and the values in force are reported back.
@@ -81,6 +85,11 @@ class LoopClosureRos {
 
   ros::NodeHandle nh_, pnh_;
   std::string name_;
+  // Set by start() and the worker; read by the destructor after the worker stopped. A file that a
+  // shutdown save must not replace (the map whose start-up load failed), and why; after a ~reset,
+  // database_save's file is not replaced either.
+  std::string kept_file_, keep_reason_;
+  bool reset_ = false;
   // Read in start(); then config_ is the worker's, and options_ is read by callbacks too, so the worker
   // changes only its live members, which callbacks never read (takeReconfigured).
   Config config_;
