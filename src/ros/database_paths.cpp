@@ -8,15 +8,11 @@
 
 #include <sys/stat.h>
 
+#include "scan_context_loop/core/file_io.h"
+
 namespace scan_context_loop {
 
 namespace {
-
-std::string directoryOf(const std::string& path) {
-  const std::size_t slash = path.rfind('/');
-  if (slash == std::string::npos) return ".";
-  return slash == 0 ? "/" : path.substr(0, slash);
-}
 
 std::string nameOf(const std::string& path) {
   const std::size_t slash = path.rfind('/');

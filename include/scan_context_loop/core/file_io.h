@@ -11,6 +11,9 @@
 
 namespace scan_context_loop {
 
+/// The directory part of `path`: "." for a bare name, "/" for a name at the root.
+std::string directoryOf(const std::string& path);
+
 /// Bytes read front to back, from a file (FileReader) or from memory (MemoryReader), so that a parser
 /// reads both the same way.
 class ByteSource {
