@@ -13,6 +13,7 @@
 #include "scan_context_loop/core/byte_stream.h"
 #include "scan_context_loop/core/crc32.h"
 #include "scan_context_loop/core/file_io.h"
+#include "scan_context_loop/core/registration.h"
 
 namespace scan_context_loop {
 
@@ -171,10 +172,6 @@ std::string decodeHeader(ByteReader* in, Header* h) {
   return "";
 }
 
-bool allFinite(const std::pmr::vector<float>& values) {
-  return std::all_of(values.begin(), values.end(), [](float v) { return std::isfinite(v); });
-}
-
 void encodeKeyframe(const Keyframe& k, std::uint32_t session, ByteWriter* out) {
   out->f64(k.info.stamp);
   out->u32(session);
@@ -238,7 +235,7 @@ class PayloadReader {
 const char* const kKeyframeOverrun = "the payload ends inside this keyframe's record: the counts and sizes disagree";
 
 /// Decodes one keyframe record; returns what is wrong with it, or "".
-std::string decodeKeyframe(PayloadReader* payload, int rings, int sectors, Keyframe* k) {
+std::string decodeKeyframe(PayloadReader* payload, int rings, int sectors, RingKeyType ring_key, Keyframe* k) {
   ByteReader in(nullptr, 0);
   std::uint8_t has_pose = 0;
   if (!payload->take(kKeyframeHeadBytes, &in)) return kKeyframeOverrun;
@@ -270,18 +267,8 @@ std::string decodeKeyframe(PayloadReader* payload, int rings, int sectors, Keyfr
   d.column_occupied.assign(columns, columns + sectors);
   in.f32s(d.ring_key.data(), d.ring_key.size());
   in.f32s(d.sector_key.data(), d.sector_key.size());
-  if (!allFinite(d.unit_columns) || !allFinite(d.ring_key) || !allFinite(d.sector_key)) {
-    return "the descriptor holds a value that is not finite";
-  }
-  if (std::any_of(d.column_occupied.begin(), d.column_occupied.end(), [](std::uint8_t v) { return v > 1; })) {
-    return "a column occupancy flag is neither 0 nor 1";
-  }
-  const auto counted = std::count(d.column_occupied.begin(), d.column_occupied.end(), std::uint8_t(1));
-  if (occupied != static_cast<std::uint32_t>(counted)) {
-    return "occupied_columns is " + text(occupied) + " but " + text(counted) + " columns are flagged occupied";
-  }
-  d.occupied_columns = static_cast<int>(occupied);
-  return "";
+  d.occupied_columns = static_cast<int>(std::min<std::uint32_t>(occupied, INT_MAX));
+  return descriptorImplausibility(d, ring_key);
 }
 
 void encodeCloud(const Eigen::Matrix3f& gravity_alignment, const VoxelCloud* cloud, ByteWriter* out) {
@@ -301,6 +288,38 @@ void encodeCloud(const Eigen::Matrix3f& gravity_alignment, const VoxelCloud* clo
   out->bytes(packed.data(), static_cast<std::size_t>(packed_bytes));
 }
 
+/// How far R^T R of a saved gravity alignment rotation may stray from the identity (largest entry): a
+/// rotation rounded to float stays below 1e-6.
+constexpr double kRotationTolerance = 1e-3;
+
+/// The voxel settings a file's registration data were made with (the height extent is makeVoxelCloud's
+/// own, the same in every build that reads this version).
+VoxelOptions voxelOptionsOf(const FileSettings& settings) {
+  VoxelOptions o;
+  o.resolution = static_cast<float>(settings.voxel_leaf);
+  o.max_range = static_cast<float>(settings.voxel_max_range);
+  return o;
+}
+
+/// What makeVoxelCloud with `crop` cannot produce in a voxel, or "": a mean is an average of points inside
+/// the crop (horizontally within max_range, heights in [min_z, max_z)), allowed one voxel edge of slack
+/// for rounding; a normal is a unit vector quantised to 127, so at most 128 long.
+std::string voxelProblem(const Eigen::Vector3f& mean, const std::array<std::int8_t, 4>& normal, const VoxelOptions& crop) {
+  if (!mean.allFinite()) return "its mean is not finite";
+  const double slack = crop.resolution, reach = crop.max_range + slack;
+  const double x = mean.x(), y = mean.y(), z = mean.z();
+  if (x * x + y * y > reach * reach || z < crop.min_z - slack || z > crop.max_z + slack) {
+    return "its mean (" + text(x) + ", " + text(y) + ", " + text(z) + ") lies outside the crop (verify_max_range " +
+           text(crop.max_range) + ", heights " + text(crop.min_z) + " to " + text(crop.max_z) + " m)";
+  }
+  const int length2 = normal[0] * normal[0] + normal[1] * normal[1] + normal[2] * normal[2];
+  if (length2 > 128 * 128) return "its normal is longer than a unit vector";
+  if (normal[3] < VoxelCloud::kPlanar || normal[3] > VoxelCloud::kScatter) {
+    return "voxel shape code " + text(int(normal[3])) + " is not one of 1-4";
+  }
+  return "";
+}
+
 /// Decodes one keyframe's gravity alignment and registration data; returns what is wrong with them, or "".
 std::string decodeCloud(PayloadReader* payload, const FileSettings& settings, Eigen::Matrix3f* gravity_alignment,
                         std::unique_ptr<VoxelCloud>* cloud, std::vector<std::uint8_t>* scratch) {
@@ -317,24 +336,38 @@ std::string decodeCloud(PayloadReader* payload, const FileSettings& settings, Ei
   for (int r = 0; r < 3; ++r) {
     for (int c = 0; c < 3; ++c) (*gravity_alignment)(r, c) = rows[3 * r + c];
   }
+  const Eigen::Matrix3d rotation = gravity_alignment->cast<double>();
+  if ((rotation.transpose() * rotation - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() > kRotationTolerance ||
+      !(rotation.determinant() > 0.0)) {
+    return "the gravity alignment rotation is not a rotation (not orthonormal, or a mirror)";
+  }
   if (has_cloud > 1) return "registration data flag " + text(int(has_cloud)) + " is neither 0 nor 1";
   if (!has_cloud) return "";
   std::uint32_t voxels = 0, packed_bytes = 0;
   if (!payload->take(8, &in)) return overrun;
   in.u32(&voxels);
   in.u32(&packed_bytes);
-  if (!payload->take(packed_bytes, &in)) return overrun;
-  const std::uint8_t* packed = in.take(packed_bytes);
   const std::uint64_t raw_bytes = std::uint64_t(voxels) * kVoxelBytes;
   if (raw_bytes > static_cast<std::uint64_t>(INT_MAX) || packed_bytes > static_cast<std::uint32_t>(INT_MAX)) {
     return "registration data of " + text(voxels) + " voxels is larger than LZ4 handles";
   }
-  // LZ4 expands at most 255-fold: a count that no compressed size could hold is refused before memory
-  // is set aside for it.
+  // Every count is checked before memory is set aside for it. LZ4 expands at most 255-fold, and
+  // compresses n bytes into LZ4_COMPRESSBOUND(n) at most.
   if (raw_bytes > 255 * std::uint64_t(packed_bytes) + 16) {
     return "registration data of " + text(voxels) + " voxels cannot come from " + text(packed_bytes) +
            " compressed bytes";
   }
+  if (packed_bytes > static_cast<std::uint64_t>(LZ4_COMPRESSBOUND(raw_bytes))) {
+    return text(packed_bytes) + " compressed bytes are more than LZ4 makes of " + text(voxels) + " voxels";
+  }
+  const VoxelOptions crop = voxelOptionsOf(settings);
+  if (const std::size_t most = maxVoxels(crop); voxels > most) {
+    return "registration data of " + text(voxels) + " voxels, more than the " + text(most) + " that verify_voxel_leaf " +
+           text(settings.voxel_leaf) + " and verify_max_range " + text(settings.voxel_max_range) +
+           " allow (a voxel a grid cell, a point at least each)";
+  }
+  if (!payload->take(packed_bytes, &in)) return overrun;
+  const std::uint8_t* packed = in.take(packed_bytes);
   scratch->resize(static_cast<std::size_t>(raw_bytes));
   const int unpacked = LZ4_decompress_safe(reinterpret_cast<const char*>(packed), reinterpret_cast<char*>(scratch->data()),
                                            static_cast<int>(packed_bytes), static_cast<int>(raw_bytes));
@@ -352,9 +385,8 @@ std::string decodeCloud(PayloadReader* payload, const FileSettings& settings, Ei
     std::memcpy(out->normals.data(), raw.take(4 * std::size_t(voxels)), 4 * std::size_t(voxels));
   }
   for (std::size_t i = 0; i < out->size(); ++i) {
-    if (!out->means[i].allFinite()) return "a voxel mean is not finite";
-    if (out->normals[i][3] < VoxelCloud::kPlanar || out->normals[i][3] > VoxelCloud::kScatter) {
-      return "voxel shape code " + text(int(out->normals[i][3])) + " is not one of 1-4";
+    if (const std::string problem = voxelProblem(out->means[i], out->normals[i], crop); !problem.empty()) {
+      return "voxel " + text(i) + ": " + problem;
     }
   }
   *cloud = std::move(out);
@@ -492,6 +524,14 @@ bool readDatabase(ByteSource* source, const std::string& name, const Config& con
                 "-byte payload can hold");
   }
 
+  if (header.sessions > header.keyframes || (header.sessions == 0) != (header.keyframes == 0)) {
+    return fail("the header counts " + text(header.sessions) + " sessions for " + text(header.keyframes) +
+                " keyframes");
+  }
+  if (header.settings.clouds && maxVoxels(voxelOptionsOf(header.settings)) == 0) {
+    return fail("the registration data's voxel settings (verify_voxel_leaf, verify_max_range) are not positive");
+  }
+
   // One pass over the payload: records are decoded as they are read and checksummed on the way. A
   // damaged payload may first show as a record that makes no sense; the checksum over the whole payload
   // then says which it is.
@@ -507,7 +547,7 @@ bool readDatabase(ByteSource* source, const std::string& name, const Config& con
   const BlockArena::Handle arena = BlockArena::create(header.keyframes * descriptorMemory(rings, sectors));
   for (std::size_t i = 0; i < header.keyframes; ++i) {
     Keyframe& k = loaded.keyframes.emplace_back(Keyframe{KeyframeInfo(), Descriptor(arena.get()), 0.0, 0});
-    if (const std::string problem = decodeKeyframe(&payload, rings, sectors, &k); !problem.empty()) {
+    if (const std::string problem = decodeKeyframe(&payload, rings, sectors, header.settings.ring_key, &k); !problem.empty()) {
       return checked("keyframe " + text(i) + ": " + problem);
     }
   }

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <sstream>
 
 namespace scan_context_loop {
 
@@ -31,6 +32,13 @@ inline float azimuth(float x, float y) {
   a = x < 0.0f ? kPi - a : a;
   a = y < 0.0f ? kTwoPi - a : a;
   return a;
+}
+
+/// A value for an error message, in %g form.
+std::string number(double v) {
+  std::ostringstream out;
+  out << v;
+  return out.str();
 }
 
 inline float loadFloat(const std::uint8_t* p) {
@@ -185,6 +193,53 @@ Descriptor makeDescriptor(const HeightGrid& grid, const Config& config) {
 
 Descriptor makeDescriptor(const PointView& points, const Config& config, const Eigen::Vector2f& viewpoint) {
   return makeDescriptor(makeHeightGrid(points, config, viewpoint), config);
+}
+
+std::string descriptorImplausibility(const Descriptor& d, RingKeyType ring_key) {
+  const auto finite = [](const std::pmr::vector<float>& v) {
+    return std::all_of(v.begin(), v.end(), [](float x) { return std::isfinite(x); });
+  };
+  if (!finite(d.unit_columns) || !finite(d.ring_key) || !finite(d.sector_key)) {
+    return "the descriptor holds a value that is not finite";
+  }
+  const int rings = d.num_rings;
+  int occupied = 0;
+  for (int s = 0; s < d.num_sectors; ++s) {
+    const std::uint8_t flag = d.column_occupied[s];
+    if (flag > 1) return "column " + std::to_string(s) + "'s occupancy flag is neither 0 nor 1";
+    occupied += flag;
+    const float* column = &d.unit_columns[static_cast<std::size_t>(s) * rings];
+    double length2 = 0.0;
+    for (int r = 0; r < rings; ++r) length2 += static_cast<double>(column[r]) * column[r];
+    const double length = std::sqrt(length2);
+    if (flag == 0 && (length2 != 0.0 || d.sector_key[s] != 0.0f)) {
+      return "column " + std::to_string(s) + " is flagged empty but holds values";
+    }
+    if (flag == 1 && length2 != 0.0 && std::fabs(length - 1.0) > kUnitColumnTolerance) {
+      return "column " + std::to_string(s) + " has length " + number(length) + ", not 1";
+    }
+  }
+  if (occupied != d.occupied_columns) {
+    return "occupied_columns is " + std::to_string(d.occupied_columns) + " but " + std::to_string(occupied) +
+           " columns are flagged occupied";
+  }
+  // A height (z + lidar_height) is at most kMaxPointHeight in magnitude, and so is a mean of heights.
+  const double height_bound = kMaxPointHeight * (1.0 + kUnitColumnTolerance);
+  const auto beyond = [&](const std::pmr::vector<float>& v, double low, double high) {
+    return std::find_if(v.begin(), v.end(), [&](float x) { return !(x >= low && x <= high); }) - v.begin();
+  };
+  if (const auto s = beyond(d.sector_key, -height_bound, height_bound); s < d.num_sectors) {
+    return "sector key " + std::to_string(s) + " is " + number(d.sector_key[s]) +
+           ", beyond any height a point may have";
+  }
+  const bool occupancy = ring_key == RingKeyType::kOccupancy;
+  const double low = occupancy ? -kUnitColumnTolerance : -height_bound;
+  const double high = occupancy ? 1.0 + kUnitColumnTolerance : height_bound;
+  if (const auto r = beyond(d.ring_key, low, high); r < rings) {
+    return "ring key " + std::to_string(r) + " is " + number(d.ring_key[r]) +
+           (occupancy ? ", not an occupied fraction in [0, 1]" : ", beyond any height a point may have");
+  }
+  return "";
 }
 
 std::size_t Descriptor::bytes() const {

@@ -42,6 +42,16 @@ bool linkBackup(const std::string& path, const std::string& backup, std::string*
   return true;
 }
 
+/// Why a file of `mode` is not read (" is a directory", ...), or nullptr for a regular file.
+const char* notRegular(mode_t mode) {
+  if (S_ISREG(mode)) return nullptr;
+  if (S_ISDIR(mode)) return " is a directory";
+  if (S_ISFIFO(mode)) return " is a named pipe (FIFO), not a regular file";
+  if (S_ISSOCK(mode)) return " is a socket, not a regular file";
+  if (S_ISCHR(mode) || S_ISBLK(mode)) return " is a device, not a regular file";
+  return " is not a regular file";
+}
+
 }  // namespace
 
 FileReader::~FileReader() {
@@ -50,16 +60,26 @@ FileReader::~FileReader() {
 
 bool FileReader::open(const std::string& path, std::string* error) {
   if (fd_ >= 0) ::close(fd_);
+  fd_ = -1;
   path_ = path;
   begin_ = end_ = 0;
-  fd_ = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
-  if (fd_ < 0) return fail(error, "cannot open " + path);
+  // The type is checked before opening (opening a FIFO waits for a writer, a device may act on open),
+  // and again on what was opened, without blocking, in case the path changed in between.
   struct stat st;
-  if (::fstat(fd_, &st) != 0) return fail(error, "cannot stat " + path);
-  if (!S_ISREG(st.st_mode)) {
-    if (error) *error = path + (S_ISDIR(st.st_mode) ? " is a directory" : " is not a regular file");
+  if (::stat(path.c_str(), &st) != 0) return fail(error, "cannot open " + path);
+  if (const char* what = notRegular(st.st_mode)) {
+    if (error) *error = path + what;
     return false;
   }
+  fd_ = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK);
+  if (fd_ < 0) return fail(error, "cannot open " + path);
+  if (::fstat(fd_, &st) != 0) return fail(error, "cannot stat " + path);
+  if (const char* what = notRegular(st.st_mode)) {
+    if (error) *error = path + what;
+    return false;
+  }
+  // A regular file, which never blocks: reads need not see O_NONBLOCK.
+  ::fcntl(fd_, F_SETFL, ::fcntl(fd_, F_GETFL) & ~O_NONBLOCK);
   size_ = static_cast<std::uint64_t>(st.st_size);
   return true;
 }

@@ -19,10 +19,6 @@ struct Accumulator {
   Eigen::Vector3f corner = Eigen::Vector3f::Zero();
 };
 
-/// Points a voxel cloud is made from at most: dense scans hold far more points near the sensor than a
-/// metre-sized voxel needs for its mean and normal, so larger clouds are read with a stride.
-constexpr std::size_t kMaxPoints = 60000;
-
 /// Per-thread scratch: a dense grid of accumulator indices stamped with a generation.
 struct Scratch {
   std::vector<std::uint32_t> stamp;
@@ -30,6 +26,15 @@ struct Scratch {
   std::vector<Accumulator> acc;
   std::uint32_t generation = 0;
 };
+
+/// The grid's cells across (x and y) and up (z), as floats: makeVoxelCloud sizes its grid with them and
+/// maxVoxels bounds a cloud by them, so both count alike.
+float cellsAcross(const VoxelOptions& options) {
+  return std::ceil(2.0f * options.max_range * (1.0f / options.resolution)) + 1.0f;
+}
+float cellsUp(const VoxelOptions& options) {
+  return std::ceil((options.max_z - options.min_z) * (1.0f / options.resolution)) + 1.0f;
+}
 
 std::int8_t quantise(float v) { return static_cast<std::int8_t>(std::lround(std::clamp(v, -1.0f, 1.0f) * 127.0f)); }
 
@@ -51,8 +56,8 @@ VoxelCloud makeVoxelCloud(const PointView& points, const VoxelOptions& options, 
   out.max_range = options.max_range;
   if (points.data == nullptr || points.count == 0 || !(options.resolution > 0.0f)) return out;
   const float inv = 1.0f / options.resolution;
-  const int nxy = static_cast<int>(std::ceil(2.0f * options.max_range * inv)) + 1;
-  const int nz = static_cast<int>(std::ceil((options.max_z - options.min_z) * inv)) + 1;
+  const int nxy = static_cast<int>(cellsAcross(options));
+  const int nz = static_cast<int>(cellsUp(options));
   const std::size_t cells = static_cast<std::size_t>(nxy) * nxy * nz;
   thread_local Scratch s;
   if (s.stamp.size() != cells) {
@@ -67,7 +72,7 @@ VoxelCloud makeVoxelCloud(const PointView& points, const VoxelOptions& options, 
   s.acc.clear();
   const float r2 = options.max_range * options.max_range;
   const bool rotate = !rotation.isIdentity();
-  const std::size_t stride = std::max<std::size_t>(1, (points.count + kMaxPoints - 1) / kMaxPoints);
+  const std::size_t stride = std::max<std::size_t>(1, (points.count + kVoxelCloudMaxPoints - 1) / kVoxelCloudMaxPoints);
   for (std::size_t i = 0; i < points.count; i += stride) {
     const std::uint8_t* p = points.data + i * points.stride;
     Eigen::Vector3f v;
@@ -135,6 +140,13 @@ VoxelCloud makeVoxelCloud(const PointView& points, const VoxelOptions& options, 
                            quantise(static_cast<float>(n.z())), static_cast<std::int8_t>(shape)});
   }
   return out;
+}
+
+std::size_t maxVoxels(const VoxelOptions& options) {
+  if (!(options.resolution > 0.0f) || !(options.max_range > 0.0f)) return 0;
+  const double across = cellsAcross(options), up = cellsUp(options);
+  // In double: a tiny resolution makes the product overflow what an integer holds.
+  return static_cast<std::size_t>(std::min(across * across * up, static_cast<double>(kVoxelCloudMaxPoints)));
 }
 
 void VoxelIndex::build(const VoxelCloud& cloud) {

@@ -4,18 +4,29 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
+#include <csignal>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <future>
 #include <limits>
 #include <memory>
 #include <memory_resource>
+#include <new>
+
+#include <fcntl.h>
+#include <sys/resource.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include "scan_context_loop/core/crc32.h"
 #include "scan_context_loop/core/database_file.h"
 #include "scan_context_loop/core/pcl_adapters.h"
+#include "scan_context_loop/core/registration.h"
 #include "test_scenes.h"
 
 namespace scan_context_loop {
@@ -24,8 +35,13 @@ namespace {
 namespace fs = std::filesystem;
 
 // Byte offsets of header fields (doc/database_file.md).
-constexpr std::size_t kVersionAt = 5, kSectorsAt = 17, kKeyframesAt = 63, kSessionsAt = 71, kPayloadCrcAt = 83,
-                      kHeaderCrcAt = 87, kHeaderBytes = 91;
+constexpr std::size_t kVersionAt = 5, kSectorsAt = 17, kKeyframesAt = 63, kSessionsAt = 71, kPayloadSizeAt = 75,
+                      kPayloadCrcAt = 83, kHeaderCrcAt = 87, kHeaderBytes = 91;
+// The verified drive's files: four keyframe records with poses (29 + 96 bytes and the 20 x 60
+// descriptor's 5,184), then the registration data; in the first keyframe's, its gravity alignment (9 f32),
+// the flag, the voxel count, the compressed size, the LZ4 data.
+constexpr std::size_t kRecordBytes = 29 + 96 + 5184, kDescriptorAt = kHeaderBytes + 29 + 96,
+                      kCloudsAt = kHeaderBytes + 4 * kRecordBytes, kCloudFlagAt = kCloudsAt + 36;
 
 /// A fresh directory, removed with everything in it at the end of the test.
 class TempDir {
@@ -66,8 +82,49 @@ void put(std::vector<std::uint8_t>* bytes, std::size_t at, T value) {
 
 /// Makes both checksums right again after an edit, so that only the edit itself can be refused.
 void rewriteChecksums(std::vector<std::uint8_t>* bytes) {
+  put(bytes, kPayloadSizeAt, std::uint64_t(bytes->size() - kHeaderBytes));
   put(bytes, kPayloadCrcAt, crc32(bytes->data() + kHeaderBytes, bytes->size() - kHeaderBytes));
   put(bytes, kHeaderCrcAt, crc32(bytes->data(), kHeaderCrcAt));
+}
+
+/// `raw` as an LZ4 block of literals only (a valid block that LZ4 decompresses back to `raw`).
+std::vector<std::uint8_t> lz4Literals(const std::vector<std::uint8_t>& raw) {
+  std::vector<std::uint8_t> block{static_cast<std::uint8_t>(std::min<std::size_t>(raw.size(), 15) << 4)};
+  if (raw.size() >= 15) {
+    std::size_t rest = raw.size() - 15;
+    for (; rest >= 255; rest -= 255) block.push_back(255);
+    block.push_back(static_cast<std::uint8_t>(rest));
+  }
+  block.insert(block.end(), raw.begin(), raw.end());
+  return block;
+}
+
+/// A file's first registration data record (after its gravity alignment and flag) replaced by a voxel
+/// count and compressed bytes, the sizes and checksums made right.
+std::vector<std::uint8_t> withFirstCloud(const std::vector<std::uint8_t>& file, std::uint32_t voxels,
+                                         const std::vector<std::uint8_t>& packed) {
+  std::uint32_t old_packed = 0;
+  for (int i = 3; i >= 0; --i) old_packed = old_packed << 8 | file[kCloudFlagAt + 5 + i];
+  const std::size_t head = kCloudFlagAt + 9, tail = file.size() - head - old_packed;
+  std::vector<std::uint8_t> bytes(head + packed.size() + tail);
+  std::memcpy(bytes.data(), file.data(), head);
+  std::memcpy(bytes.data() + head, packed.data(), packed.size());
+  std::memcpy(bytes.data() + head + packed.size(), file.data() + head + old_packed, tail);
+  put(&bytes, kCloudFlagAt + 1, voxels);
+  put(&bytes, kCloudFlagAt + 5, static_cast<std::uint32_t>(packed.size()));
+  rewriteChecksums(&bytes);
+  return bytes;
+}
+
+/// The registration data of `means.size()` voxels: the means, then each normal (up, planar).
+std::vector<std::uint8_t> voxelBytes(const std::vector<Eigen::Vector3f>& means) {
+  std::vector<std::uint8_t> raw(means.size() * 16);
+  for (std::size_t i = 0; i < means.size(); ++i) {
+    for (int c = 0; c < 3; ++c) put(&raw, 12 * i + 4 * c, means[i][c]);
+    const std::uint8_t normal[4] = {0, 0, 127, VoxelCloud::kPlanar};
+    std::memcpy(&raw[12 * means.size() + 4 * i], normal, 4);
+  }
+  return raw;
 }
 
 KeyframeInfo at(double stamp, double x, std::int64_t tag = -1) {
@@ -513,6 +570,150 @@ TEST_F(DamagedFile, BadRegistrationData) {
   put(&fewer, flag + 1, voxels - 1);
   rewriteChecksums(&fewer);
   expectRefused(fewer, {"keyframe 0", "do not decompress to " + std::to_string(voxels - 1) + " voxels"});
+}
+
+TEST_F(DamagedFile, ANamedPipeIsRefusedWithoutBlocking) {
+  const std::string pipe = dir_.file("pipe.scl");
+  ASSERT_EQ(::mkfifo(pipe.c_str(), 0600), 0);
+  LoopDetector detector(verifiedConfig());
+  // Loaded on another thread, so that a load blocking on the pipe fails the test instead of hanging it.
+  auto loaded = std::async(std::launch::async, [&] {
+    std::string error;
+    const bool ok = loadDatabase(pipe, &detector, &error);
+    return std::make_pair(ok, error);
+  });
+  if (loaded.wait_for(std::chrono::seconds(1)) != std::future_status::ready) {
+    ADD_FAILURE() << "loading a FIFO blocked";
+    ::close(::open(pipe.c_str(), O_WRONLY | O_NONBLOCK));  // a writer comes and goes: the open returns
+  }
+  const auto [ok, error] = loaded.get();
+  EXPECT_FALSE(ok);
+  EXPECT_NE(error.find("pipe.scl is a named pipe (FIFO)"), std::string::npos) << error;
+  EXPECT_EQ(detector.database().size(), 0u);
+}
+
+TEST_F(DamagedFile, DescriptorValuesNoDescriptorCanHold) {
+  // Keyframe 1's first unit column all 1000s: its distance to any query would be hugely negative.
+  std::vector<std::uint8_t> column = plain_;
+  for (int r = 0; r < 20; ++r) put(&column, kDescriptorAt + kRecordBytes + 4 + 4 * r, 1000.0f);
+  rewriteChecksums(&column);
+  expectRefused(column, {"keyframe 1", "column 0"});
+  // A column flagged empty (its flag 0 and occupied_columns one less) that holds values.
+  std::vector<std::uint8_t> empty = plain_;
+  const std::size_t flags = kDescriptorAt + 4 + 4 * 20 * 60;
+  ASSERT_EQ(plain_[flags + 5], 1) << "keyframe 0's column 5 is occupied";
+  empty[flags + 5] = 0;
+  std::uint32_t occupied = 0;
+  for (int i = 3; i >= 0; --i) occupied = occupied << 8 | plain_[kDescriptorAt + i];
+  put(&empty, kDescriptorAt, occupied - 1);
+  rewriteChecksums(&empty);
+  expectRefused(empty, {"keyframe 0", "column 5 is flagged empty but holds values"});
+  // A ring key no height reaches (mean-height ring keys: at most kMaxPointHeight).
+  std::vector<std::uint8_t> ring = plain_;
+  put(&ring, flags + 60 + 4 * 3, 1e9f);
+  rewriteChecksums(&ring);
+  expectRefused(ring, {"keyframe 0", "ring key 3 is 1e+09"});
+  std::vector<std::uint8_t> sector = plain_;
+  put(&sector, flags + 60 + 4 * 20 + 4 * 7, -1e6f);
+  rewriteChecksums(&sector);
+  expectRefused(sector, {"keyframe 0", "sector key 7 is -1e+06"});
+}
+
+TEST_F(DamagedFile, VoxelsOutsideTheCropOrBeyondTheGrid) {
+  // A cloud of plausible voxels loads (the records below differ from it in one value only).
+  std::vector<Eigen::Vector3f> means = {{1, 2, 0.5f}, {-30, 20, 3}, {0, -39.5f, -7.5f}, {5, 5, 23}};
+  auto detector = running();
+  std::string error;
+  writeBytes(dir_.file("synthetic.scl"), withFirstCloud(good_, 4, lz4Literals(voxelBytes(means))));
+  ASSERT_TRUE(loadDatabase(dir_.file("synthetic.scl"), detector.get(), &error)) << error;
+  EXPECT_EQ(detector->cloudStore().get(3)->size(), 4u);
+
+  means[2].x() = 1e30f;  // registration's float-to-int cell index would overflow
+  expectRefused(withFirstCloud(good_, 4, lz4Literals(voxelBytes(means))),
+                {"keyframe 0", "voxel 2", "outside the crop", "verify_max_range 40"});
+  means[2] = Eigen::Vector3f(0, 0, 100);
+  expectRefused(withFirstCloud(good_, 4, lz4Literals(voxelBytes(means))), {"keyframe 0", "voxel 2", "outside the crop"});
+  means[2] = Eigen::Vector3f(0, -39.5f, -7.5f);
+  std::vector<std::uint8_t> raw = voxelBytes(means);
+  raw[12 * 4 + 4 * 1] = 127;  // voxel 1's normal (127, 0, 127): longer than a unit vector
+  expectRefused(withFirstCloud(good_, 4, lz4Literals(raw)), {"keyframe 0", "voxel 1", "normal is longer"});
+
+  std::vector<std::uint8_t> scaled = good_;
+  put(&scaled, kCloudsAt, 2.0f);  // the gravity alignment's first entry: no longer a rotation
+  rewriteChecksums(&scaled);
+  expectRefused(scaled, {"keyframe 0", "gravity alignment rotation is not a rotation"});
+
+  // At 1 m voxels and 40 m range the grid has 81 x 81 x 33 cells; more voxels than the points read
+  // (kVoxelCloudMaxPoints) no cloud holds.
+  EXPECT_EQ(maxVoxels(VoxelOptions()), kVoxelCloudMaxPoints);
+  VoxelOptions coarse;
+  coarse.resolution = 4.0f;
+  EXPECT_EQ(maxVoxels(coarse), std::size_t(21 * 21 * 9));
+  const std::vector<std::uint8_t> zeros((kVoxelCloudMaxPoints + 1) * 16 / 255 + 1, 0);
+  expectRefused(withFirstCloud(good_, kVoxelCloudMaxPoints + 1, zeros),
+                {"keyframe 0", std::to_string(kVoxelCloudMaxPoints + 1) + " voxels, more than the 60000"});
+}
+
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+constexpr bool kSanitized = true;
+#else
+constexpr bool kSanitized = false;
+#endif
+
+/// Reads `path` in a child process whose address space may grow by `headroom` bytes at most: 0 when
+/// the file was refused, 1 when it loaded, 2 when memory ran out, 3 when the child did not finish.
+int readWithHeadroom(const std::string& path, std::size_t headroom) {
+  const pid_t child = ::fork();
+  if (child == 0) {
+    long pages = 0;
+    std::ifstream("/proc/self/statm") >> pages;
+    const rlim_t limit = static_cast<rlim_t>(pages) * static_cast<rlim_t>(::sysconf(_SC_PAGESIZE)) + headroom;
+    const rlimit address_space{limit, limit};
+    ::setrlimit(RLIMIT_AS, &address_space);
+    try {
+      PriorSessions sessions;
+      std::string error;
+      ::_exit(readDatabaseFile(path, verifiedConfig(), &sessions, &error) ? 1 : 0);
+    } catch (const std::bad_alloc&) {
+      ::_exit(2);
+    }
+  }
+  for (int waited = 0; waited < 600; ++waited) {
+    int status = 0;
+    if (::waitpid(child, &status, WNOHANG) == child) return WIFEXITED(status) ? WEXITSTATUS(status) : 2;
+    ::usleep(50 * 1000);
+  }
+  ::kill(child, SIGKILL);
+  ::waitpid(child, nullptr, 0);
+  return 3;
+}
+
+TEST_F(DamagedFile, AHugeCountInASmallFileIsRefusedWithinBoundedMemory) {
+  if (kSanitized) GTEST_SKIP() << "a sanitizer reserves far more address space than any limit here allows";
+  // Under 1 MB: 800,000 compressed bytes could hold 12.75 million voxels (204 MB) by LZ4's 255-fold
+  // bound alone, far more than any grid of the header's voxel settings holds.
+  const std::uint32_t voxels = 800000u * 255u / 16u;
+  const std::vector<std::uint8_t> huge = withFirstCloud(good_, voxels, std::vector<std::uint8_t>(800000, 0));
+  ASSERT_LT(huge.size(), std::size_t(1) << 20);
+  writeBytes(dir_.file("huge.scl"), huge);
+  EXPECT_EQ(readWithHeadroom(dir_.file("huge.scl"), std::size_t(128) << 20), 0)
+      << "refused (0), not loaded (1), out of memory (2) or hanging (3) within 128 MB more";
+  expectRefused(huge, {"keyframe 0", std::to_string(voxels) + " voxels, more than the 60000"});
+  std::vector<std::uint8_t> keyframes = good_;
+  put(&keyframes, kKeyframesAt, std::uint64_t(1) << 40);
+  put(&keyframes, kSessionsAt, std::uint32_t(1));
+  rewriteChecksums(&keyframes);
+  writeBytes(dir_.file("keyframes.scl"), keyframes);
+  EXPECT_EQ(readWithHeadroom(dir_.file("keyframes.scl"), std::size_t(128) << 20), 0);
+  // The good file itself loads within the same limit: the limit leaves room for a real load.
+  EXPECT_EQ(readWithHeadroom(dir_.file("good.scl"), std::size_t(128) << 20), 1);
+}
+
+TEST_F(DamagedFile, MoreSessionsThanKeyframes) {
+  std::vector<std::uint8_t> sessions = plain_;
+  put(&sessions, kSessionsAt, std::uint32_t(4000000000u));
+  rewriteChecksums(&sessions);
+  expectRefused(sessions, {"4000000000 sessions for 4 keyframes"});
 }
 
 TEST(DatabaseFileSave, AMissingDirectoryFailsAndLeavesNothingBehind) {

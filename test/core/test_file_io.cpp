@@ -2,10 +2,17 @@
 // leaves nothing behind unless committed.
 #include <gtest/gtest.h>
 
+#include <chrono>
+#include <cstdio>
 #include <cstdlib>
+#include <future>
 #include <filesystem>
 #include <fstream>
 
+#include <fcntl.h>
+#include <sys/socket.h>
+#include <sys/stat.h>
+#include <sys/un.h>
 #include <unistd.h>
 
 #include "scan_context_loop/core/file_io.h"
@@ -42,6 +49,40 @@ TEST(FileReader, PiecesOfAnySizeAcrossRefillsHoldTheFileInOrder) {
   EXPECT_EQ(reader.take(1), nullptr) << "the file has ended";
   EXPECT_TRUE(reader.readError().empty());
   fs::remove(path);
+}
+
+TEST(FileReader, RefusesFifosSocketsDevicesAndDirectoriesWithoutBlocking) {
+  const fs::path dir = fs::temp_directory_path() / ("scl_file_types_" + std::to_string(::getpid()));
+  fs::create_directory(dir);
+  const std::string fifo = (dir / "fifo").string(), socket_path = (dir / "socket").string();
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  const int sock = ::socket(AF_UNIX, SOCK_STREAM, 0);
+  sockaddr_un address{};
+  address.sun_family = AF_UNIX;
+  std::snprintf(address.sun_path, sizeof(address.sun_path), "%s", socket_path.c_str());
+  ASSERT_EQ(::bind(sock, reinterpret_cast<const sockaddr*>(&address), sizeof(address)), 0);
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {fifo, "named pipe (FIFO)"}, {socket_path, "socket"}, {"/dev/null", "device"}, {dir.string(), "directory"}};
+  for (const auto& [path, word] : cases) {
+    SCOPED_TRACE(path);
+    // Opened on another thread, so that a reader blocking on the FIFO fails the test instead of hanging it.
+    auto opened = std::async(std::launch::async, [path = path] {
+      FileReader reader;
+      std::string error;
+      const bool ok = reader.open(path, &error);
+      return std::make_pair(ok, error);
+    });
+    if (opened.wait_for(std::chrono::seconds(2)) != std::future_status::ready) {
+      ADD_FAILURE() << "opening blocked";
+      ::close(::open(path.c_str(), O_WRONLY | O_NONBLOCK));  // a writer comes and goes: the open returns
+    }
+    const auto [ok, error] = opened.get();
+    EXPECT_FALSE(ok);
+    EXPECT_NE(error.find(path), std::string::npos) << error;
+    EXPECT_NE(error.find(word), std::string::npos) << error;
+  }
+  ::close(sock);
+  fs::remove_all(dir);
 }
 
 TEST(AtomicFileWriter, WithoutCommitNothingIsLeftAndTheTargetIsUntouched) {

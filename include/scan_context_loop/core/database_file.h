@@ -36,8 +36,10 @@ bool saveDatabase(const LoopDetector& detector, const std::string& path, const S
 
 /// Reads and checks the file at `path` against `config` without changing anything: magic, version,
 /// header and payload checksums, size (truncation), the descriptor settings (and, with registration
-/// data, the verification voxel settings) against `config`'s, counts and sizes, finite values. Fills
-/// *sessions, or returns false with `error` naming the path and the problem.
+/// data, the verification voxel settings) against `config`'s, counts and sizes (each bounded before
+/// memory is set aside for it), values finite and such as a scan makes. A path that is not a regular
+/// file (a FIFO, a socket, a device, a directory) is refused without blocking. Fills *sessions, or
+/// returns false with `error` naming the path and the problem.
 bool readDatabaseFile(const std::string& path, const Config& config, PriorSessions* sessions, std::string* error);
 
 /// readDatabaseFile's parser and checks over any ByteSource (a file's bytes in memory: MemoryReader);

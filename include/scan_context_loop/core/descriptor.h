@@ -5,6 +5,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <memory_resource>
+#include <string>
 #include <vector>
 
 #include <Eigen/Core>
@@ -81,6 +82,17 @@ Descriptor makeDescriptor(const HeightGrid& grid, const Config& config);
 
 Descriptor makeDescriptor(const PointView& points, const Config& config,
                           const Eigen::Vector2f& viewpoint = Eigen::Vector2f::Zero());
+
+/// How far a unit column's length may be off 1 (float rounding leaves about 1e-6).
+constexpr double kUnitColumnTolerance = 1e-3;
+
+/// What in `d` (whose arrays have its grid's sizes) makeDescriptor cannot produce with `ring_key`, or ""
+/// when nothing: a value that is not finite; an occupied column whose length is neither 1 (within
+/// kUnitColumnTolerance) nor 0 (heights all exactly 0); an empty column with a value or a sector key that
+/// is not 0; occupied_columns other than the occupied flags' count; a sector key or mean-height ring key
+/// beyond kMaxPointHeight, an occupancy ring key outside [0, 1] (each with kUnitColumnTolerance of slack
+/// for rounding). A file's descriptors are checked with it, so that none can match every query.
+std::string descriptorImplausibility(const Descriptor& d, RingKeyType ring_key);
 
 
 }  // namespace scan_context_loop

@@ -51,8 +51,9 @@ class FileReader : public ByteSource {
   FileReader(const FileReader&) = delete;
   FileReader& operator=(const FileReader&) = delete;
 
-  /// False, with the reason in *error (a missing file, a directory, no permission), when `path` cannot
-  /// be read.
+  /// False, with the reason in *error (a missing file, no permission, a directory, a FIFO, a socket, a
+  /// device), when `path` is not a regular file that can be read. Never blocks: a FIFO is refused
+  /// without waiting for a writer.
   bool open(const std::string& path, std::string* error);
   /// The file's size when it was opened.
   std::uint64_t size() const override { return size_; }

@@ -72,6 +72,15 @@ struct VoxelOptions {
   int min_points = 3;        ///< voxels with fewer points are dropped (no plane)
 };
 
+/// Points a voxel cloud is made from at most: dense scans hold far more points near the sensor than a
+/// metre-sized voxel needs for its mean and normal, so larger clouds are read with a stride.
+constexpr std::size_t kVoxelCloudMaxPoints = 60000;
+
+/// The most voxels makeVoxelCloud can make with `options`: no more than the cells of its grid over the
+/// crop (one voxel a cell), nor than the points it reads (a voxel holds at least one). 0 for a
+/// resolution or range that is not positive.
+std::size_t maxVoxels(const VoxelOptions& options);
+
 /// Accumulates the finite points within the crop, after rotating them by `rotation` (a gravity alignment
 /// rotation; identity for none), into voxels. Reuses an internal scratch grid per thread.
 VoxelCloud makeVoxelCloud(const PointView& points, const VoxelOptions& options,
