@@ -2,6 +2,7 @@
 #include "scan_context_loop/core/keyframes.h"
 
 #include <cmath>
+#include <sstream>
 
 #include <pcl/filters/voxel_grid.h>
 
@@ -46,7 +47,10 @@ KeyframePipeline::~KeyframePipeline() = default;
 
 void KeyframePipeline::forgetOdometry() {
   // Another run of odometry: nothing of the last one carries over to keyframe selection or scans.
-  has_last_ = has_previous_ = false;
+  has_last_ = has_previous_ = has_seen_ = false;
+  seen_pose_.reset();
+  jump_direction_ = 0;
+  jump_count_ = 0;
   recent_.clear();
   path_ = 0.0;
 }
@@ -75,11 +79,63 @@ void KeyframePipeline::startSession() {
   forgetOdometry();
 }
 
-bool KeyframePipeline::jumpedBack(const KeyframeInfo& info) const {
+namespace {
+
+/// Keyframes in a row whose stamps jump the same way that make the jump believed: one or two are a
+/// glitch (a corrupt header, a clock sync stepping), three in order are a clock of their own (a bag
+/// played again, a restarted odometry, clouds back after an outage). Each one refused before is lost,
+/// so the count stays small.
+constexpr std::size_t kStampJumpEvidence = 3;
+
+/// A pose this far [m] from the last cloud's, with a stamp jumped back, is another odometry run: one run
+/// moves a few metres between clouds at most (3 m at 108 km/h and 10 Hz).
+constexpr double kOdometryRestartJump = 10.0;
+
+}  // namespace
+
+KeyframePipeline::StampStep KeyframePipeline::checkStamp(const KeyframeInfo& info, std::string* why) {
   const Database& database = detector_.database();
-  const double jump = config().new_session_jump;
-  if (!(jump > 0.0) || database.size() == database.sessionStart() || !std::isfinite(info.stamp)) return false;
-  return info.stamp <= database.keyframe(database.size() - 1).info.stamp - jump;
+  const Config& c = config();
+  int direction = 0;
+  double last = 0.0;
+  if (database.size() > database.sessionStart() && std::isfinite(info.stamp)) {
+    last = database.keyframe(database.size() - 1).info.stamp;
+    if (c.new_session_jump > 0.0 && info.stamp <= last - c.new_session_jump) {
+      direction = -1;
+    } else if (c.max_stamp_step > 0.0 && has_seen_ && info.stamp > seen_stamp_ + c.max_stamp_step) {
+      direction = 1;
+      last = seen_stamp_;
+    }
+  }
+  const bool restarted = direction < 0 && info.pose && seen_pose_ &&
+                         (info.pose->translation() - seen_pose_->translation()).norm() >= kOdometryRestartJump;
+  if (direction == 0 || restarted) {
+    jump_direction_ = 0;
+    jump_count_ = 0;
+    return restarted ? StampStep::kNewSession : StampStep::kGoesOn;
+  }
+  if (direction == jump_direction_ && info.stamp >= jump_stamp_) {
+    ++jump_count_;
+  } else {
+    jump_direction_ = direction;
+    jump_count_ = 1;
+  }
+  jump_stamp_ = info.stamp;
+  if (jump_count_ >= kStampJumpEvidence) {
+    jump_direction_ = 0;
+    jump_count_ = 0;
+    return direction < 0 ? StampStep::kNewSession : StampStep::kGoesOn;
+  }
+  std::ostringstream text;
+  text.precision(17);
+  text << "keyframe stamp " << info.stamp << " is " << std::fabs(info.stamp - last) << " s "
+       << (direction < 0 ? "earlier than the previous keyframe's" : "later than the previous cloud's") << " "
+       << last << ": refused as " << (direction < 0 ? "out of order" : "a stamp far ahead (max_stamp_step)")
+       << " unless " << kStampJumpEvidence << " keyframes in a row show the same jump"
+       << (direction < 0 ? " or the odometry jumps too (a bag played again, a restarted odometry: a new session)"
+                         : " (clouds back after an outage)");
+  if (why) *why = text.str();
+  return StampStep::kRefused;
 }
 
 void KeyframePipeline::remember(const PointView& cloud, const KeyframeInfo& info) {
@@ -111,8 +167,20 @@ Detection KeyframePipeline::process(const PointView& cloud, const KeyframeInfo& 
                         : "accumulating scans into keyframes (accumulate_seconds / accumulate_distance) needs poses";
     return refused;
   }
-  const bool new_session = jumpedBack(info);
+  std::string why;
+  const StampStep step = checkStamp(info, &why);
+  if (step == StampStep::kRefused) {
+    Detection refused;
+    refused.error = why;
+    return refused;
+  }
+  const bool new_session = step == StampStep::kNewSession;
   if (new_session) startSession();
+  if (std::isfinite(info.stamp)) {
+    has_seen_ = true;
+    seen_stamp_ = info.stamp;
+    seen_pose_ = info.pose;
+  }
   if (accumulate) remember(cloud, info);
   if (!new_session && !selected(info)) {
     Detection skipped;

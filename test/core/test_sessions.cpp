@@ -1,4 +1,6 @@
-// Sessions: time going backwards starts a new session; earlier sessions stay and are always candidates.
+// Sessions: time going backwards starts a new session, on evidence only (several keyframes in a row, or
+// an odometry jump), so a single bad stamp never splits one; earlier sessions stay and are always
+// candidates.
 #include <gtest/gtest.h>
 
 #include "scan_context_loop/core/keyframes.h"
@@ -56,6 +58,95 @@ TEST(Sessions, AJumpBackInTimeStartsASessionWhoseKeyframesFindTheEarlierOnes) {
   EXPECT_TRUE(next.accepted) << next.error;
   EXPECT_FALSE(next.new_session);
   EXPECT_EQ(next.query.eligible, 5u) << "the new session's own keyframe is still recent";
+}
+
+TEST(Sessions, ASingleStampBackIsRefusedAndTheSessionKeepsItsWindowsAndGate) {
+  KeyframePipeline pipeline(descriptorOnly());
+  firstSession(&pipeline, 5);
+  // Stamped 5 s back, the odometry where it was: a bad stamp, not another run. Twice, with a normal
+  // keyframe between: glitches apart do not add up to a new session.
+  for (int glitch = 0; glitch < 2; ++glitch) {
+    const double stamp = 104.0 + 2.0 * glitch;
+    const KeyframeInfo back = at(stamp - 5.0, 40.0 + 10.0 * glitch);  // at the last keyframe's pose
+    const Detection d = pipeline.process(viewOf(test::streetScene(20 + glitch)), back);
+    EXPECT_FALSE(d.accepted);
+    EXPECT_FALSE(d.new_session);
+    EXPECT_NE(d.error.find("out of order"), std::string::npos) << d.error;
+    EXPECT_EQ(pipeline.detector().database().session(), 0u);
+    const KeyframeInfo on = at(stamp + 1.0, 50.0 + 10.0 * glitch);
+    const Detection next = pipeline.process(viewOf(test::streetScene(30 + glitch)), on);
+    ASSERT_TRUE(next.accepted) << next.error;
+    EXPECT_FALSE(next.new_session);
+  }
+  EXPECT_EQ(pipeline.detector().database().size(), 7u);
+  EXPECT_EQ(pipeline.detector().database().session(), 0u);
+  // The place of keyframe 2 again: within the session the recent-keyframe window (50) hides it.
+  const auto again = test::rotateTranslate(test::streetScene(102), 3.0 * M_PI / 180.0);
+  const Detection d = pipeline.process(viewOf(again), at(108.0, 80.0));
+  ASSERT_TRUE(d.accepted) << d.error;
+  EXPECT_EQ(d.query.eligible, 0u);
+  EXPECT_TRUE(d.loops.empty());
+
+  // And the odometry gate: without the window, keyframe 2 (60 m away by odometry) is gated out.
+  Config c = descriptorOnly();
+  c.exclude_recent_frames = 0;
+  KeyframePipeline gated(c);
+  firstSession(&gated, 5);
+  EXPECT_FALSE(gated.process(viewOf(test::streetScene(20)), at(99.0, 40.0)).accepted);
+  const Detection g = gated.process(viewOf(again), at(105.0, 80.0));
+  ASSERT_TRUE(g.accepted) << g.error;
+  EXPECT_EQ(g.query.eligible, 5u);
+  EXPECT_TRUE(g.loops.empty()) << "matched " << g.loops.front().match;
+}
+
+TEST(Sessions, ABagPlayedAgainFromWhereItEndedStartsASessionAtTheThirdKeyframe) {
+  KeyframePipeline pipeline(descriptorOnly());
+  firstSession(&pipeline, 5);
+  // The drive ended where it began (keyframe 4 at x = 40): replayed, its stamps start again from 0 but
+  // the odometry does not jump. Three keyframes in a row, in order, make a new session.
+  for (int k = 0; k < 2; ++k) {
+    const Detection d = pipeline.process(viewOf(test::streetScene(100 + k)), at(0.5 + k, 40.0 + k));
+    EXPECT_FALSE(d.accepted);
+    EXPECT_NE(d.error.find("out of order"), std::string::npos) << d.error;
+  }
+  EXPECT_EQ(pipeline.detector().database().session(), 0u);
+  const auto again = test::rotateTranslate(test::streetScene(102), 3.0 * M_PI / 180.0);
+  const Detection d = pipeline.process(viewOf(again), at(2.5, 42.0));
+  ASSERT_TRUE(d.accepted) << d.error;
+  EXPECT_TRUE(d.new_session);
+  EXPECT_EQ(pipeline.detector().database().session(), 1u);
+  EXPECT_EQ(pipeline.detector().database().sessionStart(), 5u);
+  EXPECT_EQ(d.query.eligible, 5u);
+  ASSERT_EQ(d.loops.size(), 1u);
+  EXPECT_EQ(d.loops.front().match, 2u);
+  const Detection next = pipeline.process(viewOf(test::streetScene(103)), at(3.5, 44.0));
+  ASSERT_TRUE(next.accepted) << next.error;
+  EXPECT_FALSE(next.new_session);
+  EXPECT_EQ(pipeline.detector().database().keyframe(6).session, 1u);
+}
+
+TEST(Sessions, AFarFutureStampIsRefusedAndTheNextOnesStayInTheSession) {
+  KeyframePipeline pipeline(descriptorOnly());
+  firstSession(&pipeline, 5);
+  const Detection far = pipeline.process(viewOf(test::streetScene(20)), at(104.0 + 1e6, 45.0));
+  EXPECT_FALSE(far.accepted);
+  EXPECT_NE(far.error.find("far ahead"), std::string::npos) << far.error;
+  for (int k = 0; k < 4; ++k) {
+    const Detection d = pipeline.process(viewOf(test::streetScene(30 + k)), at(104.5 + k, 50.0 + 10.0 * k));
+    ASSERT_TRUE(d.accepted) << d.error;
+    EXPECT_FALSE(d.new_session);
+  }
+  EXPECT_EQ(pipeline.detector().database().size(), 9u);
+  EXPECT_EQ(pipeline.detector().database().session(), 0u);
+
+  // Clouds back after an hour and more without any: three in a row take the new time, same session.
+  for (int k = 0; k < 3; ++k) {
+    const Detection d = pipeline.process(viewOf(test::streetScene(40 + k)), at(10000.0 + k, 90.0 + 10.0 * k));
+    EXPECT_EQ(d.accepted, k == 2) << d.error;
+    EXPECT_FALSE(d.new_session);
+  }
+  EXPECT_EQ(pipeline.detector().database().size(), 10u);
+  EXPECT_EQ(pipeline.detector().database().session(), 0u);
 }
 
 TEST(Sessions, TheCallerCanStartASessionWhoseStampsGoOn) {

@@ -142,10 +142,16 @@ struct Config {
   /// scan counts, whether keyframe selection picks it or not.
   double accumulate_seconds = 0.0;
   double accumulate_distance = 0.0;
-  /// Time going backwards: a keyframe stamped at least this long [s] before the previous keyframe (a bag
-  /// played again, a restarted odometry) starts a new session (Database::startSession) instead of being
-  /// refused; a smaller step back is refused as out of order. 0: every step back is refused.
+  /// Time going backwards: keyframes stamped at least this long [s] before the previous keyframe (a bag
+  /// played again, a restarted odometry) start a new session (Database::startSession) on evidence only:
+  /// three such keyframes in a row, in order among themselves, or one whose odometry pose lies 10 m or
+  /// more from the last cloud's; the ones before are refused as out of order, so one bad stamp never
+  /// splits a session. A smaller step back is refused as out of order. 0: every step back is refused.
   double new_session_jump = 1.0;
+  /// Time jumping ahead: a keyframe stamped more than this long [s] after the last cloud is refused
+  /// unless three keyframes in a row, in order, show the same jump (clouds back after an outage), so a
+  /// single far-future stamp is not taken and the next ones do not fall behind it. 0: no bound.
+  double max_stamp_step = 3600.0;
   /// Only keyframes of the earlier sessions are candidates, never the current session's own: relocalization
   /// in a prior map (the node's mode: relocalize sets it).
   bool prior_sessions_only = false;

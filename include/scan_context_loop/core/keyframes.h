@@ -6,6 +6,8 @@
 
 #include <deque>
 #include <memory>
+#include <optional>
+#include <string>
 
 #include <Eigen/Geometry>
 
@@ -56,8 +58,16 @@ class KeyframePipeline {
   const Config& config() const { return detector_.config(); }
 
  private:
-  /// The stamp lies Config::new_session_jump or more before the session's last keyframe.
-  bool jumpedBack(const KeyframeInfo& info) const;
+  /// What a keyframe's stamp says about the session (Config::new_session_jump, max_stamp_step).
+  enum class StampStep { kGoesOn, kNewSession, kRefused };
+  /// A stamp Config::new_session_jump or more before the session's last keyframe, or more than
+  /// Config::max_stamp_step after the last cloud's, is believed only on evidence: with a step back,
+  /// an odometry pose far from the last cloud's (another odometry run) starts a new session at once;
+  /// otherwise kStampJumpEvidence keyframes in a row, in order among themselves, must agree (a bag
+  /// played again, a clock back after an outage). The ones before are refused (`why` says why), so a
+  /// single bad stamp neither splits the session nor leaves a far-future stamp for the next ones to trip
+  /// over.
+  StampStep checkStamp(const KeyframeInfo& info, std::string* why);
   /// A new session begins: forgets the last keyframe's pose, the remembered scans and the path.
   void forgetOdometry();
   /// Keyframe selection against the pose of the last keyframe that was processed.
@@ -67,6 +77,14 @@ class KeyframePipeline {
   void remember(const PointView& cloud, const KeyframeInfo& info);
 
   LoopDetector detector_;
+  // The last cloud whose stamp was believed (selected or not), and the stamp jump waiting for evidence:
+  // its direction (-1 back, +1 ahead, 0 none), how many keyframes in a row showed it, the latest stamp.
+  bool has_seen_ = false;
+  double seen_stamp_ = 0.0;
+  std::optional<Eigen::Isometry3d> seen_pose_;
+  int jump_direction_ = 0;
+  std::size_t jump_count_ = 0;
+  double jump_stamp_ = 0.0;
   bool has_last_ = false;
   Eigen::Isometry3d last_pose_ = Eigen::Isometry3d::Identity();
   // Scan accumulation: the scans of the window, and the odometry path length so far.
