@@ -150,8 +150,9 @@ struct Config {
   double new_session_jump = 1.0;
   /// Time jumping ahead: a keyframe stamped more than this long [s] after the last cloud is refused
   /// unless three keyframes in a row, in order, show the same jump (clouds back after an outage), so a
-  /// single far-future stamp is not taken and the next ones do not fall behind it. 0: no bound.
-  double max_stamp_step = 3600.0;
+  /// single far-future stamp is not taken and the next ones do not fall behind it. 0: no bound. The
+  /// default, about 116 days, lets a robot resume after a night or a week in the same session.
+  double max_stamp_step = 1e7;
   /// Only keyframes of the earlier sessions are candidates, never the current session's own: relocalization
   /// in a prior map (the node's mode: relocalize sets it).
   bool prior_sessions_only = false;
