@@ -1,5 +1,7 @@
 #include "scan_context_loop/ros/loop_closure_ros.h"
 
+#include "scan_context_loop/ros/exception_barrier.h"
+
 #include "scan_context_loop/core/database_file.h"
 #include "scan_context_loop/core/settings.h"
 #include "scan_context_loop/ros/database_paths.h"
@@ -30,7 +32,14 @@ LoopClosureRos::~LoopClosureRos() {
   // here, while both live.
   if (markers_) markers_->shutdown();
   reconfigure_server_.reset();
-  if (processor_ && !options_.database_save.empty() && options_.mode != "relocalize") saveAtShutdown();
+  if (processor_ && !options_.database_save.empty() && options_.mode != "relocalize") {
+    // A destructor must not throw: a failed allocation while saving is logged, and the file on disk stays
+    // whole (the save writes a temporary file and renames it over the old one only when complete).
+    std::string why;
+    if (!runCatching([this] { saveAtShutdown(); }, &why)) {
+      ROS_ERROR_NAMED(name_, "database not saved at shutdown: it threw: %s", why.c_str());
+    }
+  }
 }
 
 bool LoopClosureRos::start() {
