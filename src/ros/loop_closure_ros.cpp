@@ -1,10 +1,9 @@
 #include "scan_context_loop/ros/loop_closure_ros.h"
 
-#include "scan_context_loop/ros/exception_barrier.h"
-
 #include "scan_context_loop/core/database_file.h"
 #include "scan_context_loop/core/settings.h"
 #include "scan_context_loop/ros/database_paths.h"
+#include "scan_context_loop/ros/exception_barrier.h"
 #include "scan_context_loop/ros/frame_ids.h"
 #include "scan_context_loop/ros/live_settings.h"
 
