@@ -282,6 +282,7 @@ void CloudStore::add(std::size_t index, const VoxelCloud& cloud) {
         bytes_ -= clouds_[i]->bytes();
         releasing_.push_back(std::move(clouds_[i]));
         ++dropped_;
+        --stored_;
       }
     }
     if (dropped_level < levels_.size()) levels_[dropped_level].reset();
@@ -292,6 +293,7 @@ void CloudStore::add(std::size_t index, const VoxelCloud& cloud) {
   if (levels_.size() <= level) levels_.resize(level + 1);
   if (!levels_[level]) levels_[level] = BlockArena::create(kLevelBlockBytes, BlockArena::Pages::kOrdinary);
   // The copy's arrays are exactly as long as the voxels, so the budget counts what they take.
+  if (!clouds_[index]) ++stored_;
   clouds_[index] = std::make_unique<VoxelCloud>(cloud, levels_[level].get());
   bytes_ += size;
 }
@@ -316,12 +318,6 @@ std::size_t CloudStore::memoryBytes() const {
 
 const VoxelCloud* CloudStore::get(std::size_t index) const {
   return index < clouds_.size() ? clouds_[index].get() : nullptr;
-}
-
-std::size_t CloudStore::stored() const {
-  std::size_t n = 0;
-  for (const auto& c : clouds_) n += c != nullptr;
-  return n;
 }
 
 Eigen::Isometry3d priorPose(double yaw, const Eigen::Vector2d& viewpoint) {

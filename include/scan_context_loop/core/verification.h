@@ -97,7 +97,8 @@ class CloudStore {
   std::size_t bytes() const { return bytes_; }
   /// Bytes of memory the kept keyframes' arenas hold (bytes() plus each level's unused block end).
   std::size_t memoryBytes() const;
-  std::size_t stored() const;
+  /// Keyframes whose data are kept (counted as they come and go: the node reads it every keyframe).
+  std::size_t stored() const { return stored_; }
   std::size_t dropped() const { return dropped_; }
   /// Data are kept for the keyframe numbers that are multiples of this (1 until the budget is reached;
   /// doubled by each halving).
@@ -118,6 +119,7 @@ class CloudStore {
   std::size_t max_bytes_;
   std::size_t bytes_ = 0;
   std::size_t dropped_ = 0;
+  std::size_t stored_ = 0;
   std::size_t stride_ = 1;  // data are kept for keyframe numbers that are multiples of this
   std::vector<std::unique_ptr<VoxelCloud>> clouds_;  // by keyframe index; null = none
   std::vector<BlockArena::Handle> levels_;  // by level; null before its first cloud and once dropped
