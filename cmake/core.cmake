@@ -21,12 +21,15 @@ add_library(scan_context_loop_core
   src/core/file_io.cpp
   src/core/block_arena.cpp
   src/core/database_file.cpp
+  src/core/database_writer.cpp
 )
 target_include_directories(scan_context_loop_core PUBLIC
   include ${EIGEN3_INCLUDE_DIRS} ${PCL_INCLUDE_DIRS} ${FLANN_INCLUDE_DIRS})
-# FLANN's C++ index is header-only; it needs lz4 for its serialisation code.
+# FLANN's C++ index is header-only; it needs lz4 for its serialisation code. The database writer's thread
+# needs the threads library (a separate libpthread before glibc 2.34, as on Ubuntu 20.04).
+find_package(Threads REQUIRED)
 target_link_libraries(scan_context_loop_core PUBLIC ${PCL_COMMON_LIBRARIES} ${PCL_FILTERS_LIBRARIES}
-  ${PCL_KDTREE_LIBRARIES} ${PCL_SEARCH_LIBRARIES} ${PCL_REGISTRATION_LIBRARIES} lz4)
+  ${PCL_KDTREE_LIBRARIES} ${PCL_SEARCH_LIBRARIES} ${PCL_REGISTRATION_LIBRARIES} lz4 Threads::Threads)
 target_compile_definitions(scan_context_loop_core PUBLIC ${PCL_DEFINITIONS})
 # Lets the compiler vectorise the binning loop (if-conversion of float selects, sqrt without errno);
 # the core neither reads errno nor traps on floating-point exceptions. NaN/Inf handling is unchanged.
@@ -69,5 +72,15 @@ if(CATKIN_ENABLE_TESTING)
   # simulator.
   target_link_libraries(test_core scan_context_loop_eval scan_context_sim ${PCL_IO_LIBRARIES})
   target_compile_definitions(test_core PRIVATE SCL_SHARED_DATA="${SCL_SHARED_DATA}")
+
+  # Saving off the detector's thread: small and quick, so that ThreadSanitizer runs it too
+  # (scripts/dev/sanitize).
+  catkin_add_gtest(test_database_writer
+    test/test_main.cpp
+    test/core/test_database_writer.cpp
+    test/core/test_scenes.cpp
+  )
+  target_link_libraries(test_database_writer scan_context_loop_eval)
+  target_compile_definitions(test_database_writer PRIVATE SCL_SHARED_DATA="${SCL_SHARED_DATA}")
 
 endif()

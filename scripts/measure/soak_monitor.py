@@ -290,6 +290,11 @@ class Monitor:
                 "cpu_p99_ms_all": "%.3f" % np.percentile(cpu, 99),
                 "manager_died": int(self.manager_died),
                 "manager_rss_kb_end": rss_kb(self.args.pid) or "",
+                # With SCL_SOAK_AUTOSAVE: the database saves written while the feed ran, and the last one.
+                "database_saves": self.diag_int("database saves"),
+                "database_saves_failed": self.diag_int("database saves failed"),
+                "last_save_keyframes": self.diag.get("last save [keyframes]", ""),
+                "last_save_seconds": self.diag.get("last save written in [s]", ""),
                 "diagnostics_level": self.diag.get("level", ""),
                 "diagnostics_message": self.diag.get("message", ""),
             }

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstring>
 #include <sstream>
+#include <utility>
 
 #include <lz4.h>
 
@@ -440,27 +441,41 @@ bool mayReplace(const std::string& path, std::string* error) {
 
 }  // namespace
 
-bool saveDatabase(const LoopDetector& detector, const std::string& path, const SaveOptions& options,
-                  std::string* error) {
+DatabaseSnapshot::DatabaseSnapshot(const LoopDetector& detector, bool include_clouds,
+                                   std::shared_ptr<const void> owner)
+    : config_(detector.config()), include_clouds_(include_clouds), owner_(std::move(owner)) {
   const Database& database = detector.database();
+  keyframes_.reserve(database.size());
+  for (std::size_t i = 0; i < database.size(); ++i) keyframes_.push_back(&database.keyframe(i));
+  if (!include_clouds) return;
+  gravity_alignment_.reserve(database.size());
+  clouds_.reserve(database.size());
+  for (std::size_t i = 0; i < database.size(); ++i) {
+    gravity_alignment_.push_back(detector.gravityAlignment(i));
+    clouds_.push_back(detector.cloudStore().share(i));
+  }
+}
+
+bool writeDatabase(const DatabaseSnapshot& snapshot, const std::string& path, bool keep_backup, std::string* error) {
+  const std::vector<const Keyframe*>& keyframes = snapshot.keyframes_;
   Header header;
-  header.settings = settingsOf(detector.config(), options.include_clouds);
-  header.keyframes = database.size();
+  header.settings = settingsOf(snapshot.config_, snapshot.include_clouds_);
+  header.keyframes = keyframes.size();
   if (!mayReplace(path, error)) return false;
   AtomicFileWriter file;
   if (!file.open(path, error)) return false;
-  if (options.keep_backup) file.keepBackup(path + ".bak");
+  if (keep_backup) file.keepBackup(path + ".bak");
   const std::vector<std::uint8_t> placeholder(kHeaderBytes, 0);
   if (!file.write(placeholder.data(), placeholder.size(), error)) return false;
   PayloadWriter payload(&file);
-  // Sessions are numbered 0, 1, ... in the file, whatever their numbers in this database.
-  for (std::size_t i = 0; i < database.size(); ++i) {
-    if (i == 0 || !database.sameSession(i - 1, i)) ++header.sessions;
-    encodeKeyframe(database.keyframe(i), header.sessions - 1, payload.out());
+  // Sessions are numbered 0, 1, ... in the file, whatever their numbers in the database.
+  for (std::size_t i = 0; i < keyframes.size(); ++i) {
+    if (i == 0 || keyframes[i - 1]->session != keyframes[i]->session) ++header.sessions;
+    encodeKeyframe(*keyframes[i], header.sessions - 1, payload.out());
     if (!payload.flushIfFull(error)) return false;
   }
-  for (std::size_t i = 0; options.include_clouds && i < database.size(); ++i) {
-    encodeCloud(detector.gravityAlignment(i), detector.cloudStore().get(i), payload.out());
+  for (std::size_t i = 0; snapshot.include_clouds_ && i < keyframes.size(); ++i) {
+    encodeCloud(snapshot.gravity_alignment_[i], snapshot.clouds_[i].get(), payload.out());
     if (!payload.flushIfFull(error)) return false;
   }
   if (!payload.flush(error)) return false;
@@ -468,6 +483,11 @@ bool saveDatabase(const LoopDetector& detector, const std::string& path, const S
   header.payload_crc = payload.crc();
   const std::vector<std::uint8_t> head = encodeHeader(header);
   return file.writeAt(0, head.data(), head.size(), error) && file.commit(error);
+}
+
+bool saveDatabase(const LoopDetector& detector, const std::string& path, const SaveOptions& options,
+                  std::string* error) {
+  return writeDatabase(DatabaseSnapshot(detector, options.include_clouds), path, options.keep_backup, error);
 }
 
 bool readDatabaseFile(const std::string& path, const Config& config, PriorSessions* sessions, std::string* error) {

@@ -149,6 +149,8 @@ std::vector<Setting<NodeOptions>> makeNodeSettings() {
       stringSetting<O>("database_load", N(database_load), {}, "database file loaded at start (empty: none)"),
       stringSetting<O>("database_save", N(database_save), {}, "database file written at shutdown (empty: none)"),
       boolSetting<O>("database_save_clouds", N(database_save_clouds), "saved databases include the registration clouds"),
+      doubleSetting<O>("database_autosave_seconds", N(database_autosave_seconds), closed(0, 1e6),
+                       "with database_save: also written there this often while it changes [s] (0: at shutdown only)"),
       stringSetting<O>("database_directory", N(database_directory), {},
                        "~save_database writes only here (empty: the directory of database_save, else of "
                        "database_load, else $ROS_HOME/scan_context_loop)"),

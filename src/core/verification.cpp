@@ -294,7 +294,7 @@ void CloudStore::add(std::size_t index, const VoxelCloud& cloud) {
   if (!levels_[level]) levels_[level] = BlockArena::create(kLevelBlockBytes, BlockArena::Pages::kOrdinary);
   // The copy's arrays are exactly as long as the voxels, so the budget counts what they take.
   if (!clouds_[index]) ++stored_;
-  clouds_[index] = std::make_unique<VoxelCloud>(cloud, levels_[level].get());
+  clouds_[index] = std::make_shared<const VoxelCloud>(cloud, levels_[level].get());
   bytes_ += size;
 }
 
@@ -318,6 +318,10 @@ std::size_t CloudStore::memoryBytes() const {
 
 const VoxelCloud* CloudStore::get(std::size_t index) const {
   return index < clouds_.size() ? clouds_[index].get() : nullptr;
+}
+
+std::shared_ptr<const VoxelCloud> CloudStore::share(std::size_t index) const {
+  return index < clouds_.size() ? clouds_[index] : nullptr;
 }
 
 Eigen::Isometry3d priorPose(double yaw, const Eigen::Vector2d& viewpoint) {

@@ -1,5 +1,7 @@
 // The node's database services (save, load, reset), relocalization in a loaded map, and the database
-// file at start and shutdown. The worker owns the database: each service hands it a task and waits.
+// file at start, every database_autosave_seconds and at shutdown. The worker owns the database: each
+// service hands it a task and waits; a save takes a snapshot on the worker and writes it off the worker.
+#include <chrono>
 #include <ctime>
 #include <future>
 #include <memory>
@@ -16,12 +18,18 @@
 namespace scan_context_loop {
 
 void LoopClosureRos::advertiseSessionServices() {
-  save_srv_ = pnh_.advertiseService("save_database", &LoopClosureRos::onSave, this);
-  load_srv_ = pnh_.advertiseService("load_database", &LoopClosureRos::onLoad, this);
-  reset_srv_ = pnh_.advertiseService("reset", &LoopClosureRos::onReset, this);
+  // Their own queue and thread: a call waits for the worker and a save for its write, and neither holds
+  // up the input callbacks in the nodelet's queue meanwhile.
+  ros::NodeHandle services(pnh_);
+  services.setCallbackQueue(&service_queue_);
+  save_srv_ = services.advertiseService("save_database", &LoopClosureRos::onSave, this);
+  load_srv_ = services.advertiseService("load_database", &LoopClosureRos::onLoad, this);
+  reset_srv_ = services.advertiseService("reset", &LoopClosureRos::onReset, this);
   if (options_.mode == "relocalize") {
-    relocalize_srv_ = pnh_.advertiseService("relocalize", &LoopClosureRos::onRelocalize, this);
+    relocalize_srv_ = services.advertiseService("relocalize", &LoopClosureRos::onRelocalize, this);
   }
+  service_spinner_.reset(new ros::AsyncSpinner(1, &service_queue_));
+  service_spinner_->start();
 }
 
 std::string LoopClosureRos::runOnWorker(std::function<void()> task) {
@@ -44,49 +52,105 @@ std::string LoopClosureRos::loadFile(const std::string& path) {
   return "";
 }
 
-void LoopClosureRos::saveAtShutdown() {
-  std::string path = options_.database_save;
+std::string LoopClosureRos::saveTarget() {
+  if (!beside_path_.empty()) return beside_path_;
+  const std::string& path = options_.database_save;
   std::string why = keep_reason_;
   if (!sameFile(path, kept_file_)) why = reset_ && fileExists(path) ? "~reset emptied the database in this run" : "";
-  if (!why.empty()) {
-    path = besidePath(options_.database_save, std::time(nullptr));
-    ROS_WARN_NAMED(name_, "database_save %s is kept as it was (%s): this run's database goes beside it, to %s",
-                   options_.database_save.c_str(), why.c_str(), path.c_str());
-  }
-  SaveOptions save;
-  save.include_clouds = options_.database_save_clouds;
-  save.keep_backup = true;
-  const std::string backup = fileExists(path) ? "; the file it replaced is kept as " + path + ".bak" : "";
+  if (why.empty()) return path;
+  beside_path_ = besidePath(path, std::time(nullptr));
+  ROS_WARN_NAMED(name_, "database_save %s is kept as it was (%s): this run's database goes beside it, to %s",
+                 path.c_str(), why.c_str(), beside_path_.c_str());
+  return beside_path_;
+}
+
+namespace {
+
+/// How a save's log line ends when it replaced a file: where that file is kept.
+std::string backupNote(const std::string& path, bool replacing) {
+  return replacing ? "; the file it replaced is kept as " + path + ".bak" : "";
+}
+
+}  // namespace
+
+void LoopClosureRos::saveAtShutdown() {
+  writer_.wait();  // the autosave in progress lands before the final save
+  const std::string path = saveTarget();
+  const DatabaseSnapshot snapshot = processor_->snapshot(options_.database_save_clouds);
+  const bool replacing = fileExists(path);
+  const auto started = std::chrono::steady_clock::now();
   std::string error;
-  if (saveDatabase(processor_->pipeline().detector(), path, save, &error)) {
-    ROS_INFO_NAMED(name_, "database saved to %s (%zu keyframes)%s", path.c_str(), processor_->database().size(),
-                   backup.c_str());
+  if (writer_.write(snapshot, path, true, &error)) {
+    ++counters_.saves;
+    ROS_INFO_NAMED(name_, "database saved to %s (%zu keyframes) in %.1f s%s", path.c_str(), snapshot.size(),
+                   std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count(),
+                   backupNote(path, replacing).c_str());
   } else {
+    ++counters_.save_failures;
     ROS_ERROR_NAMED(name_, "database not saved: %s", error.c_str());
   }
 }
 
+void LoopClosureRos::requestAutosave() {
+  if (writer_.busy() || autosave_queued_.exchange(true)) return;  // the last one is still on its way
+  if (!queue_->pushTask([this] {
+        autosave_queued_ = false;
+        autosave();
+      })) {
+    autosave_queued_ = false;
+  }
+}
+
+void LoopClosureRos::autosave() {
+  const std::size_t size = processor_->database().size();
+  if (size == saved_size_ && resets_ == saved_resets_) return;  // nothing new since the last save
+  const std::string path = saveTarget();
+  DatabaseSnapshot snapshot = processor_->snapshot(options_.database_save_clouds);
+  const bool started = writer_.writeInBackground(
+      std::move(snapshot), path, true, [this, path, size](const std::string& error, double seconds) {
+        if (!error.empty()) {
+          ++counters_.save_failures;
+          ROS_ERROR_THROTTLE_NAMED(60.0, name_, "autosave to %s failed: %s (%zu failures; the file there is as before)",
+                                   path.c_str(), error.c_str(), counters_.save_failures.load());
+          return;
+        }
+        ++counters_.saves;
+        counters_.last_save_keyframes = size;
+        counters_.last_save_seconds = seconds;
+        ROS_DEBUG_NAMED(name_, "autosaved %zu keyframes to %s in %.2f s", size, path.c_str(), seconds);
+      });
+  if (!started) return;  // a write is still in progress: the next autosave takes it up
+  saved_size_ = size;
+  saved_resets_ = resets_;
+}
+
 bool LoopClosureRos::onSave(scan_context_loop::SaveDatabase::Request& request,
                             scan_context_loop::SaveDatabase::Response& response) {
-  const std::string failure = runOnWorker([&] {
-    SaveOptions save;
-    save.include_clouds = request.include_clouds;
-    save.keep_backup = true;
-    std::string path, error;
-    response.keyframes = static_cast<std::uint32_t>(processor_->database().size());
-    response.success = servicePath(mapDirectory(options_), request.path, &path, &error);
-    const bool replacing = response.success && fileExists(path);
-    response.success = response.success && saveDatabase(processor_->pipeline().detector(), path, save, &error);
-    if (!response.success) {
-      response.message = error;
-      return;
+  std::string path, error;
+  response.keyframes = static_cast<std::uint32_t>(counters_.database_size.load());  // refused: what there is
+  response.success = servicePath(mapDirectory(options_), request.path, &path, &error);
+  if (response.success) {
+    // The snapshot on the worker (milliseconds), the write here: detection goes on meanwhile.
+    DatabaseSnapshot snapshot;
+    const std::string failure =
+        runOnWorker([&] { snapshot = processor_->snapshot(request.include_clouds); });
+    response.keyframes = static_cast<std::uint32_t>(snapshot.size());
+    const bool replacing = fileExists(path);
+    const auto started = std::chrono::steady_clock::now();
+    response.success = failure.empty() && writer_.write(snapshot, path, true, &error);
+    if (!failure.empty()) error = failure;
+    if (response.success) {
+      ++counters_.saves;
+      counters_.last_save_keyframes = snapshot.size();
+      counters_.last_save_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+      response.message = "saved " + std::to_string(response.keyframes) + " keyframes to " + path +
+                         backupNote(path, replacing);
+      ROS_INFO_NAMED(name_, "save_database: %s", response.message.c_str());
+      return true;
     }
-    response.message = "saved " + std::to_string(response.keyframes) + " keyframes to " + path +
-                       (replacing ? "; the file it replaced is kept as " + path + ".bak" : "");
-    ROS_INFO_NAMED(name_, "save_database: %s", response.message.c_str());
-  });
-  if (!failure.empty()) response.message = failure;
-  if (!response.success) ROS_ERROR_NAMED(name_, "save_database %s: %s", request.path.c_str(), response.message.c_str());
+  }
+  response.message = error;
+  ROS_ERROR_NAMED(name_, "save_database %s: %s", request.path.c_str(), response.message.c_str());
   return true;
 }
 
@@ -112,6 +176,7 @@ bool LoopClosureRos::onReset(std_srvs::Trigger::Request&, std_srvs::Trigger::Res
     counters_.loops_waiting = 0;
     markers_->clear();
     reset_ = true;
+    ++resets_;
     response.success = true;
     response.message = "database cleared";
     // In relocalize mode the map is read-only: it comes back.

@@ -53,7 +53,7 @@ KeyframeProcessor::KeyframeProcessor(const std::string& name, const Config& conf
       counters_(counters),
       loops_(loops),
       markers_(markers),
-      pipeline_(new KeyframePipeline(config)) {}
+      pipeline_(std::make_shared<KeyframePipeline>(config)) {}
 
 KeyframeProcessor::~KeyframeProcessor() = default;
 
@@ -65,7 +65,7 @@ void KeyframeProcessor::useTf(const tf2_ros::Buffer& tf) {
 }
 
 void KeyframeProcessor::resetPipeline() {
-  pipeline_.reset(new KeyframePipeline(config_));
+  pipeline_ = std::make_shared<KeyframePipeline>(config_);
   followCloudStore();
 }
 

@@ -13,9 +13,11 @@ LoopClosureRos::LoopClosureRos(const ros::NodeHandle& nh, const ros::NodeHandle&
     : nh_(nh), pnh_(pnh), name_(name) {}
 
 LoopClosureRos::~LoopClosureRos() {
-  // Stop the services (a call in progress completes, the worker still runs) and the inputs first so
-  // nothing new is queued, then let the worker finish the keyframe in hand.
+  // Stop the autosaves and the services (a call in progress completes while the worker still runs) and
+  // the inputs first, so nothing new is queued, then let the worker finish the keyframe in hand.
+  autosave_timer_.stop();
   for (auto* service : {&save_srv_, &load_srv_, &reset_srv_, &relocalize_srv_}) service->shutdown();
+  if (service_spinner_) service_spinner_->stop();
   if (input_) input_->stop();
   if (diagnostics_) diagnostics_->stop();
   if (queue_) {
@@ -39,6 +41,7 @@ LoopClosureRos::~LoopClosureRos() {
       ROS_ERROR_NAMED(name_, "database not saved at shutdown: it threw: %s", why.c_str());
     }
   }
+  writer_.wait();  // an autosave still being written (there is none when the shutdown save ran)
 }
 
 bool LoopClosureRos::start() {
@@ -78,6 +81,7 @@ bool LoopClosureRos::start() {
       }
     }
   }
+  saved_size_ = processor_->database().size();  // the map as loaded is on disk already
   if (options_.mode == "relocalize" && processor_->database().size() == 0) {
     ROS_WARN_NAMED(name_, "mode relocalize without a map: nothing is published until ~load_database loads one");
   }
@@ -107,6 +111,12 @@ bool LoopClosureRos::start() {
       new NodeDiagnostics(nh_, pnh_, name_, counters_, processor_->hasExtrinsic(), options_.lio_sam_output));
 
   worker_->start();
+  if (!options_.database_save.empty() && options_.mode != "relocalize" && options_.database_autosave_seconds > 0) {
+    autosave_timer_ = nh_.createWallTimer(ros::WallDuration(options_.database_autosave_seconds),
+                                          [this](const ros::WallTimerEvent&) { requestAutosave(); });
+    ROS_INFO_NAMED(name_, "the database is saved to %s every %.0f s while it changes, and at shutdown",
+                   options_.database_save.c_str(), options_.database_autosave_seconds);
+  }
   ROS_INFO_NAMED(name_, "listening on %s with poses from %s; %d x %d Scan Context, threshold %.3f, ring key %s",
                  input_->cloudTopic().c_str(), input_->poseSource().c_str(), config_.num_rings, config_.num_sectors,
                  config_.distance_threshold, ringKeyTypeName(config_.ring_key));

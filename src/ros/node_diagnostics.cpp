@@ -17,6 +17,9 @@ void NodeDiagnostics::diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat
   if (failures > 0) {
     status.summaryf(diagnostic_msgs::DiagnosticStatus::WARN,
                     "%zu keyframes or service calls failed with an exception (see the log)", failures);
+  } else if (c.save_failures.load() > 0) {
+    status.summaryf(diagnostic_msgs::DiagnosticStatus::WARN, "%zu database saves failed (see the log)",
+                    c.save_failures.load());
   } else if (dropped > 0) {
     status.summaryf(diagnostic_msgs::DiagnosticStatus::WARN, "%zu keyframes dropped (queue full)", dropped);
   } else {
@@ -39,6 +42,10 @@ void NodeDiagnostics::diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat
     status.add("heap statistics read in [ms]", c.heap_statistics_ms.load());
   }
   status.add("sessions", c.sessions.load());
+  status.add("database saves", c.saves.load());
+  status.add("database saves failed", c.save_failures.load());
+  status.add("last save [keyframes]", c.last_save_keyframes.load());
+  status.add("last save written in [s]", c.last_save_seconds.load());
   status.add("queue length", c.queue_length.load());
   status.add("last query time [ms]", c.last_query_ms.load());
   status.add("last keyframe time [ms]", c.last_keyframe_ms.load());

@@ -28,6 +28,7 @@
 #include "scan_context_loop/core/pcl_adapters.h"
 #include "scan_context_loop/core/registration.h"
 #include "test_scenes.h"
+#include "../common/temp_dir.h"
 
 namespace scan_context_loop {
 namespace {
@@ -43,25 +44,7 @@ constexpr std::size_t kVersionAt = 5, kSectorsAt = 17, kKeyframesAt = 63, kSessi
 constexpr std::size_t kRecordBytes = 29 + 96 + 5184, kDescriptorAt = kHeaderBytes + 29 + 96,
                       kCloudsAt = kHeaderBytes + 4 * kRecordBytes, kCloudFlagAt = kCloudsAt + 36;
 
-/// A fresh directory, removed with everything in it at the end of the test.
-class TempDir {
- public:
-  TempDir() {
-    std::string name = (fs::temp_directory_path() / "scl_database_file_XXXXXX").string();
-    path_ = ::mkdtemp(&name[0]);
-  }
-  ~TempDir() { fs::remove_all(path_); }
-  std::string file(const std::string& name) const { return (path_ / name).string(); }
-  std::vector<std::string> entries() const {
-    std::vector<std::string> names;
-    for (const auto& e : fs::directory_iterator(path_)) names.push_back(e.path().filename().string());
-    std::sort(names.begin(), names.end());
-    return names;
-  }
-
- private:
-  fs::path path_;
-};
+using test::TempDir;
 
 std::vector<std::uint8_t> readBytes(const std::string& path) {
   std::ifstream in(path, std::ios::binary);

@@ -7,6 +7,7 @@
 
 #include <fstream>
 #include <iterator>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -21,6 +22,7 @@
 #include "scan_context_loop/LoadDatabase.h"
 #include "scan_context_loop/Relocalize.h"
 #include "scan_context_loop/SaveDatabase.h"
+#include "scan_context_loop/core/database_file.h"
 
 namespace scan_context_loop {
 namespace test {
@@ -239,13 +241,11 @@ TEST(Relocalization, SavesStayInTheMapDirectoryKeepABackupAndReplaceNoOtherFile)
   ::unlink((map + ".bak").c_str());
 }
 
-/// Loads a loop-closure nodelet named `name` into /manager with `database_load` and `database_save`
-/// both `map` (and `num_sectors` when non-zero), runs `between` while it is up, then unloads it.
-void runNodeletOver(const std::string& name, const std::string& map, int num_sectors,
-                    const std::function<void()>& between) {
-  ros::param::set(name + "/database_load", map);
-  ros::param::set(name + "/database_save", map);
-  if (num_sectors > 0) ros::param::set(name + "/num_sectors", num_sectors);
+/// Loads a loop-closure nodelet named `name` into /manager with the private parameters `params` (each
+/// set before the load), runs `between` while it is up, then unloads it.
+void runNodelet(const std::string& name, const std::map<std::string, XmlRpc::XmlRpcValue>& params,
+                const std::function<void()>& between) {
+  for (const auto& p : params) ros::param::set(name + "/" + p.first, p.second);
   nodelet::NodeletLoad load;
   load.request.name = name;
   load.request.type = "scan_context_loop/LoopClosureNodelet";
@@ -257,6 +257,66 @@ void runNodeletOver(const std::string& name, const std::string& map, int num_sec
   unload.request.name = name;
   ASSERT_TRUE(ros::service::call("/manager/unload_nodelet", unload));
   EXPECT_TRUE(unload.response.success);
+}
+
+/// runNodelet with `database_load` and `database_save` both `map` (and `num_sectors` when non-zero).
+void runNodeletOver(const std::string& name, const std::string& map, int num_sectors,
+                    const std::function<void()>& between) {
+  std::map<std::string, XmlRpc::XmlRpcValue> params = {{"database_load", map}, {"database_save", map}};
+  if (num_sectors > 0) params["num_sectors"] = num_sectors;
+  runNodelet(name, params, between);
+}
+
+/// The keyframes in the database file at `path` (read with the default settings), -1 when it does not load.
+long keyframesIn(const std::string& path) {
+  PriorSessions sessions;
+  std::string error;
+  return readDatabaseFile(path, Config(), &sessions, &error) ? static_cast<long>(sessions.keyframes.size()) : -1;
+}
+
+/// Waits until keyframesIn(path) is `count` (at most `seconds`); returns the last count seen.
+long waitForFile(const std::string& path, long count, double seconds) {
+  const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(seconds);
+  long seen = keyframesIn(path);
+  while (seen != count && ros::WallTime::now() < end) {
+    ros::WallDuration(0.1).sleep();
+    seen = keyframesIn(path);
+  }
+  return seen;
+}
+
+// With database_autosave_seconds the database reaches database_save while the node runs, so a crash
+// loses at most that much: the file holds the keyframes processed so far, the file it replaced is kept as
+// .bak, the diagnostics count the saves, and no keyframe was dropped for them.
+TEST(Relocalization, AutosavesWriteTheDatabaseWhileTheNodeRuns) {
+  const std::string map = "/tmp/scl_autosave_" + std::to_string(getpid()) + ".scdb";
+  ros::NodeHandle e_nh("e");
+  Harness e(e_nh);
+  DiagnosticsWatch diagnostics(e_nh, "e/loop_closure");
+  const Drive drive = blockDrive(true, 7);
+  const std::size_t n = drive.truth.size(), half = n / 2;
+  runNodelet("/e/loop_closure",
+             {{"database_save", map}, {"database_autosave_seconds", 0.5}, {"queue_size", 2000},
+              {"exclude_recent_frames", 30}},
+             [&] {
+               ASSERT_TRUE(e.waitForNode(30.0));
+               e.publish(drive, 0, half, 15.0);
+               ASSERT_TRUE(e.waitForKeyframes(half, 60.0));
+               EXPECT_EQ(waitForFile(map, static_cast<long>(half), 20.0), static_cast<long>(half))
+                   << "no autosave of the first half while the node runs";
+               e.publish(drive, half, n, 15.0);
+               ASSERT_TRUE(e.waitForKeyframes(n, 60.0));
+               EXPECT_EQ(waitForFile(map, static_cast<long>(n), 20.0), static_cast<long>(n))
+                   << "no autosave of the whole drive while the node runs";
+               EXPECT_GE(keyframesIn(map + ".bak"), static_cast<long>(half)) << "the replaced autosave is kept";
+               const ros::WallTime now = ros::WallTime::now();
+               EXPECT_GE(diagnostics.value("database saves", now, 10.0), 2);
+               EXPECT_EQ(diagnostics.value("database saves failed", now, 10.0), 0);
+               EXPECT_EQ(diagnostics.value("keyframes dropped", now, 10.0), 0);
+             });
+  EXPECT_EQ(keyframesIn(map), static_cast<long>(n)) << "the shutdown save";
+  ::unlink(map.c_str());
+  ::unlink((map + ".bak").c_str());
 }
 
 // A map the node cannot load at start (other settings: 30 sectors against its 60) is not saved over at

@@ -34,6 +34,9 @@ struct NodeOptions {
   std::string database_load;            ///< a database file loaded at start as prior sessions ("": none)
   std::string database_save;            ///< the database saved here at shutdown ("": not saved)
   bool database_save_clouds = true;     ///< saves include the registration clouds (needed to verify later)
+  /// With database_save: the database is also written there every this many seconds (wall time) while
+  /// it changes, on a thread of its own, so a crash loses at most that much; 0 saves at shutdown only.
+  double database_autosave_seconds = 300.0;
   /// The map directory ~save_database writes in ("": that of database_save, else of database_load, else
   /// $ROS_HOME/scan_context_loop).
   std::string database_directory;

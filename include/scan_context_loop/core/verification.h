@@ -93,6 +93,10 @@ class CloudStore {
   void add(std::size_t index, const VoxelCloud& cloud);
   /// The data of keyframe `index`, or nullptr when it was never stored or was dropped.
   const VoxelCloud* get(std::size_t index) const;
+  /// A share of the data of keyframe `index` (null as get()): a stored cloud never changes, and a share
+  /// keeps it (and the arena memory it holds) alive after the store dropped it, on any thread
+  /// (DatabaseSnapshot writes clouds while the store goes on).
+  std::shared_ptr<const VoxelCloud> share(std::size_t index) const;
   /// Bytes of the voxels kept (what the budget counts).
   std::size_t bytes() const { return bytes_; }
   /// Bytes of memory the kept keyframes' arenas hold (bytes() plus each level's unused block end).
@@ -121,9 +125,9 @@ class CloudStore {
   std::size_t dropped_ = 0;
   std::size_t stored_ = 0;
   std::size_t stride_ = 1;  // data are kept for keyframe numbers that are multiples of this
-  std::vector<std::unique_ptr<VoxelCloud>> clouds_;  // by keyframe index; null = none
+  std::vector<std::shared_ptr<const VoxelCloud>> clouds_;  // by keyframe index; null = none
   std::vector<BlockArena::Handle> levels_;  // by level; null before its first cloud and once dropped
-  std::vector<std::unique_ptr<VoxelCloud>> releasing_;  // dropped, memory not yet freed
+  std::vector<std::shared_ptr<const VoxelCloud>> releasing_;  // dropped, memory not yet freed
 };
 
 /// The warning for a store whose stride grew past `previous_stride` (one or more halvings since), "" when

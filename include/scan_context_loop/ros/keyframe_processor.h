@@ -9,6 +9,7 @@
 #include <tf2_ros/buffer.h>
 
 #include "scan_context_loop/core/config.h"
+#include "scan_context_loop/core/database_file.h"
 #include "scan_context_loop/core/keyframes.h"
 #include "scan_context_loop/ros/keyframe_queue.h"
 #include "scan_context_loop/ros/loop_publisher.h"
@@ -36,7 +37,12 @@ class KeyframeProcessor {
 
   KeyframePipeline& pipeline() { return *pipeline_; }
   const Database& database() const { return pipeline_->detector().database(); }
-  /// An empty pipeline with the settings in force (reset).
+  /// What a save writes, taken now (DatabaseSnapshot); it keeps this pipeline's keyframes alive until
+  /// it is released, even past a resetPipeline(), so it may be written on another thread.
+  DatabaseSnapshot snapshot(bool include_clouds) const {
+    return DatabaseSnapshot(pipeline_->detector(), include_clouds, pipeline_);
+  }
+  /// An empty pipeline with the settings in force (reset); the old one lives on while a snapshot of it does.
   void resetPipeline();
   /// Keyframes entered the database beside process() (a load, or one whose processing threw): the
   /// counters follow the database and the markers are drawn afresh.
@@ -64,7 +70,7 @@ class KeyframeProcessor {
   NodeCounters* counters_;
   LoopPublisher* loops_;
   MarkerPublisher* markers_;
-  std::unique_ptr<KeyframePipeline> pipeline_;
+  std::shared_ptr<KeyframePipeline> pipeline_;  // shared with the snapshots being written
   const tf2_ros::Buffer* tf_ = nullptr;
   std::unique_ptr<SensorExtrinsic> extrinsic_;  // child <- sensor (odom mode with sensor_extrinsic_from_tf)
 };

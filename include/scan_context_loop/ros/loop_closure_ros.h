@@ -8,12 +8,16 @@
 //   loop_publisher      loops, rejected candidates, lio_loop, pairs and array, relocalization, timing
 //   marker_publisher    RViz markers
 //   node_counters, node_diagnostics   the counters and the diagnostic task that reports them
-//   database_services.cpp             the save / load / reset / relocalize services, the shutdown save
+//   database_services.cpp             the save / load / reset / relocalize services, the autosave and the
+//                                     shutdown save
 //   database_paths      where saves may write (the map directory), the file beside a kept map
 //
 // Threads and locks:
-//   - spinner threads run the input callbacks and timers, the services, dynamic_reconfigure and the
-//     marker subscriber callback; the worker thread runs every keyframe and every service's work.
+//   - spinner threads run the input callbacks and timers, dynamic_reconfigure and the marker subscriber
+//     callback; the services have a callback queue and a spinner thread of their own (a save waits for
+//     its write there, never holding up the input callbacks); the worker thread runs every keyframe and
+//     every service's work on the database; the writer's thread (DatabaseWriter) writes the snapshots the
+//     worker takes, one write at a time (its own locks).
 //   - KeyframeQueue's mutex guards the queue (keyframes, tasks, redraw and wake flags, stop).
 //   - settings_mutex_ guards the settings dynamic_reconfigure accepted, on their way to the worker.
 //   - reconfigure_mutex_ is dynamic_reconfigure's own (its Server's state).
@@ -21,6 +25,7 @@
 //     the worker's alone (the services reach them through tasks the worker runs).
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -29,6 +34,7 @@
 
 #include <boost/thread/recursive_mutex.hpp>
 #include <dynamic_reconfigure/server.h>
+#include <ros/callback_queue.h>
 #include <ros/ros.h>
 #include <std_srvs/Trigger.h>
 #include <tf2_ros/buffer.h>
@@ -38,6 +44,7 @@
 #include "scan_context_loop/LoopClosureConfig.h"
 #include "scan_context_loop/Relocalize.h"
 #include "scan_context_loop/SaveDatabase.h"
+#include "scan_context_loop/core/database_writer.h"
 #include "scan_context_loop/ros/keyframe_input.h"
 #include "scan_context_loop/ros/keyframe_processor.h"
 #include "scan_context_loop/ros/keyframe_queue.h"
@@ -73,9 +80,16 @@ class LoopClosureRos {
   std::string runOnWorker(std::function<void()> task);
   /// Loads a database file into the pipeline (worker, or start() before the worker runs); "" or why not.
   std::string loadFile(const std::string& path);
-  /// The database to `database_save` at shutdown; beside it when it is the map a failed start-up load
-  /// or a ~reset left out of this run's database (keep_reason_).
+  /// Where this run's database is saved (worker, or after it ended): `database_save`, or a file beside
+  /// it when that is the map a failed start-up load or a ~reset left out of this run's database
+  /// (keep_reason_, reset_): the same file beside it all run, named in one warning.
+  std::string saveTarget();
+  /// The database to saveTarget() at shutdown, after the autosave in progress.
   void saveAtShutdown();
+  /// Autosave timer: asks the worker for a snapshot, unless one is queued or still being written.
+  void requestAutosave();
+  /// Worker: hands a snapshot of the database, if it changed since the last save, to the writer.
+  void autosave();
   void advertiseSessionServices();
   /// dynamic_reconfigure: checks the live settings and hands them to the worker (applied before its
   /// next keyframe); a refused change is logged and the values in force are reported back.
@@ -90,6 +104,10 @@ class LoopClosureRos {
   // database_save's file is not replaced either.
   std::string kept_file_, keep_reason_;
   bool reset_ = false;
+  // The worker's: the file beside database_save once saveTarget() chose one, and the database as the
+  // last save saw it (its size and the ~resets so far), so that an unchanged database is not written again.
+  std::string beside_path_;
+  std::size_t resets_ = 0, saved_size_ = 0, saved_resets_ = 0;
   // Read in start(); then config_ is the worker's, and options_ is read by callbacks too, so the worker
   // changes only its live members, which callbacks never read (takeReconfigured).
   Config config_;
@@ -107,6 +125,11 @@ class LoopClosureRos {
 
   // Set up in start(), used from callbacks (ROS handles are thread-safe).
   ros::ServiceServer save_srv_, load_srv_, reset_srv_, relocalize_srv_;
+  ros::CallbackQueue service_queue_;                  // the services' (thread-safe)
+  std::unique_ptr<ros::AsyncSpinner> service_spinner_;  // its thread
+  DatabaseWriter writer_;                             // thread-safe
+  ros::WallTimer autosave_timer_;
+  std::atomic<bool> autosave_queued_{false};          // an autosave task waits in the queue
   std::unique_ptr<tf2_ros::Buffer> tf_buffer_;
   std::unique_ptr<tf2_ros::TransformListener> tf_listener_;
   boost::recursive_mutex reconfigure_mutex_;  // dynamic_reconfigure's own (guards its Server's state)

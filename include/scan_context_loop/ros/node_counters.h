@@ -24,6 +24,10 @@ struct NodeCounters {
   // with tf poses): a cloud lost before the node (roscpp's subscriber queue of sync_queue_size) is in
   // neither; one whose pose never came is in the first only.
   std::atomic<std::size_t> clouds_received{0}, clouds_paired{0};
+  // Database saves written (autosaves, ~save_database, the shutdown save) and failed, and the last one's
+  // keyframes and wall time [s] (written by the threads that write them).
+  std::atomic<std::size_t> saves{0}, save_failures{0}, last_save_keyframes{0};
+  std::atomic<double> last_save_seconds{0.0};
   std::atomic<long long> heap_allocated{-1}, heap_free{-1};  ///< malloc's statistics at the worker's last read
   std::atomic<double> heap_statistics_ms{0.0};
   std::atomic<double> last_query_ms{0.0}, last_keyframe_ms{0.0}, max_keyframe_ms{0.0};
