@@ -9,8 +9,11 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <atomic>
+#include <fstream>
 #include <memory>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include <sys/resource.h>
@@ -54,12 +57,42 @@ scl::PriorSessions makeKeyframes(std::size_t count, const std::vector<scl::Heigh
   return sessions;
 }
 
+/// Another process's small file writes beside a save (a rosbag, a log): every 10 ms a few bytes are
+/// written to a file in `directory` and renamed into place, while the save runs. The longest one [s].
+class NeighbourWrites {
+ public:
+  explicit NeighbourWrites(const std::string& directory)
+      : file_((fs::path(directory) / "scan_context_bench_neighbour").string()), thread_([this] { run(); }) {}
+  double stop() {
+    done_ = true;
+    thread_.join();
+    std::error_code ignored;
+    fs::remove(file_, ignored);
+    return longest_;
+  }
+
+ private:
+  void run() {
+    while (!done_) {
+      const auto t0 = Clock::now();
+      std::ofstream(file_ + ".tmp") << "progress\n";
+      fs::rename(file_ + ".tmp", file_);
+      longest_ = std::max(longest_, secondsSince(t0));
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+  }
+  std::string file_;
+  std::atomic<bool> done_{false};
+  double longest_ = 0.0;
+  std::thread thread_;
+};
+
 /// Builds a detector of `count` keyframes, saves it, loads it into a fresh detector (best of three) and
 /// prints one Markdown row. Returns false on an error.
 bool measure(const char* what, std::size_t count, const std::vector<scl::HeightGrid>& grids,
              const std::vector<scl::VoxelCloud>& clouds, const scl::Config& config, const std::string& path) {
   std::string error;
-  double snapshot_seconds = 0.0, save_seconds = 0.0;
+  double snapshot_seconds = 0.0, save_seconds = 0.0, neighbour_seconds = 0.0;
   {
     scl::LoopDetector detector(config);
     if (!detector.appendSessions(makeKeyframes(count, grids, clouds, config), &error)) {
@@ -72,12 +105,15 @@ bool measure(const char* what, std::size_t count, const std::vector<scl::HeightG
     const auto t0 = Clock::now();
     const scl::DatabaseSnapshot snapshot(detector, options.include_clouds);
     snapshot_seconds = secondsSince(t0);
+    NeighbourWrites neighbour(fs::path(path).parent_path().string());
     const auto t1 = Clock::now();
-    if (!scl::writeDatabase(snapshot, path, false, &error)) {
+    const bool written = scl::writeDatabase(snapshot, path, false, &error);
+    save_seconds = secondsSince(t1);
+    neighbour_seconds = neighbour.stop();
+    if (!written) {
       std::fprintf(stderr, "%s\n", error.c_str());
       return false;
     }
-    save_seconds = secondsSince(t1);
   }
   // loadDatabase is readDatabaseFile then appendSessions; timed apart. The first run allocates the
   // keyframes' memory afresh (as a node starting up does); later runs may reuse the heap.
@@ -108,9 +144,9 @@ bool measure(const char* what, std::size_t count, const std::vector<scl::HeightG
     }
   }
   const double bytes = static_cast<double>(fs::file_size(path));
-  std::printf("| %s | %zu | %.1f MB | %.0f | %.1f ms | %.3f s | %.3f s | %.3f s + %.3f s |\n", what, count,
-              bytes / 1e6, bytes / count, snapshot_seconds * 1e3, save_seconds, first_seconds, read_seconds,
-              join_seconds);
+  std::printf("| %s | %zu | %.1f MB | %.0f | %.1f ms | %.3f s | %.0f ms | %.3f s | %.3f s + %.3f s |\n", what,
+              count, bytes / 1e6, bytes / count, snapshot_seconds * 1e3, save_seconds, neighbour_seconds * 1e3,
+              first_seconds, read_seconds, join_seconds);
   return true;
 }
 
@@ -227,8 +263,9 @@ int main(int argc, char** argv) {
   }
   const std::string plain = (fs::path(directory) / "scan_context_bench_database.scl").string();
   const std::string with_clouds = (fs::path(directory) / "scan_context_bench_database_clouds.scl").string();
-  std::printf("| file | keyframes | size | bytes / keyframe | snapshot (the worker's part) | write (with fsync) | load, "
-              "first run | load, best of 3: read and check + join and index |\n|---|---|---|---|---|---|---|---|\n");
+  std::printf("| file | keyframes | size | bytes / keyframe | snapshot (the worker's part) | write (with fsync) | a "
+              "neighbour's write and rename meanwhile, longest | load, first run | load, best of 3: read and check + "
+              "join and index |\n|---|---|---|---|---|---|---|---|---|\n");
   bool ok = measure("descriptors, stamps, poses", keyframes, grids, {}, config, plain) &&
                   measure("with registration data (LZ4)", cloud_keyframes, grids, clouds, config, with_clouds);
   // A new process touches every page of the keyframes' memory for the first time.

@@ -4,6 +4,9 @@
 #include <utility>
 
 #include <pthread.h>
+#include <sys/resource.h>
+#include <sys/syscall.h>
+#include <unistd.h>
 
 namespace scan_context_loop {
 
@@ -29,6 +32,9 @@ bool DatabaseWriter::writeInBackground(DatabaseSnapshot snapshot, const std::str
   thread_ = std::thread([this, snapshot = std::move(snapshot), path, keep_backup, done = std::move(done)]() mutable {
     // Named for top -H and perf, beside the worker's scl_loop_worker.
     pthread_setname_np(pthread_self(), "scl_db_writer");
+    // Yields the CPU to the detector's thread when both want it (Linux sets a thread's nice value on
+    // its own); a save that waits a little loses nothing, a keyframe that waits may be dropped.
+    ::setpriority(PRIO_PROCESS, static_cast<id_t>(::syscall(SYS_gettid)), kNice);
     const auto started = std::chrono::steady_clock::now();
     std::string error;
     bool written = false;

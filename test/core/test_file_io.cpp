@@ -8,14 +8,20 @@
 #include <future>
 #include <filesystem>
 #include <fstream>
+#include <string>
+#include <vector>
 
 #include <fcntl.h>
+#include <linux/magic.h>
+#include <sys/mman.h>
 #include <sys/socket.h>
+#include <sys/statfs.h>
 #include <sys/stat.h>
 #include <sys/un.h>
 #include <unistd.h>
 
 #include "scan_context_loop/core/file_io.h"
+#include "../common/temp_dir.h"
 
 namespace scan_context_loop {
 namespace {
@@ -102,6 +108,47 @@ TEST(AtomicFileWriter, WithoutCommitNothingIsLeftAndTheTargetIsUntouched) {
   std::ifstream(target) >> text;
   EXPECT_EQ(text, "old");
   fs::remove_all(dir);
+}
+
+// A large save goes to disk while it is written: every piece but the last two is on disk and out of the
+// page cache before commit(), so its fsync (and the journal commit other processes' writes wait for)
+// has little left to flush, and the file is whole.
+TEST(AtomicFileWriter, WritesBehindSoThatCommitHasLittleLeftToFlush) {
+  test::TempDir dir("scl_write_behind");
+  struct statfs fs_info;
+  ASSERT_EQ(::statfs(dir.file("").c_str(), &fs_info), 0);
+  if (fs_info.f_type == TMPFS_MAGIC) GTEST_SKIP() << "the temporary directory is in memory (tmpfs): no disk to write to";
+  const std::string path = dir.file("big");
+  const std::size_t piece = std::size_t(1) << 20, total = 4 * AtomicFileWriter::kWriteBehindBytes;
+  AtomicFileWriter writer;
+  std::string error;
+  ASSERT_TRUE(writer.open(path, &error)) << error;
+  std::vector<std::uint8_t> data(piece);
+  for (std::size_t at = 0; at < total; at += piece) {
+    for (std::size_t i = 0; i < piece; ++i) data[i] = patternAt(at + i);
+    ASSERT_TRUE(writer.write(data.data(), piece, &error)) << error;
+  }
+  const std::vector<std::string> entries = dir.entries();
+  ASSERT_EQ(entries.size(), 1u) << "the temporary file alone, before commit";
+  const int fd = ::open(dir.file(entries[0]).c_str(), O_RDONLY | O_CLOEXEC);
+  ASSERT_GE(fd, 0);
+  void* map = ::mmap(nullptr, total, PROT_READ, MAP_SHARED, fd, 0);
+  ASSERT_NE(map, MAP_FAILED);
+  const std::size_t page = static_cast<std::size_t>(::sysconf(_SC_PAGESIZE)), settled = 2 * AtomicFileWriter::kWriteBehindBytes;
+  std::vector<unsigned char> resident(total / page);
+  ASSERT_EQ(::mincore(map, total, resident.data()), 0);
+  std::size_t cached = 0;
+  for (std::size_t p = 0; p < settled / page; ++p) cached += resident[p] & 1u;
+  ::munmap(map, total);
+  ::close(fd);
+  EXPECT_LT(cached, settled / page / 20) << cached << " of the first " << settled / page
+                                          << " pages still in the page cache: nothing was written behind";
+  ASSERT_TRUE(writer.commit(&error)) << error;
+  std::ifstream in(path, std::ios::binary);
+  std::size_t at = 0, wrong = 0;
+  for (char c; in.get(c); ++at) wrong += static_cast<std::uint8_t>(c) != patternAt(at);
+  EXPECT_EQ(at, total);
+  EXPECT_EQ(wrong, 0u);
 }
 
 }  // namespace

@@ -32,6 +32,8 @@ class DatabaseWriter {
   /// thread after the write, and the snapshot (with what it keeps alive) is released there. Never waits:
   /// returns false, starting nothing, while an earlier background write is in progress or being waited for.
   bool writeInBackground(DatabaseSnapshot snapshot, const std::string& path, bool keep_backup, Done done);
+  /// The background thread's nice value (it runs below the detector's thread when the CPU is short).
+  static constexpr int kNice = 10;
   /// Whether a background write is in progress.
   bool busy() const { return busy_.load(); }
   /// Waits for the background write in progress, if any.

@@ -84,8 +84,10 @@ class AtomicFileWriter {
   bool open(const std::string& path, std::string* error);
   /// commit() first makes the file it replaces (if any) `backup`, itself replaced atomically.
   void keepBackup(const std::string& backup) { backup_ = backup; }
-  /// Appends to the temporary file.
+  /// Appends to the temporary file. Every kWriteBehindBytes appended go to disk while the next are
+  /// written (write-behind), so commit() has little left to flush.
   bool write(const void* data, std::size_t size, std::string* error);
+  static constexpr std::size_t kWriteBehindBytes = std::size_t(8) << 20;
   /// Overwrites bytes already written, at `offset` (a header whose fields are known only at the end).
   bool writeAt(std::size_t offset, const void* data, std::size_t size, std::string* error);
   /// fsync, rename over the target, fsync of the directory (so the rename survives a power cut).
@@ -93,9 +95,12 @@ class AtomicFileWriter {
 
  private:
   void discard();
+  /// Starts the write of [started_, written_) to disk and waits for [settled_, started_).
+  void writeBehind();
   std::string path_, temporary_, backup_;
   int fd_ = -1;
   std::size_t written_ = 0;
+  std::size_t started_ = 0, settled_ = 0;  // bytes whose write to disk was started / is done
 };
 
 }  // namespace scan_context_loop
