@@ -144,9 +144,9 @@ bool AtomicFileWriter::write(const void* data, std::size_t size, std::string* er
 
 void AtomicFileWriter::writeBehind() {
   // Start writing the newest piece to disk, then wait for the piece before it and drop it from the page
-  // cache. At most two pieces are ever dirty, so the final fsync, and the journal commit that other
-  // processes' file writes and renames on this file system wait for, have little left to flush: a
-  // 1.2 GB save flushed at once by fsync stalled a small write-and-rename elsewhere for up to 1.2 s.
+  // cache. At most two pieces are ever dirty, so the final fsync has little left to flush and other
+  // processes' disk work never waits behind the whole file: a 1.2 GB save flushed at once by fsync
+  // stalled a small write-and-rename elsewhere on the disk for up to 1.2 s.
   // Advisory only: errors show at commit's fsync.
   ::sync_file_range(fd_, static_cast<off_t>(started_), static_cast<off_t>(written_ - started_), SYNC_FILE_RANGE_WRITE);
   if (started_ > settled_) {
