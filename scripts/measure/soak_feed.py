@@ -11,12 +11,17 @@ tenth of the points is dropped and every point moves by 2 cm Gaussian noise. The
 continuous run: each step is the pool lap's own drifting odometry step (the lap junctions take the true
 step), composed onto the last pose, so its drift accumulates over the whole drive.
 
-Writes PROGRESS (keyframes fed, wall seconds since the first) every 100 keyframes and at the end.
+Writes PROGRESS (keyframes fed, wall seconds since the first) every 100 keyframes and at the end, from a
+thread of its own so that a slow disk never holds up the publishing. Reports at the end how late its own
+publishing ever ran behind the schedule: a feeder that stalls (its process descheduled, its memory paged)
+then catches up in a burst, and a burst longer than the node's queue is dropped by the node, rightly.
 
 usage: soak_feed.py PROGRESS KEYFRAMES RATE POOL_DIR [POOL_DIR ...]"""
 import math
 import os
+import queue
 import sys
+import threading
 import time
 
 import numpy as np
@@ -27,6 +32,7 @@ from sensor_msgs.msg import PointCloud2, PointField
 STEP_SECONDS = 0.2  # keyframe stamps: 2 m at 10 m/s
 DROP_FRACTION = 0.1
 NOISE_SIGMA = 0.02
+LATE_SECONDS = 0.1  # the feeder's own lateness worth counting (4 keyframes at 40 Hz)
 
 
 def read_poses(path):
@@ -122,10 +128,28 @@ def main():
     start = time.time()
     fed = 0
 
+    progress = queue.Queue()
+
+    def progress_writer():  # writes the newest line queued; None, after the last line, ends it
+        done = False
+        while not done:
+            items = [progress.get()]
+            while not progress.empty():
+                items.append(progress.get_nowait())
+            done = items[-1] is None
+            lines = [item for item in items if item is not None]
+            if lines:
+                with open(progress_path + ".tmp", "w") as f:
+                    f.write(lines[-1])
+                os.replace(progress_path + ".tmp", progress_path)
+
+    writer = threading.Thread(target=progress_writer, daemon=True)
+    writer.start()
+
     def write_progress():
-        with open(progress_path + ".tmp", "w") as f:
-            f.write("%d %.3f\n" % (fed, time.time() - start))
-        os.replace(progress_path + ".tmp", progress_path)
+        progress.put("%d %.3f\n" % (fed, time.time() - start))
+
+    late_max, late_count, late_at = 0.0, 0, 0
 
     while fed < total and not rospy.is_shutdown():
         lap = laps[lap_index % len(laps)]
@@ -148,6 +172,11 @@ def main():
         wait = due - time.time()
         if wait > 0:
             time.sleep(wait)
+        late = time.time() - due
+        if late > LATE_SECONDS:
+            late_count += 1
+        if late > late_max:
+            late_max, late_at = late, fed
         cloud_pub.publish(cloud_message(points, stamp))
         odom_pub.publish(odom_message(pose, stamp))
         fed += 1
@@ -157,10 +186,14 @@ def main():
         k += 1
         if k == len(lap["truth"]):
             lap_index, k = lap_index + 1, 0
-    write_progress()
     elapsed = time.time() - start
+    write_progress()
+    progress.put(None)
+    writer.join()
     sys.stderr.write("soak_feed: %d keyframes in %.1f s (%.2f Hz), %d laps begun\n" % (
         fed, elapsed, fed / max(elapsed, 1e-9), lap_index + (k > 0)))
+    sys.stderr.write("soak_feed: publishing ran late by more than %.0f ms %d times, at most %.0f ms "
+                     "(keyframe %d)\n" % (1000 * LATE_SECONDS, late_count, 1000 * late_max, late_at))
     time.sleep(2.0)  # let the last messages go out
     return 0
 
