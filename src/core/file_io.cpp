@@ -1,10 +1,13 @@
 #include "scan_context_loop/core/file_io.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cerrno>
 #include <cstring>
 
+#include <dirent.h>
 #include <fcntl.h>
+#include <sys/file.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -129,6 +132,8 @@ bool AtomicFileWriter::open(const std::string& path, std::string* error) {
   fd_ = ::mkstemp(&name[0]);
   if (fd_ < 0) return fail(error, "cannot create a temporary file in " + directoryOf(path));
   temporary_ = name;
+  // Locked until the rename: removeAbandonedTemporaries() leaves a locked temporary file alone.
+  ::flock(fd_, LOCK_EX | LOCK_NB);
   // mkstemp makes the file private (0600): a new file is an ordinary data file, a replaced one keeps
   // the mode its owner gave it.
   ::fchmod(fd_, replacing ? (st.st_mode & 07777) : 0644);
@@ -186,13 +191,6 @@ bool AtomicFileWriter::commit(std::string* error) {
     discard();
     return ok;
   }
-  const int closed = ::close(fd_);
-  fd_ = -1;
-  if (closed != 0) {
-    const bool ok = fail(error, "cannot close " + temporary_);
-    discard();
-    return ok;
-  }
   if (!backup_.empty() && !linkBackup(path_, backup_, error)) {
     discard();
     return false;
@@ -203,12 +201,52 @@ bool AtomicFileWriter::commit(std::string* error) {
     return ok;
   }
   temporary_.clear();
+  ::close(fd_);  // after the rename, so the temporary file is locked as long as it exists; flushed already
+  fd_ = -1;
   const int dir = ::open(directoryOf(path_).c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
   if (dir >= 0) {
     ::fsync(dir);
     ::close(dir);
   }
   return true;
+}
+
+namespace {
+
+/// Whether `name` is `base` + ".tmp." + the six letters or digits mkstemp adds.
+bool isTemporaryOf(const std::string& name, const std::string& base) {
+  const std::string prefix = base + ".tmp.";
+  if (name.size() != prefix.size() + 6 || name.compare(0, prefix.size(), prefix) != 0) return false;
+  return std::all_of(name.begin() + static_cast<std::ptrdiff_t>(prefix.size()), name.end(),
+                     [](char c) { return std::isalnum(static_cast<unsigned char>(c)) != 0; });
+}
+
+}  // namespace
+
+std::vector<AbandonedFile> removeAbandonedTemporaries(const std::string& path) {
+  std::vector<AbandonedFile> removed;
+  const std::string directory = directoryOf(path);
+  const std::size_t slash = path.rfind('/');
+  const std::string base = slash == std::string::npos ? path : path.substr(slash + 1);
+  DIR* dir = ::opendir(directory.c_str());
+  if (!dir) return removed;
+  const std::string prefix = directory == "/" ? "/" : directory + "/";
+  while (const dirent* entry = ::readdir(dir)) {
+    const std::string name = entry->d_name;
+    if (!isTemporaryOf(name, base) && !isTemporaryOf(name, base + ".bak")) continue;
+    const std::string file = prefix + name;
+    struct stat st;
+    if (::lstat(file.c_str(), &st) != 0 || !S_ISREG(st.st_mode) || st.st_uid != ::geteuid()) continue;
+    const int fd = ::open(file.c_str(), O_RDONLY | O_NOFOLLOW | O_NONBLOCK | O_CLOEXEC);
+    if (fd < 0) continue;
+    // A writer alive holds its lock until its rename; one that died left the file unlocked.
+    if (::flock(fd, LOCK_EX | LOCK_NB) == 0 && ::unlink(file.c_str()) == 0) {
+      removed.push_back({file, static_cast<std::size_t>(st.st_size)});
+    }
+    ::close(fd);
+  }
+  ::closedir(dir);
+  return removed;
 }
 
 }  // namespace scan_context_loop

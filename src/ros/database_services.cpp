@@ -9,6 +9,7 @@
 #include <tf2_eigen/tf2_eigen.h>
 
 #include "scan_context_loop/core/database_file.h"
+#include "scan_context_loop/core/file_io.h"
 #include "scan_context_loop/ros/cloud_input.h"
 #include "scan_context_loop/ros/database_paths.h"
 #include "scan_context_loop/ros/loop_closure_ros.h"
@@ -73,6 +74,13 @@ std::string backupNote(const std::string& path, bool replacing) {
 
 }  // namespace
 
+void LoopClosureRos::removeAbandonedWrites(const std::string& path) {
+  for (const AbandonedFile& file : removeAbandonedTemporaries(path)) {
+    ROS_WARN_NAMED(name_, "removed %s (%.1f MB), left by a save of %s that never finished (the process died)",
+                   file.path.c_str(), file.bytes / 1e6, path.c_str());
+  }
+}
+
 void LoopClosureRos::saveAtShutdown() {
   writer_.wait();  // the autosave in progress lands before the final save
   const std::string path = saveTarget();
@@ -130,6 +138,7 @@ bool LoopClosureRos::onSave(scan_context_loop::SaveDatabase::Request& request,
   response.keyframes = static_cast<std::uint32_t>(counters_.database_size.load());  // refused: what there is
   response.success = servicePath(mapDirectory(options_), request.path, &path, &error);
   if (response.success) {
+    removeAbandonedWrites(path);
     // The snapshot on the worker (milliseconds), the write here: detection goes on meanwhile.
     DatabaseSnapshot snapshot;
     const std::string failure =

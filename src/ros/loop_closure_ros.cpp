@@ -82,6 +82,7 @@ bool LoopClosureRos::start() {
     }
   }
   saved_size_ = processor_->database().size();  // the map as loaded is on disk already
+  if (!options_.database_save.empty() && options_.mode != "relocalize") removeAbandonedWrites(options_.database_save);
   if (options_.mode == "relocalize" && processor_->database().size() == 0) {
     ROS_WARN_NAMED(name_, "mode relocalize without a map: nothing is published until ~load_database loads one");
   }

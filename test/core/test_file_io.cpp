@@ -1,7 +1,8 @@
 // FileReader hands out contiguous pieces of any size across its buffer's refills; AtomicFileWriter
-// leaves nothing behind unless committed.
+// leaves nothing behind unless committed, and what a dead writer left is removed.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -111,8 +112,8 @@ TEST(AtomicFileWriter, WithoutCommitNothingIsLeftAndTheTargetIsUntouched) {
 }
 
 // A large save goes to disk while it is written: every piece but the last two is on disk and out of the
-// page cache before commit(), so its fsync (and the journal commit other processes' writes wait for)
-// has little left to flush, and the file is whole.
+// page cache before commit(), so its fsync has little left to flush (other processes' disk writes
+// never wait behind the whole file), and the file is whole.
 TEST(AtomicFileWriter, WritesBehindSoThatCommitHasLittleLeftToFlush) {
   test::TempDir dir("scl_write_behind");
   struct statfs fs_info;
@@ -149,6 +150,44 @@ TEST(AtomicFileWriter, WritesBehindSoThatCommitHasLittleLeftToFlush) {
   for (char c; in.get(c); ++at) wrong += static_cast<std::uint8_t>(c) != patternAt(at);
   EXPECT_EQ(at, total);
   EXPECT_EQ(wrong, 0u);
+}
+
+// A save whose process died leaves its temporary file (up to a gigabyte) beside the map for good:
+// removeAbandonedTemporaries() removes those of the map and of its backup's link, and nothing else: not
+// a writer's that is still writing, another file's, a name mkstemp would not make, or a symlink.
+TEST(AtomicFileWriter, WhatADeadWriterLeftIsRemovedAndNothingElse) {
+  test::TempDir dir("scl_abandoned");
+  const std::string map = dir.file("map.scdb");
+  std::ofstream(map) << "the map";
+  std::ofstream(dir.file("map.scdb.tmp.Ab12Cd")) << std::string(1000, 'x');  // its writer died
+  std::ofstream(dir.file("map.scdb.bak.tmp.Zz9900")) << "a backup's link";
+  std::ofstream(dir.file("map.scdb.tmp.Ab12")) << "not a name mkstemp makes";
+  std::ofstream(dir.file("other.scdb.tmp.Ab12Cd")) << "another file's";
+  std::ofstream(dir.file("elsewhere")) << "a symlink's target";
+  ASSERT_EQ(::symlink(dir.file("elsewhere").c_str(), dir.file("map.scdb.tmp.Link00").c_str()), 0);
+
+  AtomicFileWriter alive;  // writing while the removal runs
+  std::string error;
+  ASSERT_TRUE(alive.open(map, &error)) << error;
+  ASSERT_TRUE(alive.write("the new map", 11, &error)) << error;
+
+  const std::vector<AbandonedFile> removed = removeAbandonedTemporaries(map);
+  std::vector<std::string> paths;
+  for (const AbandonedFile& file : removed) paths.push_back(file.path);
+  std::sort(paths.begin(), paths.end());
+  EXPECT_EQ(paths, (std::vector<std::string>{dir.file("map.scdb.bak.tmp.Zz9900"), dir.file("map.scdb.tmp.Ab12Cd")}));
+  for (const AbandonedFile& file : removed) {
+    if (file.path == dir.file("map.scdb.tmp.Ab12Cd")) EXPECT_EQ(file.bytes, 1000u);
+  }
+  EXPECT_EQ(dir.entries().size(), 6u) << "the map, the live writer's file, the three others and the symlink";
+
+  ASSERT_TRUE(alive.commit(&error)) << "the live writer's file was left to it: " << error;
+  std::string text;
+  std::getline(std::ifstream(map), text);
+  EXPECT_EQ(text, "the new map");
+  EXPECT_EQ(dir.entries(), (std::vector<std::string>{"elsewhere", "map.scdb", "map.scdb.tmp.Ab12", "map.scdb.tmp.Link00",
+                                                    "other.scdb.tmp.Ab12Cd"}));
+  EXPECT_TRUE(removeAbandonedTemporaries(dir.file("missing/map.scdb")).empty());
 }
 
 }  // namespace

@@ -287,7 +287,8 @@ long waitForFile(const std::string& path, long count, double seconds) {
 
 // With database_autosave_seconds the database reaches database_save while the node runs, so a crash
 // loses at most that much: the file holds the keyframes processed so far, the file it replaced is kept as
-// .bak, the diagnostics count the saves, and no keyframe was dropped for them.
+// .bak, the diagnostics count the saves, and no keyframe was dropped for them. A temporary file an
+// earlier run's unfinished save left beside the map is removed at start.
 TEST(Relocalization, AutosavesWriteTheDatabaseWhileTheNodeRuns) {
   const std::string map = "/tmp/scl_autosave_" + std::to_string(getpid()) + ".scdb";
   ros::NodeHandle e_nh("e");
@@ -295,6 +296,8 @@ TEST(Relocalization, AutosavesWriteTheDatabaseWhileTheNodeRuns) {
   DiagnosticsWatch diagnostics(e_nh, "e/loop_closure");
   const Drive drive = blockDrive(true, 7);
   const std::size_t n = drive.truth.size(), half = n / 2;
+  const std::string abandoned = map + ".tmp.Dead00";  // what a save left when its process died
+  std::ofstream(abandoned) << "an unfinished save";
   runNodelet("/e/loop_closure",
              {{"database_save", map}, {"database_autosave_seconds", 0.5}, {"queue_size", 2000},
               {"exclude_recent_frames", 30}},
@@ -314,6 +317,7 @@ TEST(Relocalization, AutosavesWriteTheDatabaseWhileTheNodeRuns) {
                EXPECT_EQ(diagnostics.value("database saves failed", now, 10.0), 0);
                EXPECT_EQ(diagnostics.value("keyframes dropped", now, 10.0), 0);
              });
+  EXPECT_NE(::access(abandoned.c_str(), F_OK), 0) << "an abandoned save's temporary file is removed at start";
   EXPECT_EQ(keyframesIn(map), static_cast<long>(n)) << "the shutdown save";
   ::unlink(map.c_str());
   ::unlink((map + ".bak").c_str());

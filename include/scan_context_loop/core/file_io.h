@@ -71,7 +71,9 @@ class FileReader : public ByteSource {
 /// Writes a file so that readers see either the old file or the whole new one: the data go to a
 /// temporary file in the target's directory, which commit() flushes to disk (fsync) and renames over
 /// the target. Until commit() succeeds the target is untouched; a writer destroyed without a successful
-/// commit removes its temporary file. A file replaced keeps its mode (a new one is 0644). Not copyable.
+/// commit removes its temporary file, which stays locked (flock) while it exists, so that
+/// removeAbandonedTemporaries() tells it from one a dead process left. A file replaced keeps its mode
+/// (a new one is 0644). Not copyable.
 class AtomicFileWriter {
  public:
   AtomicFileWriter() = default;
@@ -102,5 +104,17 @@ class AtomicFileWriter {
   std::size_t written_ = 0;
   std::size_t started_ = 0, settled_ = 0;  // bytes whose write to disk was started / is done
 };
+
+/// A file removeAbandonedTemporaries() removed, and its size.
+struct AbandonedFile {
+  std::string path;
+  std::size_t bytes = 0;
+};
+
+/// Removes what writes of `path` left behind when their process died before the rename: the regular
+/// files of this user beside it named as AtomicFileWriter names its temporary files (`path`.tmp.XXXXXX,
+/// and `path`.bak.tmp.XXXXXX of the backup's link) that no live writer holds locked. Returns what it
+/// removed; anything it cannot read or remove stays.
+std::vector<AbandonedFile> removeAbandonedTemporaries(const std::string& path);
 
 }  // namespace scan_context_loop

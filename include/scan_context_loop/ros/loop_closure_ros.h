@@ -84,6 +84,8 @@ class LoopClosureRos {
   /// it when that is the map a failed start-up load or a ~reset left out of this run's database
   /// (keep_reason_, reset_): the same file beside it all run, named in one warning.
   std::string saveTarget();
+  /// Removes, with a warning, the temporary files that writes of `path` left when their process died.
+  void removeAbandonedWrites(const std::string& path);
   /// The database to saveTarget() at shutdown, after the autosave in progress.
   void saveAtShutdown();
   /// Autosave timer: asks the worker for a snapshot, unless one is queued or still being written.
