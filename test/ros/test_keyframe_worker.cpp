@@ -1,7 +1,7 @@
 // The worker's exception barrier: whatever it runs may throw, and the next keyframe is still processed.
 #include <chrono>
-#include <future>
 #include <stdexcept>
+#include <thread>
 
 #include <gtest/gtest.h>
 #include <pcl/point_cloud.h>
@@ -56,12 +56,13 @@ TEST(KeyframeWorker, WhatThrowsIsCountedAndTheNextKeyframeIsProcessed) {
     throw std::runtime_error("the settings hand-over threw");
   });
   worker.start();
-  std::promise<void> done;
   ASSERT_TRUE(queue.pushTask([] { throw std::runtime_error("a task threw"); }));
   ASSERT_TRUE(queue.push(keyframeAt(1.0)));
-  ASSERT_TRUE(queue.pushTask([&] { done.set_value(); }));
-  ASSERT_EQ(done.get_future().wait_for(std::chrono::seconds(30)), std::future_status::ready)
-      << "the worker stopped after a throw";
+  // The queue hands out tasks before keyframes, so the keyframe's end is watched for, not a task's.
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+  while (counters.database_size.load() == 0 && std::chrono::steady_clock::now() < deadline) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
   queue.stop();
   worker.join();
   EXPECT_EQ(counters.failures.load(), 2u) << "the settings hand-over and the task";
