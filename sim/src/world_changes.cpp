@@ -234,7 +234,7 @@ void changeWorld(const std::vector<PathPoint>& path, const std::vector<double>& 
   changeParkedCars(*kit, record, changes);
   changeVegetation(*kit, record, changes);
   addConstruction(*kit, changes);
-  addTraffic(path, times, changes.strength, kit);
+  addTraffic(path, times, changes.strength * kit->options.traffic, kit);
 }
 
 }  // namespace sim

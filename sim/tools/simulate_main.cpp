@@ -42,6 +42,7 @@ struct Options {
   std::uint32_t seed = 1;
   double dynamic_cars = 0.3;
   double changed_world = 0.0;
+  double traffic = 1.0;
   bool repeat_templates = false;
   int session = 1;
   sim::SecondSessionOptions second;
@@ -114,6 +115,8 @@ void addOptions(scl::cli::Parser* cli, Options* o) {
               "revisits as days later, more the later (0: off, default; 1: strong): parked cars and vegetation "
               "change, construction sites, traffic, people",
               &o->changed_world)
+      .option("--traffic", "F",
+              "with --changed-world: F times its traffic and pedestrians (default 1; 3: rush hour)", &o->traffic)
       .flag("--repeat-templates", "buildings and frontage from a few designs per district: streets alike",
             &o->repeat_templates)
       .option("--session", "N",
@@ -210,6 +213,7 @@ std::string check(const Options& o) {
   if (o.tilt < 0.0) return "--tilt must be >= 0";
   if (!(std::fabs(o.mount_pitch) <= 45.0)) return "--mount-pitch must be within +-45 degrees";
   if (o.changed_world < 0.0) return "--changed-world must be >= 0";
+  if (!(o.traffic >= 0.0 && o.traffic <= 20.0)) return "--traffic must be in [0, 20]";
   if (o.session != 1 && o.session != 2) return "--session must be 1 or 2";
   if (o.second.changed < 0.0 || o.second.changed > 1.0) return "--session-changes must be in [0, 1]";
   return "";
@@ -295,6 +299,7 @@ int main(int argc, char** argv) {
   world_options.dynamic_car_fraction = o.dynamic_cars;
   world_options.duration = source_times.back() - source_times.front();
   world_options.changed_world = o.changed_world;
+  world_options.traffic = o.traffic;
   world_options.repeat_templates = o.repeat_templates;
   for (double t : source_times) world_options.times.push_back(t - source_times.front());
   // The drive simulated: session 1's, or session 2's through the same world on another day. The world
@@ -384,7 +389,7 @@ int main(int argc, char** argv) {
   if (f.heading_jumps > 0) info << "odometry_heading_jumps: " << f.heading_jumps << " x " << f.heading_jump_deg << " deg\n";
   if (f.slip_length > 0.0) info << "odometry_slip: " << f.slip_length << " m from " << f.slip_start << " m, scale " << f.slip_scale << "\n";
   if (f.restart_at >= 0.0) info << "odometry_restart_m: " << f.restart_at << "\n";
-  info << "changed_world: " << o.changed_world << "\nrepeat_templates: " << o.repeat_templates << "\n";
+  info << "changed_world: " << o.changed_world << "\ntraffic: " << o.traffic << "\nrepeat_templates: " << o.repeat_templates << "\n";
   if (!o.bag.shape.name.empty()) info << "stack: " << o.bag.shape.name << "\n";
   info << "session: " << o.session << "\n";
   if (o.session == 2) {

@@ -63,6 +63,9 @@ void checkVerificationPairs(const VerificationConfig& v, std::vector<std::string
   if (!(v.supported_inlier_ratio <= v.min_inlier_ratio)) {
     e->push_back("verify_supported_inlier_ratio must not exceed verify_min_inlier_ratio");
   }
+  if (!(v.supported_column_overlap <= v.min_column_overlap)) {
+    e->push_back("verify_supported_column_overlap must not exceed verify_min_column_overlap");
+  }
   if (!(v.supported_max_violation >= v.max_violation)) {
     e->push_back("verify_supported_max_violation must not be below verify_max_violation");
   }

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <vector>
 
 namespace scan_context_loop {
 
@@ -21,12 +23,28 @@ int binOf(float azimuth, const FreeSpace& f) {
   return b < 0 ? b + n : b;
 }
 
+/// The slope (z over horizontal range) of the lowest directions the cloud's returns reach: the second
+/// percentile over its voxels, or -inf for fewer than 50 voxels.
+float lowestSlope(const VoxelCloud& cloud) {
+  std::vector<float> slopes;
+  slopes.reserve(cloud.size());
+  for (std::size_t i = 0; i < cloud.size(); ++i) {
+    const Eigen::Vector3f& p = cloud.means[i];
+    const float r = std::hypot(p.x(), p.y());
+    if (r >= 1.0f) slopes.push_back(p.z() / r);
+  }
+  if (slopes.size() < 50) return -std::numeric_limits<float>::infinity();
+  auto nth = slopes.begin() + static_cast<std::ptrdiff_t>(slopes.size() / 50);
+  std::nth_element(slopes.begin(), nth, slopes.end());
+  return *nth;
+}
+
 }  // namespace
 
-bool FreeSpace::counts(const Eigen::Vector3f& p) {
+bool FreeSpace::counts(const Eigen::Vector3f& p) const {
   const float r = std::hypot(p.x(), p.y());
-  // tan(1 deg) = 0.0175, tan(20 deg) = 0.364.
-  return p.z() <= 0.0175f * r && p.z() >= -0.364f * r;
+  // tan(1 deg) = 0.0175.
+  return p.z() <= 0.0175f * r && p.z() >= min_slope * r;
 }
 
 FreeSpace freeSpace(const VoxelCloud& cloud, int bins) {
@@ -34,10 +52,12 @@ FreeSpace freeSpace(const VoxelCloud& cloud, int bins) {
   f.max_range = cloud.max_range;
   f.bin = kTwoPi / bins;
   f.nearest.assign(bins, cloud.max_range);
+  // tan(1 deg) = 0.0175: a degree above its lowest returns, so that the band is one the sensor sees.
+  f.min_slope = std::max(f.min_slope, lowestSlope(cloud) + 0.0175f);
   for (std::size_t i = 0; i < cloud.size(); ++i) {
     if (!cloud.vertical(i)) continue;
     const Eigen::Vector3f& p = cloud.means[i];
-    if (!FreeSpace::counts(p)) continue;
+    if (!f.counts(p)) continue;
     const float r = std::hypot(p.x(), p.y());
     if (r < 0.5f) continue;
     // A voxel blocks the directions its metre of structure spans at that range.
@@ -64,7 +84,7 @@ FreeSpaceCheck checkFreeSpace(const VoxelCloud& from, const FreeSpace& to, const
     if (!from.vertical(i)) continue;
     const Eigen::Vector3f p = R * from.means[i] + t;
     const float r = std::hypot(p.x(), p.y());
-    if (r > reach || r < 1.0f || !FreeSpace::counts(p)) continue;
+    if (r > reach || r < 1.0f || !to.counts(p)) continue;
     ++c.covered;
     if (r < to.nearest[binOf(std::atan2(p.y(), p.x()), to)] - margin - margin_ratio * r) ++c.violating;
   }

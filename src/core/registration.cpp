@@ -212,6 +212,38 @@ int VoxelIndex::nearest(const Eigen::Vector3f& p, float max_distance) const {
   return best;
 }
 
+bool VoxelIndex::onPlane(const Eigen::Vector3f& p, const Eigen::Vector3f& n, float plane, float along,
+                         float up) const {
+  if (cloud_ == nullptr) return false;
+  const int ix = gridCell((p.x() - min_xy_) * inv_res_);
+  const int iy = gridCell((p.y() - min_xy_) * inv_res_);
+  const int iz = gridCell((p.z() - min_z_) * inv_res_);
+  const int reach_xy = static_cast<int>(std::ceil(along * inv_res_));
+  const int reach_z = static_cast<int>(std::ceil(up * inv_res_));
+  const bool pole = n.squaredNorm() < 0.25f;
+  const float along2 = along * along, plane2 = plane * plane;
+  for (int dz = -reach_z; dz <= reach_z; ++dz) {
+    for (int dy = -reach_xy; dy <= reach_xy; ++dy) {
+      for (int dx = -reach_xy; dx <= reach_xy; ++dx) {
+        const int c = cell(ix + dx, iy + dy, iz + dz);
+        if (c < 0 || stamp_[c] != generation_) continue;
+        const int i = index_[c];
+        if (cloud_->shape(i) == VoxelCloud::kScatter) continue;
+        const Eigen::Vector3f d = cloud_->means[i] - p;
+        if (std::fabs(d.z()) > up) continue;
+        const float h2 = d.x() * d.x() + d.y() * d.y();
+        if (pole) {
+          if (h2 <= plane2) return true;
+          continue;
+        }
+        const float across = n.x() * d.x() + n.y() * d.y();
+        if (std::fabs(across) <= plane && h2 - across * across <= along2) return true;
+      }
+    }
+  }
+  return false;
+}
+
 std::vector<int> sampleVoxels(const VoxelCloud& cloud, int max_count) {
   std::vector<int> picked, rest;
   for (std::size_t i = 0; i < cloud.size(); ++i) {
@@ -279,7 +311,14 @@ GicpResult alignVoxels(const VoxelCloud& source, const VoxelIndex& target, const
     result.hessian = H;
     result.cost = n > 0 ? cost / n : 0.0;
     if (n < 6) break;
-    const Eigen::Matrix<double, 6, 1> delta = H.ldlt().solve(-g);
+    Eigen::Matrix<double, 6, 1> delta = Eigen::Matrix<double, 6, 1>::Zero();
+    if (options.fix_tilt) {
+      // Yaw and translation only: the rotation update stays about the target's z axis.
+      const Eigen::Matrix4d H4 = H.bottomRightCorner<4, 4>();
+      delta.tail<4>() = H4.ldlt().solve(-g.tail<4>());
+    } else {
+      delta = H.ldlt().solve(-g);
+    }
     if (!delta.allFinite()) break;
     Eigen::Isometry3d step = Eigen::Isometry3d::Identity();
     const Eigen::Vector3d w = delta.head<3>();

@@ -39,6 +39,11 @@ std::size_t structureCount(const VoxelCloud& c) {
   return n;
 }
 
+/// Angle between the rotation's z axis and the vertical [deg].
+double tiltDegrees(const Eigen::Isometry3d& pose) {
+  return std::acos(std::min(1.0, std::max(-1.0, pose.linear()(2, 2)))) * 180.0 / M_PI;
+}
+
 bool close(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b, double metres, double radians) {
   const Eigen::Isometry3d d = a.inverse() * b;
   return d.translation().norm() < metres && Eigen::AngleAxisd(d.linear()).angle() < radians;
@@ -83,6 +88,34 @@ Agreement agreement(const VoxelCloud& from, const VoxelIndex& to, const Eigen::I
     }
   }
   return a;
+}
+
+/// Fractions like agreement()'s, but a structure voxel agrees with any voxel of `to` on its vertical
+/// plane within a column around it (VoxelIndex::onPlane).
+double columnAgreement(const VoxelCloud& from, const VoxelIndex& to, const Eigen::Isometry3d& to_from,
+                       const VerificationConfig& config) {
+  const VoxelCloud& target = *to.cloud();
+  const Eigen::Matrix3f R = to_from.linear().cast<float>();
+  const Eigen::Vector3f t = to_from.translation().cast<float>();
+  const float reach = target.max_range - static_cast<float>(config.inlier_distance);
+  const float reach2 = reach * reach;
+  const float plane = static_cast<float>(config.inlier_plane_distance);
+  const float along = static_cast<float>(config.inlier_distance);
+  std::size_t covered = 0, agreeing = 0;
+  for (std::size_t i = 0; i < from.size(); ++i) {
+    if (!from.vertical(i)) continue;
+    const Eigen::Vector3f p = R * from.means[i] + t;
+    if (p.x() * p.x() + p.y() * p.y() > reach2) continue;
+    ++covered;
+    Eigen::Vector3f n = Eigen::Vector3f::Zero();
+    if (from.shape(i) == VoxelCloud::kPlanar) {
+      n = R * from.normal(i);
+      n.z() = 0.0f;
+      n.normalize();
+    }
+    agreeing += to.onPlane(p, n, n.isZero() ? 2.0f * plane : plane, along, 2.0f);
+  }
+  return covered > 0 ? static_cast<double>(agreeing) / covered : 0.0;
 }
 
 }  // namespace
@@ -184,6 +217,22 @@ std::string Verifier::refineAndJudge(const VoxelCloud& match, const Eigen::Isome
     return "registration did not converge";
   }
   if (!pose.matrix().allFinite()) return "registration diverged";
+  r->tilt_deg = tiltDegrees(pose);
+  if (r->tilt_deg > config_.max_tilt) {
+    // Roll and pitch from the gravity alignment: drop the registered tilt, then yaw and translation again.
+    pose.linear() = Eigen::AngleAxisd(std::atan2(pose.linear()(1, 0), pose.linear()(0, 0)), Eigen::Vector3d::UnitZ())
+                        .toRotationMatrix();
+    GicpOptions options;
+    options.max_iterations = config_.max_iterations;
+    options.max_source_voxels = config_.max_source_voxels;
+    options.max_correspondence = static_cast<float>(config_.fine_correspondence);
+    options.fix_tilt = true;
+    const GicpResult g = alignVoxels(match, query_index_, pose, options);
+    if (g.correspondences < 6) return "registration found no correspondences";
+    pose = g.transform;
+    if (!pose.matrix().allFinite()) return "registration diverged";
+    r->tilt_from_alignment = true;
+  }
   r->relative = pose;
 
   // Agreement both ways, over the region both sensors cover: a changed world moves cars and trees, not
@@ -195,6 +244,9 @@ std::string Verifier::refineAndJudge(const VoxelCloud& match, const Eigen::Isome
   r->overlap_match = forward.covered > 0 ? static_cast<double>(forward.agreeing) / forward.covered : 0.0;
   r->overlap_query = backward.covered > 0 ? static_cast<double>(backward.agreeing) / backward.covered : 0.0;
   r->inlier_ratio = std::min(r->overlap_match, r->overlap_query);
+  r->column_overlap_match = columnAgreement(match, query_index_, pose, config_);
+  r->column_overlap_query = columnAgreement(*query_, match_index_, pose.inverse(), config_);
+  r->column_overlap = std::min(r->column_overlap_match, r->column_overlap_query);
   r->violation_match = checkFreeSpace(match, query_free_, pose).ratio();
   r->violation_query = checkFreeSpace(*query_, match_free_, pose.inverse()).ratio();
   r->violation = std::max(r->violation_match, r->violation_query);
@@ -216,6 +268,15 @@ std::string Verifier::refineAndJudge(const VoxelCloud& match, const Eigen::Isome
     const double floor = i < 3 ? config_.min_translation_variance : config_.min_rotation_variance;
     r->covariance(i, i) = std::max(r->covariance(i, i), floor);
   }
+  if (r->tilt_from_alignment) {
+    // Roll and pitch were not estimated here: they are as good as the two gravity alignments, which the
+    // registration disagreed with by more than max_tilt; nothing couples them to the rest.
+    const double tilt_variance = std::pow(std::max(config_.max_tilt, 0.5) * M_PI / 180.0, 2);
+    for (int i = 3; i < 5; ++i) {
+      for (int j = 0; j < 6; ++j) r->covariance(i, j) = r->covariance(j, i) = 0.0;
+      r->covariance(i, i) = std::max(tilt_variance, config_.min_rotation_variance);
+    }
+  }
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> horizontal(r->covariance.topLeftCorner<2, 2>());
   r->constraint_ratio = horizontal.eigenvalues()(0) / std::max(horizontal.eigenvalues()(1), 1e-12);
 
@@ -226,10 +287,14 @@ std::string Verifier::refineAndJudge(const VoxelCloud& match, const Eigen::Isome
     r->rejection_limit = limit;
     return &why;
   };
-  if (r->inlier_ratio < config_.supported_inlier_ratio) {
+  const auto reaches = [r](double voxel_floor, double column_floor) {
+    return r->inlier_ratio >= voxel_floor || (column_floor < 1.0 && r->column_overlap >= column_floor);
+  };
+  if (!reaches(config_.supported_inlier_ratio, config_.supported_column_overlap)) {
     *reject("overlap", r->inlier_ratio, config_.supported_inlier_ratio)
         << "inlier ratio (structure overlap) " << r->inlier_ratio << " below " << config_.supported_inlier_ratio
-        << " (query " << r->overlap_query << ", candidate " << r->overlap_match << ")";
+        << " (query " << r->overlap_query << ", candidate " << r->overlap_match << ") and column overlap "
+        << r->column_overlap << " below " << config_.supported_column_overlap;
   } else if (r->violation > config_.supported_max_violation) {
     *reject("free_space", r->violation, config_.supported_max_violation)
         << "free-space violation " << r->violation << " above " << config_.supported_max_violation << " (query "
@@ -240,11 +305,12 @@ std::string Verifier::refineAndJudge(const VoxelCloud& match, const Eigen::Isome
     *reject("degenerate", r->constraint_ratio, config_.min_constraint_ratio)
         << "degenerate: the position along one horizontal direction is unconstrained (ratio " << r->constraint_ratio
         << " below " << config_.min_constraint_ratio << ")";
-  } else if (r->inlier_ratio < config_.min_inlier_ratio) {
+  } else if (!reaches(config_.min_inlier_ratio, config_.min_column_overlap)) {
     r->needs_support = true;
     *reject("overlap", r->inlier_ratio, config_.min_inlier_ratio)
         << "needs support: inlier ratio (structure overlap) " << r->inlier_ratio << " below "
-        << config_.min_inlier_ratio << " (query " << r->overlap_query << ", candidate " << r->overlap_match << ")";
+        << config_.min_inlier_ratio << " (query " << r->overlap_query << ", candidate " << r->overlap_match
+        << ") and column overlap " << r->column_overlap << " below " << config_.min_column_overlap;
   } else if (r->violation > config_.max_violation) {
     r->needs_support = true;
     *reject("free_space", r->violation, config_.max_violation)

@@ -212,6 +212,7 @@ void SequenceScorer::score(const Sequence& s) {
         a.result = v.result;
         a.translation_error = (v.result.relative.translation() - truth.translation()).norm();
         a.yaw_error = std::fabs(wrapAngle(yawOf(v.result.relative) - yawOf(truth)));
+        a.rotation_error = Eigen::AngleAxisd(truth.linear().transpose() * v.result.relative.linear()).angle();
         e_.attempts.push_back(a);
       }
     }
@@ -387,7 +388,8 @@ bool writeVerificationsCsv(const std::string& path, const Evaluation& e, std::st
     return false;
   }
   out << "query,match,distance,gap_m,accepted,overlap_query,overlap_match,violation,fitness,constraint_ratio,coarse_score,"
-         "hypotheses,trans_err_m,yaw_err_deg,ms,rejected_by,rejection_value,rejection_limit,reason\n";
+         "hypotheses,trans_err_m,yaw_err_deg,rot_err_deg,tilt_deg,column_overlap_query,column_overlap_match,ms,"
+         "rejected_by,rejection_value,rejection_limit,reason\n";
   out.precision(6);
   for (const auto& a : e.attempts) {
     const VerificationResult& r = a.result;
@@ -396,7 +398,8 @@ bool writeVerificationsCsv(const std::string& path, const Evaluation& e, std::st
     out << a.query << ',' << a.match << ',' << a.distance << ',' << a.gap << ',' << int(r.accepted) << ','
         << r.overlap_query << ',' << r.overlap_match << ',' << r.violation << ',' << r.fitness << ','
         << r.constraint_ratio << ',' << r.coarse_score << ',' << r.hypotheses << ',' << a.translation_error << ','
-        << a.yaw_error * 180.0 / M_PI << ',' << r.seconds * 1e3 << ',' << r.rejected_by << ',' << r.rejection_value
+        << a.yaw_error * 180.0 / M_PI << ',' << a.rotation_error * 180.0 / M_PI << ',' << r.tilt_deg << ','
+        << r.column_overlap_query << ',' << r.column_overlap_match << ',' << r.seconds * 1e3 << ',' << r.rejected_by << ',' << r.rejection_value
         << ',' << r.rejection_limit << ',' << reason << '\n';
   }
   return out.good();

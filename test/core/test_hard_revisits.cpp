@@ -23,7 +23,7 @@ struct Street {
   World world;
   SensorModel sensor;
 
-  explicit Street(double change) {
+  explicit Street(double change, const char* sensor_name = "hdl64") {
     path = proceduralPath();
     times.assign(path.size(), 0.0);
     for (std::size_t k = 1; k < path.size(); ++k) {
@@ -34,7 +34,7 @@ struct Street {
     options.duration = times.back();
     options.changed_world = change;
     world = generateWorld(path, options);
-    sensorPreset("hdl64", &sensor);
+    sensorPreset(sensor_name, &sensor);
   }
 
   /// The sensor over path point k, moved `lateral` metres to its left and turned by `turn`.
@@ -63,7 +63,8 @@ Detection detect(const Street& s, const Eigen::Isometry3d& match, double match_t
   return detector.process(viewOf(scan(s.world, s.sensor, query, query_time, 2)), info);
 }
 
-void expectTrueLoop(const Detection& d, const Eigen::Isometry3d& truth, const char* what) {
+void expectTrueLoop(const Detection& d, const Eigen::Isometry3d& truth, const char* what, double metres = 0.1,
+                    double degrees = 0.2) {
   ASSERT_FALSE(d.verifications.empty()) << what << ": no candidate under verify_threshold";
   const VerificationResult& r = d.verifications.back().result;
   std::printf("%s: %s %s; overlap %.3f, violation %.3f, fitness %.4f, hypotheses %d, %.1f ms\n", what,
@@ -71,8 +72,8 @@ void expectTrueLoop(const Detection& d, const Eigen::Isometry3d& truth, const ch
               r.hypotheses, r.seconds * 1e3);
   ASSERT_TRUE(d.verified) << r.reason;
   const Eigen::Isometry3d error = truth.inverse() * r.relative;
-  EXPECT_LT(error.translation().norm(), 0.1);
-  EXPECT_LT(Eigen::AngleAxisd(error.linear()).angle(), 0.2 * kDeg);
+  EXPECT_LT(error.translation().norm(), metres);
+  EXPECT_LT(Eigen::AngleAxisd(error.linear()).angle(), degrees * kDeg);
 }
 
 TEST(HardRevisits, ChangedWorldReverseRevisitOneLaneOverIsVerified) {
@@ -82,6 +83,25 @@ TEST(HardRevisits, ChangedWorldReverseRevisitOneLaneOverIsVerified) {
   // the changed world drawn in between has happened with that probability), reversed, 3 m to the side.
   const Eigen::Isometry3d early = s.pose(k, 0.0, 0.0), late = s.pose(k, 3.0, M_PI);
   expectTrueLoop(detect(s, early, s.times[k], late, s.times.back()), late.inverse() * early, "changed, reversed");
+}
+
+TEST(HardRevisits, SparseSensorReverseRevisitOneLaneOverIsVerifiedOnItsColumnOverlap) {
+  // The changed-world reverse revisit one lane over, seen by a VLP-16: its 16 rings 2 deg apart meet a
+  // facade at other heights from the other lane, so fewer of its structure voxels meet the other
+  // keyframe's than a loop on its own needs, although the walls do. (Before the column overlap these
+  // two places were turned down or left waiting for support; now they pass in full.)
+  const Street s(1.0, "vlp16");
+  const Config defaults;
+  for (std::size_t k : {200, 800}) {
+    const Eigen::Isometry3d early = s.pose(k, 0.0, 0.0), late = s.pose(k, 3.0, M_PI);
+    const Detection d = detect(s, early, s.times[k], late, s.times.back());
+    const std::string what = "VLP-16, changed, reversed, keyframe " + std::to_string(k);
+    expectTrueLoop(d, late.inverse() * early, what.c_str(), 0.2, 1.0);
+    const VerificationResult& r = d.verifications.back().result;
+    std::printf("%s: column overlap %.3f\n", what.c_str(), r.column_overlap);
+    EXPECT_LT(r.inlier_ratio, defaults.verification.min_inlier_ratio);
+    EXPECT_GE(r.column_overlap, defaults.verification.min_column_overlap);
+  }
 }
 
 TEST(HardRevisits, TiltedSensorIsGravityAlignedAndVerified) {

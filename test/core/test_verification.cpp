@@ -120,6 +120,7 @@ TEST(Verification, AnOverlapBetweenTheTwoCutsNeedsSupport) {
   // marked as a loop that needs support, at its registered pose; with the floor above it too, rejected.
   VerificationConfig config;
   config.min_inlier_ratio = 0.97;
+  config.min_column_overlap = config.supported_column_overlap = 1.0;  // the voxel overlap's floors alone
   const VoxelCloud query = prepared("00", 94, config), match = prepared("00", 95, config);
   const Eigen::Isometry3d prior = priorPose(yawPrior("00", 94, 95));
   const VerificationResult r = verify(query, match, prior, config);
@@ -138,6 +139,15 @@ TEST(Verification, AnOverlapBetweenTheTwoCutsNeedsSupport) {
   EXPECT_FALSE(below.needs_support) << below.reason;
   EXPECT_EQ(below.rejected_by, "overlap");
   EXPECT_DOUBLE_EQ(below.rejection_limit, 0.96);
+  // The column overlap's floors work the same way: either overlap reaching its floor passes.
+  EXPECT_GT(below.column_overlap, below.inlier_ratio);
+  config.min_column_overlap = 0.999;
+  config.supported_column_overlap = below.column_overlap - 0.01;
+  const VerificationResult column = verify(query, match, prior, config);
+  EXPECT_TRUE(column.needs_support) << column.reason;
+  EXPECT_NE(column.reason.find("column overlap"), std::string::npos) << column.reason;
+  config.min_column_overlap = below.column_overlap - 0.01;
+  EXPECT_TRUE(verify(query, match, prior, config).accepted);
   config.supported_inlier_ratio = 0.98;  // above the full cut: a configuration error
   EXPECT_EQ(config.validate().size(), 1u);
 }
@@ -243,6 +253,81 @@ TEST(Verification, CorridorCovarianceReportsTheSlide) {
   const VerificationResult allowed = verify(query, match, planar(0.0, 0.0, 0.0), config);
   EXPECT_TRUE(allowed.accepted) << allowed.reason;
   EXPECT_GT(allowed.covariance(0, 0), 100.0 * allowed.covariance(1, 1));
+}
+
+/// The candidate's data with a gravity alignment `degrees` off in roll, as if it had been levelled wrongly.
+VoxelCloud preparedTilted(const std::string& sequence, int frame, const Eigen::Isometry3d& query_from_match,
+                          double degrees, const VerificationConfig& config) {
+  pcl::PointCloud<pcl::PointXYZI> moved;
+  pcl::transformPointCloud(test::kittiScan(sequence, frame), moved, query_from_match.inverse().matrix().cast<float>());
+  const Eigen::Matrix3f roll = Eigen::AngleAxisf(static_cast<float>(degrees * kDeg), Eigen::Vector3f::UnitX()).toRotationMatrix();
+  return prepareCloud(viewOf(moved), config, roll);
+}
+
+double tiltOf(const Eigen::Isometry3d& t) { return std::acos(std::min(1.0, t(2, 2))) / kDeg; }
+
+TEST(Verification, ATiltTheRegistrationFindsBeyondTheLimitIsLeftToTheGravityAlignment) {
+  VerificationConfig config;
+  const VoxelCloud query = prepared("00", 94, config);
+  const Eigen::Isometry3d truth = planar(1.0, -1.5, 10.0 * kDeg);
+  const VoxelCloud match = preparedTilted("00", 94, truth, 2.5, config);
+
+  // Trusted (90 deg): the registration finds the 2.5 deg the candidate's data are rolled by.
+  config.max_tilt = 90.0;
+  const VerificationResult registered = verify(query, match, planar(0.0, 0.0, 12.0 * kDeg), config);
+  print("tilt registered", registered);
+  EXPECT_FALSE(registered.tilt_from_alignment);
+  EXPECT_NEAR(registered.tilt_deg, 2.5, 0.2);
+  EXPECT_NEAR(tiltOf(registered.relative), 2.5, 0.2);
+
+  // Default (1 deg): above the limit, so roll and pitch stay the gravity alignment's (no tilt between the
+  // aligned frames), yaw and translation are registered again, and the covariance says how loose roll
+  // and pitch are.
+  config.max_tilt = 1.0;
+  const VerificationResult levelled = verify(query, match, planar(0.0, 0.0, 12.0 * kDeg), config);
+  print("tilt from the alignment", levelled);
+  EXPECT_TRUE(levelled.tilt_from_alignment);
+  EXPECT_NEAR(levelled.tilt_deg, 2.5, 0.2) << "the tilt the registration found is still reported";
+  EXPECT_LT(tiltOf(levelled.relative), 0.01);
+  expectPose(levelled, truth, 0.3, 0.3);
+  const double variance = std::pow(1.0 * kDeg, 2);
+  for (int i = 3; i < 5; ++i) {
+    EXPECT_NEAR(levelled.covariance(i, i), variance, 1e-12);
+    for (int j = 0; j < 6; ++j) {
+      if (j != i) EXPECT_EQ(levelled.covariance(i, j), 0.0);
+    }
+  }
+
+  // Within the limit the registration's own roll and pitch are kept.
+  const VoxelCloud slight = preparedTilted("00", 94, truth, 0.5, config);
+  const VerificationResult kept = verify(query, slight, planar(0.0, 0.0, 12.0 * kDeg), config);
+  EXPECT_FALSE(kept.tilt_from_alignment);
+  EXPECT_NEAR(tiltOf(kept.relative), 0.5, 0.2);
+}
+
+TEST(VoxelIndex, OnPlaneFindsAFacadeSampledAtOtherHeightsAndNothingOffIt) {
+  // A facade 10 m ahead (x = 10) seen as two scan lines 0.3 m apart near z = 0 ...
+  pcl::PointCloud<pcl::PointXYZ> wall;
+  for (float z : {0.05f, 0.35f}) {
+    for (float y = -8.0f; y <= 8.0f; y += 0.05f) wall.push_back(pcl::PointXYZ(10.0f, y, z));
+  }
+  VoxelOptions options;
+  const VoxelCloud cloud = makeVoxelCloud(viewOf(wall), options);
+  VoxelIndex index;
+  index.build(cloud);
+  const Eigen::Vector3f n(-1.0f, 0.0f, 0.0f);
+  // ... agrees with a voxel of the same facade 1.5 m higher (another keyframe's rings), which the
+  // nearest-voxel look-up misses,
+  const Eigen::Vector3f higher(10.1f, 2.3f, 1.7f);
+  EXPECT_LT(index.nearest(higher, 1.0f), 0);
+  EXPECT_TRUE(index.onPlane(higher, n, 0.25f, 1.0f, 2.0f));
+  // but not with one 0.5 m in front of it, nor one 3 m above its lines, nor beyond its end.
+  EXPECT_FALSE(index.onPlane(Eigen::Vector3f(9.5f, 2.3f, 0.5f), n, 0.25f, 1.0f, 2.0f));
+  EXPECT_FALSE(index.onPlane(Eigen::Vector3f(10.0f, 2.3f, 3.5f), n, 0.25f, 1.0f, 2.0f));
+  EXPECT_FALSE(index.onPlane(Eigen::Vector3f(10.0f, 10.5f, 0.2f), n, 0.25f, 1.0f, 2.0f));
+  // A pole (no normal) agrees only with something within the given distance horizontally.
+  EXPECT_TRUE(index.onPlane(Eigen::Vector3f(10.2f, 0.5f, 1.5f), Eigen::Vector3f::Zero(), 0.5f, 1.0f, 2.0f));
+  EXPECT_FALSE(index.onPlane(Eigen::Vector3f(11.0f, 0.5f, 1.5f), Eigen::Vector3f::Zero(), 0.5f, 1.0f, 2.0f));
 }
 
 TEST(Verification, EmptyTinyAndNaNCloudsAreRejectedCleanly) {

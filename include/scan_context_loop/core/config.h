@@ -64,6 +64,13 @@ struct VerificationConfig {
   /// agrees with it strictly through the odometry (ConsistencyFilter): sparse sensors see less of the
   /// same structure from a few metres aside. Equal to min_inlier_ratio: off. Without the consistency check such loops are not reported.
   double supported_inlier_ratio = 0.4;
+  /// The same two floors for the column overlap (VerificationResult::column_overlap), which asks of each
+  /// structure voxel only whether the other keyframe saw its surface anywhere in a column around it: a
+  /// sparse sensor (16 rings 2 degrees apart) samples a facade at other heights from another viewpoint,
+  /// so its voxels rarely meet although the walls do. A registration passes the overlap test in full
+  /// when either overlap reaches its floor, and with support likewise. 1: the column overlap is not used.
+  double min_column_overlap = 0.8;
+  double supported_column_overlap = 0.7;
   /// Accept only when the agreeing voxels' mean squared point-to-plane distance is below this [m^2]
   /// (a sanity bound).
   double max_fitness = 0.015;
@@ -73,6 +80,12 @@ struct VerificationConfig {
   /// A registration over max_violation but at most this, passing every other test, needs support,
   /// like one under min_inlier_ratio. Equal to max_violation: off.
   double supported_max_violation = 0.55;
+  /// Both keyframes are gravity-aligned before they are registered, so the registered rotation between
+  /// them should be a yaw. When it tilts by more than this [deg], the registration's roll and pitch are
+  /// not trusted (a sparse scan's few rings leave them loose): yaw and translation are registered again
+  /// with roll and pitch held at the gravity alignment's, and the loop's roll and pitch variance is
+  /// then this angle squared. 0: always so; 90: never.
+  double max_tilt = 1.0;
   /// The fine registration: the built-in voxel GICP (vgicp), or PCL's GICP, ICP or NDT over the voxel
   /// means (slower; kept for comparison).
   RegistrationMethod method = RegistrationMethod::kVgicp;

@@ -21,10 +21,14 @@ struct FreeSpace {
   float max_range = 40.0f;
   float bin = 0.0f;  ///< bin width [rad]
 
-  /// Only structure between 20 deg below and 1 deg above the sensor's horizon counts, on both sides:
-  /// every common spinning LiDAR sees that band (an HDL-64E's top beam is at +2 deg), so what lies
-  /// there and is not seen was not there.
-  static bool counts(const Eigen::Vector3f& p);
+  /// Slope (z over horizontal range) of the lowest direction that counts: 20 deg below the horizon, or
+  /// 1 deg above the lowest the keyframe's own returns reach when its sensor looks less far down (a
+  /// VLP-16's lowest beam is at -15 deg).
+  float min_slope = -0.364f;
+  /// Only structure between min_slope and 1 deg above the sensor's horizon counts, on both sides: every
+  /// common spinning LiDAR sees that band (an HDL-64E's top beam is at +2 deg, a VLP-16's at +15), so
+  /// what lies there and is not seen was not there.
+  bool counts(const Eigen::Vector3f& p) const;
 };
 
 FreeSpace freeSpace(const VoxelCloud& cloud, int bins = 720);

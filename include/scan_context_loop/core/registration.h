@@ -98,6 +98,11 @@ class VoxelIndex {
   /// The voxel among p's cell and its 6 face neighbours whose mean is nearest to p, within
   /// `max_distance`, or -1.
   int nearest(const Eigen::Vector3f& p, float max_distance) const;
+  /// Whether a voxel other than scatter lies on the vertical plane through p with horizontal normal n:
+  /// within `plane` [m] of it, `along` [m] of p horizontally and `up` [m] vertically. With a zero n,
+  /// within `plane` of p horizontally (a pole). A sparse sensor samples a facade at heights that depend
+  /// on the viewpoint; this asks only whether the other keyframe saw the same surface there.
+  bool onPlane(const Eigen::Vector3f& p, const Eigen::Vector3f& n, float plane, float along, float up) const;
   const VoxelCloud* cloud() const { return cloud_; }
 
  private:
@@ -119,6 +124,8 @@ struct GicpOptions {
   float plane_epsilon = 1e-2f;
   /// Stop when the update is below these [m], [rad].
   double translation_epsilon = 1e-3, rotation_epsilon = 1e-4;
+  /// Estimate yaw and translation only (4 DoF): roll and pitch stay as in `initial`.
+  bool fix_tilt = false;
 };
 
 struct GicpResult {

@@ -54,6 +54,16 @@ struct VerificationResult {
   /// structure), and how many hypotheses were registered.
   double coarse_score = 0.0;
   int hypotheses = 0;
+  /// Tilt of the registered rotation between the two gravity-aligned frames [deg]: the angle its z axis
+  /// makes with the vertical (0 when both alignments and the registration agree).
+  double tilt_deg = 0.0;
+  /// Roll and pitch are the gravity alignment's, not registered (tilt_deg was above
+  /// VerificationConfig::max_tilt), and their variance is max_tilt squared.
+  bool tilt_from_alignment = false;
+  /// Column overlap: like overlap_query / overlap_match, but a structure voxel agrees with any voxel
+  /// of the other on its plane within a column around it (sparse sensors sample a facade at other
+  /// heights from another viewpoint).
+  double column_overlap_query = 0.0, column_overlap_match = 0.0, column_overlap = 0.0;
   std::size_t query_points = 0, match_points = 0;  ///< structure voxels of each
   double seconds = 0.0;
   /// Covariance of `relative` in (x, y, z, roll, pitch, yaw), row-major like ROS: the inverse of the

@@ -25,6 +25,7 @@ struct VerificationAttempt {
   bool true_place = false;      ///< within the revisit radius
   VerificationResult result;    ///< the decision, its reason and every feature it was made on
   double translation_error = 0.0, yaw_error = 0.0;  ///< of the registered pose against the truth [m], [rad]
+  double rotation_error = 0.0;  ///< angle of the registered rotation against the true one [rad]
 };
 
 struct Evaluation {

@@ -98,6 +98,9 @@ struct WorldOptions {
   /// sites appear, and traffic and pedestrians pass. Each change happens at its own time in the drive,
   /// so places seen further apart in time differ more. Needs a duration.
   double changed_world = 0.0;
+  /// Traffic and pedestrians of changed_world, as a multiple of its own (1): 3 is a busy street at rush
+  /// hour (about 3 vehicles every 4 s at strength 1). Applies to a later drive's passing traffic too.
+  double traffic = 1.0;
   /// Buildings and their frontage from a few designs per district character, one per district square
   /// (rows of identical houses), so different streets look alike (repetitive places).
   bool repeat_templates = false;
