@@ -145,6 +145,9 @@ int main(int argc, char** argv) {
                 "translation %.3f m median / %.3f p90, yaw %.2f deg median / %.2f p90\n",
                 v.precision, v.recall, v.true_positives, v.false_positives, v.translation_error_median,
                 v.translation_error_p90, v.yaw_error_median, v.yaw_error_p90);
+    std::printf("revisits whose first candidate is the right place: %zu, of which %zu verified (%.3f)\n",
+                v.first_candidate_right, v.first_candidate_right_verified,
+                v.first_candidate_right > 0 ? double(v.first_candidate_right_verified) / v.first_candidate_right : 0.0);
     std::printf("verification per keyframe: %.2f candidates on average, %d at most; %.1f ms median, %.1f ms p99, "
                 "%.1f ms max\n",
                 v.candidates_mean, v.candidates_max, eval::percentile(result.verify_ms, 0.5),

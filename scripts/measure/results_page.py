@@ -20,7 +20,8 @@ import matplotlib.pyplot as plt  # noqa: E402
 GROUPS = [
     ("KITTI 00 and 08 trajectories (HDL-64E, VLP-16, OS1-64)",
      lambda n: n.startswith(("kitti00_", "kitti08_")) and "livox" not in n),
-    ("changed worlds: KITTI 08 and the city grid (HDL-64E, VLP-16)", lambda n: "-changed_" in n),
+    ("changed worlds: KITTI 08 and city drives, rush-hour traffic, a tilting sensor (HDL-64E, VLP-16)",
+     lambda n: "-changed" in n),
     ("lane offsets and reverse revisits: procedural drive", lambda n: n.startswith("procedural_")),
     ("tilted hand-held sensor, narrow lanes (HDL-64E)", lambda n: n.startswith(("kitti00-tilted_", "narrow_"))),
     ("Livox Avia and Mid-360 (non-repetitive scans)", lambda n: "livox" in n),

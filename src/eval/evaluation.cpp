@@ -344,7 +344,8 @@ bool writeMetricsJson(const std::string& path, const Evaluation& e, const Sequen
         << ", \"p90\": " << v.translation_error_p90 << "}, \"yaw_error_deg\": {\"median\": " << v.yaw_error_median
         << ", \"p90\": " << v.yaw_error_p90 << "}, \"candidates_mean\": " << v.candidates_mean
         << ", \"candidates_max\": " << v.candidates_max << ", \"reported_late\": " << v.reported_late
-        << ", \"correct_beyond_radius\": " << v.beyond_radius
+        << ", \"correct_beyond_radius\": " << v.beyond_radius << ", \"first_candidate_right\": "
+        << v.first_candidate_right << ", \"first_candidate_right_verified\": " << v.first_candidate_right_verified
         << ", \"dropped_by_consistency\": " << e.loops_dropped << ", \"verify_ms\": {\"median\": "
         << percentile(e.verify_ms, 0.5) << ", \"p99\": " << percentile(e.verify_ms, 0.99)
         << ", \"max\": " << percentile(e.verify_ms, 1.0) << "}, \"rejected_by\": {";

@@ -104,7 +104,10 @@ VerifiedMetrics computeVerifiedMetrics(const std::vector<QueryOutcome>& outcomes
     revisits += o.revisit;
     candidates += o.candidates_verified;
     v.candidates_max = std::max(v.candidates_max, o.candidates_verified);
+    const bool first_right = o.revisit && o.correct;
+    v.first_candidate_right += first_right;
     if (o.verified_match < 0) continue;
+    v.first_candidate_right_verified += first_right && o.verified_correct;
     v.reported_late += o.reported_late;
     if (!o.verified_correct) {
       ++v.false_positives;

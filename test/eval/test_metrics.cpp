@@ -138,6 +138,22 @@ TEST(VerifiedMetrics, HandComputed) {
   EXPECT_NEAR(v.yaw_error_p90, 3.0, 1e-9);
   EXPECT_DOUBLE_EQ(v.candidates_mean, 6.0 / 6.0);
   EXPECT_EQ(v.candidates_max, 2);
+  EXPECT_EQ(v.first_candidate_right, 0u);
+}
+
+TEST(VerifiedMetrics, WhatVerificationKeepsOfTheRightFirstCandidates) {
+  std::vector<QueryOutcome> o(5);
+  for (auto& q : o) q.revisit = q.correct = true;  // the descriptor put the right place first
+  o[0].verified_match = o[1].verified_match = 2;
+  o[0].verified_correct = true;
+  o[1].verified_correct = false;  // registered wrong: not kept
+  o[3].correct = false;           // the first candidate was elsewhere; verified through another one
+  o[3].verified_match = 1;
+  o[3].verified_correct = true;
+  o[4].revisit = false;  // no revisit: the best candidate cannot be the right place
+  const VerifiedMetrics v = computeVerifiedMetrics(o);
+  EXPECT_EQ(v.first_candidate_right, 3u);
+  EXPECT_EQ(v.first_candidate_right_verified, 1u);
 }
 
 TEST(RelocalizationMetrics, HandComputed) {

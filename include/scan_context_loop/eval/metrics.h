@@ -46,6 +46,9 @@ struct VerifiedMetrics {
   int candidates_max = 0;
   std::size_t reported_late = 0;  ///< loops reported after their own keyframe (consistency check)
   std::size_t beyond_radius = 0;  ///< correct constraints between keyframes beyond the revisit radius
+  /// Revisit queries whose descriptor's first candidate is the right place (within the revisit radius),
+  /// and how many of them got a correct verified loop: what verification keeps of what the descriptor found.
+  std::size_t first_candidate_right = 0, first_candidate_right_verified = 0;
 };
 
 VerifiedMetrics computeVerifiedMetrics(const std::vector<QueryOutcome>& outcomes);
