@@ -222,9 +222,13 @@ bool VoxelIndex::onPlane(const Eigen::Vector3f& p, const Eigen::Vector3f& n, flo
   const int reach_z = static_cast<int>(std::ceil(up * inv_res_));
   const bool pole = n.squaredNorm() < 0.25f;
   const float along2 = along * along, plane2 = plane * plane;
-  for (int dz = -reach_z; dz <= reach_z; ++dz) {
-    for (int dy = -reach_xy; dy <= reach_xy; ++dy) {
-      for (int dx = -reach_xy; dx <= reach_xy; ++dx) {
+  // Nearest layers and cells first: the same facade is most often found at the voxel's own height.
+  for (int step_z = 0; step_z <= 2 * reach_z; ++step_z) {
+    const int dz = (step_z + 1) / 2 * (step_z % 2 == 0 ? 1 : -1);
+    for (int step_y = 0; step_y <= 2 * reach_xy; ++step_y) {
+      const int dy = (step_y + 1) / 2 * (step_y % 2 == 0 ? 1 : -1);
+      for (int step_x = 0; step_x <= 2 * reach_xy; ++step_x) {
+        const int dx = (step_x + 1) / 2 * (step_x % 2 == 0 ? 1 : -1);
         const int c = cell(ix + dx, iy + dy, iz + dz);
         if (c < 0 || stamp_[c] != generation_) continue;
         const int i = index_[c];

@@ -5,6 +5,8 @@
 #include <cmath>
 #include <limits>
 #include <sstream>
+#include <utility>
+#include <vector>
 
 #include <Eigen/Eigenvalues>
 
@@ -91,9 +93,13 @@ Agreement agreement(const VoxelCloud& from, const VoxelIndex& to, const Eigen::I
 }
 
 /// Fractions like agreement()'s, but a structure voxel agrees with any voxel of `to` on its vertical
-/// plane within a column around it (VoxelIndex::onPlane).
+/// plane within a column around it (VoxelIndex::onPlane). Over at most kColumnSamples of the covered
+/// voxels, evenly spread; once the share can no longer reach `floor`, it stops and returns the most it
+/// could still have been (below `floor`).
+constexpr std::size_t kColumnSamples = 800;
+
 double columnAgreement(const VoxelCloud& from, const VoxelIndex& to, const Eigen::Isometry3d& to_from,
-                       const VerificationConfig& config) {
+                       const VerificationConfig& config, double floor) {
   const VoxelCloud& target = *to.cloud();
   const Eigen::Matrix3f R = to_from.linear().cast<float>();
   const Eigen::Vector3f t = to_from.translation().cast<float>();
@@ -101,21 +107,30 @@ double columnAgreement(const VoxelCloud& from, const VoxelIndex& to, const Eigen
   const float reach2 = reach * reach;
   const float plane = static_cast<float>(config.inlier_plane_distance);
   const float along = static_cast<float>(config.inlier_distance);
-  std::size_t covered = 0, agreeing = 0;
+  std::vector<std::pair<std::uint32_t, Eigen::Vector3f>> covered;
+  covered.reserve(from.size());
   for (std::size_t i = 0; i < from.size(); ++i) {
     if (!from.vertical(i)) continue;
     const Eigen::Vector3f p = R * from.means[i] + t;
-    if (p.x() * p.x() + p.y() * p.y() > reach2) continue;
-    ++covered;
+    if (p.x() * p.x() + p.y() * p.y() <= reach2) covered.emplace_back(static_cast<std::uint32_t>(i), p);
+  }
+  if (covered.empty()) return 0.0;
+  const std::size_t stride = (covered.size() + kColumnSamples - 1) / kColumnSamples;
+  const std::size_t samples = (covered.size() + stride - 1) / stride;
+  const auto allowed_misses = static_cast<std::size_t>((1.0 - floor) * static_cast<double>(samples));
+  std::size_t misses = 0;
+  for (std::size_t k = 0; k < covered.size(); k += stride) {
+    const std::size_t i = covered[k].first;
     Eigen::Vector3f n = Eigen::Vector3f::Zero();
     if (from.shape(i) == VoxelCloud::kPlanar) {
       n = R * from.normal(i);
       n.z() = 0.0f;
       n.normalize();
     }
-    agreeing += to.onPlane(p, n, n.isZero() ? 2.0f * plane : plane, along, 2.0f);
+    if (to.onPlane(covered[k].second, n, n.isZero() ? 2.0f * plane : plane, along, 2.0f)) continue;
+    if (++misses > allowed_misses) break;
   }
-  return covered > 0 ? static_cast<double>(agreeing) / covered : 0.0;
+  return static_cast<double>(samples - std::min(misses, samples)) / static_cast<double>(samples);
 }
 
 }  // namespace
@@ -244,9 +259,16 @@ std::string Verifier::refineAndJudge(const VoxelCloud& match, const Eigen::Isome
   r->overlap_match = forward.covered > 0 ? static_cast<double>(forward.agreeing) / forward.covered : 0.0;
   r->overlap_query = backward.covered > 0 ? static_cast<double>(backward.agreeing) / backward.covered : 0.0;
   r->inlier_ratio = std::min(r->overlap_match, r->overlap_query);
-  r->column_overlap_match = columnAgreement(match, query_index_, pose, config_);
-  r->column_overlap_query = columnAgreement(*query_, match_index_, pose.inverse(), config_);
-  r->column_overlap = std::min(r->column_overlap_match, r->column_overlap_query);
+  // The column overlap only where it can decide: when the voxel overlap falls short of its full floor,
+  // and the second direction only when the first reaches the support floor.
+  if (r->inlier_ratio < config_.min_inlier_ratio && config_.supported_column_overlap < 1.0) {
+    const double floor = config_.supported_column_overlap;
+    r->column_overlap = r->column_overlap_match = columnAgreement(match, query_index_, pose, config_, floor);
+    if (r->column_overlap_match >= config_.supported_column_overlap) {
+      r->column_overlap_query = columnAgreement(*query_, match_index_, pose.inverse(), config_, floor);
+      r->column_overlap = std::min(r->column_overlap_match, r->column_overlap_query);
+    }
+  }
   r->violation_match = checkFreeSpace(match, query_free_, pose).ratio();
   r->violation_query = checkFreeSpace(*query_, match_free_, pose.inverse()).ratio();
   r->violation = std::max(r->violation_match, r->violation_query);

@@ -140,13 +140,22 @@ TEST(Verification, AnOverlapBetweenTheTwoCutsNeedsSupport) {
   EXPECT_EQ(below.rejected_by, "overlap");
   EXPECT_DOUBLE_EQ(below.rejection_limit, 0.96);
   // The column overlap's floors work the same way: either overlap reaching its floor passes.
-  EXPECT_GT(below.column_overlap, below.inlier_ratio);
+  EXPECT_EQ(below.column_overlap, 0.0) << "not measured while its floors are off";
   config.min_column_overlap = 0.999;
-  config.supported_column_overlap = below.column_overlap - 0.01;
+  config.supported_column_overlap = 0.5;  // measured in full while it stays above this
+  const VerificationResult measured = verify(query, match, prior, config);
+  ASSERT_TRUE(measured.needs_support) << measured.reason;
+  EXPECT_GT(measured.column_overlap, measured.inlier_ratio);
+  EXPECT_LT(measured.column_overlap, 0.999);
+  config.supported_column_overlap = 0.999;  // out of reach: rejected, and counting stopped below it
+  const VerificationResult out_of_reach = verify(query, match, prior, config);
+  EXPECT_FALSE(out_of_reach.accepted || out_of_reach.needs_support);
+  EXPECT_LT(out_of_reach.column_overlap, 0.999);
+  config.supported_column_overlap = measured.column_overlap - 0.01;
   const VerificationResult column = verify(query, match, prior, config);
   EXPECT_TRUE(column.needs_support) << column.reason;
   EXPECT_NE(column.reason.find("column overlap"), std::string::npos) << column.reason;
-  config.min_column_overlap = below.column_overlap - 0.01;
+  config.min_column_overlap = measured.column_overlap - 0.01;
   EXPECT_TRUE(verify(query, match, prior, config).accepted);
   config.supported_inlier_ratio = 0.98;  // above the full cut: a configuration error
   EXPECT_EQ(config.validate().size(), 1u);
