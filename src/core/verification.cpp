@@ -60,20 +60,33 @@ struct Agreement {
   double residual2 = 0.0;
 };
 
+/// One keyframe's voxels moved into another's frame (T_to<-from), and what of them the other covers.
+struct MovedInto {
+  MovedInto(const VoxelIndex& to, const Eigen::Isometry3d& to_from, const VerificationConfig& config)
+      : R(to_from.linear().cast<float>()), t(to_from.translation().cast<float>()),
+        plane(static_cast<float>(config.inlier_plane_distance)) {
+    const float reach = to.cloud()->max_range - static_cast<float>(config.inlier_distance);
+    reach2 = reach * reach;
+  }
+  Eigen::Vector3f operator()(const Eigen::Vector3f& p) const { return R * p + t; }
+  bool covered(const Eigen::Vector3f& moved) const { return moved.head<2>().squaredNorm() <= reach2; }
+
+  Eigen::Matrix3f R;
+  Eigen::Vector3f t;
+  float plane, reach2 = 0.0f;
+};
+
 Agreement agreement(const VoxelCloud& from, const VoxelIndex& to, const Eigen::Isometry3d& to_from,
                     const VerificationConfig& config, bool structure_only, int stride,
                     Eigen::Matrix<double, 6, 6>* information) {
   Agreement a;
   const VoxelCloud& target = *to.cloud();
-  const Eigen::Matrix3f R = to_from.linear().cast<float>();
-  const Eigen::Vector3f t = to_from.translation().cast<float>();
-  const float reach = target.max_range - static_cast<float>(config.inlier_distance);
-  const float reach2 = reach * reach;
-  const float plane = static_cast<float>(config.inlier_plane_distance);
+  const MovedInto move(to, to_from, config);
+  const float plane = move.plane;
   for (std::size_t i = 0; i < from.size(); i += stride) {
     if (structure_only ? !from.vertical(i) : !from.ground(i)) continue;
-    const Eigen::Vector3f p = R * from.means[i] + t;
-    if (p.x() * p.x() + p.y() * p.y() > reach2) continue;
+    const Eigen::Vector3f p = move(from.means[i]);
+    if (!move.covered(p)) continue;
     ++a.covered;
     const int j = to.nearest(p, static_cast<float>(config.inlier_distance));
     if (j < 0 || !target.registrable(j)) continue;
@@ -100,19 +113,15 @@ constexpr std::size_t kColumnSamples = 800;
 
 double columnAgreement(const VoxelCloud& from, const VoxelIndex& to, const Eigen::Isometry3d& to_from,
                        const VerificationConfig& config, double floor) {
-  const VoxelCloud& target = *to.cloud();
-  const Eigen::Matrix3f R = to_from.linear().cast<float>();
-  const Eigen::Vector3f t = to_from.translation().cast<float>();
-  const float reach = target.max_range - static_cast<float>(config.inlier_distance);
-  const float reach2 = reach * reach;
-  const float plane = static_cast<float>(config.inlier_plane_distance);
+  const MovedInto move(to, to_from, config);
+  const float plane = move.plane;
   const float along = static_cast<float>(config.inlier_distance);
   std::vector<std::pair<std::uint32_t, Eigen::Vector3f>> covered;
   covered.reserve(from.size());
   for (std::size_t i = 0; i < from.size(); ++i) {
     if (!from.vertical(i)) continue;
-    const Eigen::Vector3f p = R * from.means[i] + t;
-    if (p.x() * p.x() + p.y() * p.y() <= reach2) covered.emplace_back(static_cast<std::uint32_t>(i), p);
+    const Eigen::Vector3f p = move(from.means[i]);
+    if (move.covered(p)) covered.emplace_back(static_cast<std::uint32_t>(i), p);
   }
   if (covered.empty()) return 0.0;
   const std::size_t stride = (covered.size() + kColumnSamples - 1) / kColumnSamples;
@@ -123,7 +132,7 @@ double columnAgreement(const VoxelCloud& from, const VoxelIndex& to, const Eigen
     const std::size_t i = covered[k].first;
     Eigen::Vector3f n = Eigen::Vector3f::Zero();
     if (from.shape(i) == VoxelCloud::kPlanar) {
-      n = R * from.normal(i);
+      n = move.R * from.normal(i);
       n.z() = 0.0f;
       n.normalize();
     }
