@@ -109,7 +109,7 @@ Agreement agreement(const VoxelCloud& from, const VoxelIndex& to, const Eigen::I
 /// plane within a column around it (VoxelIndex::onPlane). Over at most kColumnSamples of the covered
 /// voxels, evenly spread; once the share can no longer reach `floor`, it stops and returns the most it
 /// could still have been (below `floor`).
-constexpr std::size_t kColumnSamples = 800;
+constexpr std::size_t kColumnSamples = 400;
 
 double columnAgreement(const VoxelCloud& from, const VoxelIndex& to, const Eigen::Isometry3d& to_from,
                        const VerificationConfig& config, double floor) {
@@ -246,8 +246,9 @@ std::string Verifier::refineAndJudge(const VoxelCloud& match, const Eigen::Isome
     // Roll and pitch from the gravity alignment: drop the registered tilt, then yaw and translation again.
     pose.linear() = Eigen::AngleAxisd(std::atan2(pose.linear()(1, 0), pose.linear()(0, 0)), Eigen::Vector3d::UnitZ())
                         .toRotationMatrix();
+    // From the full registration's yaw and translation, which the tilt hardly moves: a few iterations.
     GicpOptions options;
-    options.max_iterations = config_.max_iterations;
+    options.max_iterations = std::min(config_.max_iterations, 5);
     options.max_source_voxels = config_.max_source_voxels;
     options.max_correspondence = static_cast<float>(config_.fine_correspondence);
     options.fix_tilt = true;

@@ -64,7 +64,7 @@ struct VerificationResult {
   /// of the other on its plane within a column around it (sparse sensors sample a facade at other
   /// heights from another viewpoint). Measured only where it can decide (the voxel overlap below
   /// VerificationConfig::min_inlier_ratio), the query's side only when the candidate's reaches the
-  /// support floor; 0 where not measured. Over at most 800 voxels a side; below the support floor, the
+  /// support floor; 0 where not measured. Over at most 400 voxels a side; below the support floor, the
   /// most it could have been when counting stopped. column_overlap is the smaller measured one.
   double column_overlap_query = 0.0, column_overlap_match = 0.0, column_overlap = 0.0;
   std::size_t query_points = 0, match_points = 0;  ///< structure voxels of each
