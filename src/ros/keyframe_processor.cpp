@@ -186,6 +186,10 @@ void KeyframeProcessor::process(QueuedKeyframe keyframe) {
   const auto ms = [](std::chrono::steady_clock::duration d) {
     return std::chrono::duration<double, std::milli>(d).count();
   };
+  // The CPU time is read before the wall clock, as it was read after it at the start, so that the
+  // CPU interval lies within the wall one (read after the timing message was built, it also counted
+  // that, and came out above the wall time now and then).
+  const ThreadUsage usage = ThreadUsage::now();
   const double processing_ms = ms(std::chrono::steady_clock::now() - started);
   counters_->last_keyframe_ms = processing_ms;
   if (processing_ms > counters_->max_keyframe_ms.load()) counters_->max_keyframe_ms = processing_ms;
@@ -200,7 +204,6 @@ void KeyframeProcessor::process(QueuedKeyframe keyframe) {
   timing.describe_query_ms = (detection.descriptor_seconds + detection.query_seconds) * 1e3;
   timing.verify_ms = detection.verify_seconds * 1e3;
   timing.queue_length = static_cast<std::uint32_t>(keyframe.queue_length);
-  const ThreadUsage usage = ThreadUsage::now();
   timing.cpu_ms = usage.cpu_ms - usage_at_start.cpu_ms;
   timing.preemptions = static_cast<std::uint32_t>(std::max(0L, usage.preemptions - usage_at_start.preemptions));
   timing.page_faults = static_cast<std::uint32_t>(std::max(0L, usage.page_faults - usage_at_start.page_faults));
