@@ -227,15 +227,21 @@ VerificationResult Verifier::verify(const VoxelCloud& match, const std::vector<E
 std::string Verifier::refineAndJudge(const VoxelCloud& match, const Eigen::Isometry3d& initial,
                                      VerificationResult* r) {
   Eigen::Isometry3d pose = initial;
-  if (config_.method == RegistrationMethod::kVgicp) {
+  // One voxel GICP stage from `pose` at a correspondence distance; false when it found too few pairs.
+  const auto stage = [&](double distance, int iterations, bool fix_tilt) {
     GicpOptions options;
-    options.max_iterations = config_.max_iterations;
+    options.max_iterations = iterations;
     options.max_source_voxels = config_.max_source_voxels;
+    options.max_correspondence = static_cast<float>(distance);
+    options.fix_tilt = fix_tilt;
+    const GicpResult g = alignVoxels(match, query_index_, pose, options);
+    if (g.correspondences < 6) return false;
+    pose = g.transform;
+    return true;
+  };
+  if (config_.method == RegistrationMethod::kVgicp) {
     for (double distance : {config_.coarse_correspondence, config_.fine_correspondence}) {
-      options.max_correspondence = static_cast<float>(distance);
-      const GicpResult g = alignVoxels(match, query_index_, pose, options);
-      if (g.correspondences < 6) return "registration found no correspondences";
-      pose = g.transform;
+      if (!stage(distance, config_.max_iterations, false)) return "registration found no correspondences";
     }
   } else if (!refineWithPcl(*query_, match, config_, &pose)) {
     return "registration did not converge";
@@ -247,14 +253,9 @@ std::string Verifier::refineAndJudge(const VoxelCloud& match, const Eigen::Isome
     pose.linear() = Eigen::AngleAxisd(std::atan2(pose.linear()(1, 0), pose.linear()(0, 0)), Eigen::Vector3d::UnitZ())
                         .toRotationMatrix();
     // From the full registration's yaw and translation, which the tilt hardly moves: a few iterations.
-    GicpOptions options;
-    options.max_iterations = std::min(config_.max_iterations, 5);
-    options.max_source_voxels = config_.max_source_voxels;
-    options.max_correspondence = static_cast<float>(config_.fine_correspondence);
-    options.fix_tilt = true;
-    const GicpResult g = alignVoxels(match, query_index_, pose, options);
-    if (g.correspondences < 6) return "registration found no correspondences";
-    pose = g.transform;
+    if (!stage(config_.fine_correspondence, std::min(config_.max_iterations, 5), true)) {
+      return "registration found no correspondences";
+    }
     if (!pose.matrix().allFinite()) return "registration diverged";
     r->tilt_from_alignment = true;
   }
