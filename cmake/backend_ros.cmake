@@ -7,6 +7,7 @@ add_library(scan_context_loop_pose_graph_nodelet
   src/ros/pose_graph_parameters.cpp
   src/ros/pose_graph_ros.cpp
   src/ros/pose_graph_worker.cpp
+  src/ros/pose_graph_saving.cpp
   src/ros/pose_graph_nodelet.cpp)
 target_link_libraries(scan_context_loop_pose_graph_nodelet scan_context_loop_ros scan_context_loop_graph)
 add_executable(pose_graph_node src/ros/pose_graph_node.cpp)
@@ -19,7 +20,7 @@ install(TARGETS scan_context_loop_pose_graph_nodelet pose_graph_node
 
 if(CATKIN_ENABLE_TESTING)
   add_rostest_gtest(test_ros_pose_graph test/ros/pose_graph.test test/ros/test_pose_graph.cpp)
-  target_link_libraries(test_ros_pose_graph scan_context_loop_ros_harness scan_context_loop_eval)
+  target_link_libraries(test_ros_pose_graph scan_context_loop_ros_harness scan_context_loop_eval ${PCL_IO_LIBRARIES})
   add_dependencies(test_ros_pose_graph scan_context_loop_nodelet scan_context_loop_pose_graph_nodelet pose_graph_node)
 endif()
 

@@ -7,7 +7,7 @@ add_library(scan_context_loop_eval src/eval/kitti_io.cpp src/eval/metrics.cpp sr
 target_include_directories(scan_context_loop_eval PUBLIC include ${YAML_CPP_INCLUDE_DIR})
 target_link_libraries(scan_context_loop_eval PUBLIC scan_context_loop_core yaml-cpp)
 if(SCL_WITH_BACKEND)
-  target_sources(scan_context_loop_eval PRIVATE src/eval/trajectory_correction.cpp)
+  target_sources(scan_context_loop_eval PRIVATE src/eval/trajectory_correction.cpp src/eval/trajectory_correction_map.cpp)
   target_link_libraries(scan_context_loop_eval PUBLIC scan_context_loop_graph)
 else()
   target_sources(scan_context_loop_eval PRIVATE src/eval/trajectory_correction_unavailable.cpp)

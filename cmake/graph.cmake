@@ -4,7 +4,8 @@
 if(NOT SCL_WITH_BACKEND)
   return()
 endif()
-add_library(scan_context_loop_graph src/graph/pose_graph.cpp src/graph/keyframe_map.cpp src/graph/pose_graph_settings.cpp)
+add_library(scan_context_loop_graph src/graph/pose_graph.cpp src/graph/keyframe_map.cpp src/graph/pose_graph_settings.cpp
+  src/graph/map_files.cpp)
 target_include_directories(scan_context_loop_graph PUBLIC include ${EIGEN3_INCLUDE_DIRS} ${PCL_INCLUDE_DIRS})
 # Ceres 1.14 exports no Ceres::ceres target: its CMake package names its library in CERES_LIBRARIES.
 target_include_directories(scan_context_loop_graph PRIVATE ${CERES_INCLUDE_DIRS})
@@ -17,6 +18,8 @@ install(TARGETS scan_context_loop_graph
   LIBRARY DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION})
 
 if(CATKIN_ENABLE_TESTING)
-  catkin_add_gtest(test_graph test/test_main.cpp test/graph/test_pose_graph.cpp test/graph/test_keyframe_map.cpp)
-  target_link_libraries(test_graph scan_context_loop_graph scan_context_loop_eval)
+  catkin_add_gtest(test_graph test/test_main.cpp test/graph/test_pose_graph.cpp test/graph/test_keyframe_map.cpp
+    test/graph/test_map_files.cpp)
+  # The map files are read back with PCL's own PCD reader.
+  target_link_libraries(test_graph scan_context_loop_graph scan_context_loop_eval ${PCL_IO_LIBRARIES})
 endif()

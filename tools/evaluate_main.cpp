@@ -18,7 +18,7 @@ int main(int argc, char** argv) {
   eval::SequenceOptions options;
   double radius = 5.0;
   std::vector<std::string> overrides;
-  std::string config_file, prior_path, prior_truth, save_database;
+  std::string config_file, prior_path, prior_truth, save_database, save_map;
   bool save_clouds = false;
   scl::cli::Parser cli("scan_context_evaluate",
                        "Runs the Scan Context detector frame by frame over a KITTI-format sequence (velodyne/*.bin, "
@@ -57,7 +57,12 @@ int main(int argc, char** argv) {
               "format (~load_database, database_load reads it); tags are frame indices",
               &save_database)
       .flag("--save-clouds", "with --save-database: include the registration data, so that loaded keyframes "
-            "can be verified", &save_clouds);
+            "can be verified", &save_clouds)
+      .option("--save-map", "DIR",
+              "write the corrected map into DIR (created) as the pose_graph node's ~save_map does: map.pcd (the "
+              "keyframe scans at the corrected poses, voxel-filtered), corrected_tum.txt, odometry_tum.txt, "
+              "corrected_kitti.txt, times.txt, pose_graph.g2o (doc/pose_graph.md); needs odom_poses.txt",
+              &save_map);
   if (const int status = cli.parse(argc, argv); status >= 0) return status;
   if (save_clouds && save_database.empty()) return cli.fail("--save-clouds goes with --save-database FILE");
   std::vector<std::string> warnings;
@@ -119,6 +124,15 @@ int main(int argc, char** argv) {
        !eval::writeCorrectedTrajectoryCsv(out_dir + "/trajectory_corrected.csv", sequence, correction, &error))) {
     std::fprintf(stderr, "scan_context_evaluate: %s\n", error.c_str());
     return 1;
+  }
+  if (!save_map.empty()) {
+    std::string summary;
+    if (!scl::cli::makeDirectories(save_map, &error) ||
+        !eval::saveCorrectedMap(save_map, sequence, correction, &summary, &error)) {
+      std::fprintf(stderr, "scan_context_evaluate: --save-map: %s\n", error.c_str());
+      return 1;
+    }
+    std::printf("map saved to %s\n", summary.c_str());
   }
   const eval::Metrics& m = result.metrics;
   if (correction.computed) {

@@ -66,6 +66,7 @@ TrajectoryCorrection correctTrajectory(const Sequence& s, const Evaluation& e, c
   c.loops = addReportedLoops(e, config, &corrected);
   corrected.optimize();
   c.corrected_poses = corrected.poses();
+  c.corrected_factors = corrected.factors();
   c.corrected = absoluteTrajectoryError(c.corrected_poses, s.truth);
 
   // Plain Scan Context: the descriptor's best candidate under the threshold, yaw prior only.

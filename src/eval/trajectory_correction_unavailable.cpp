@@ -11,5 +11,11 @@ TrajectoryCorrection correctTrajectory(const Sequence&, const Evaluation&, const
   return c;
 }
 
+bool saveCorrectedMap(const std::string&, const Sequence&, const TrajectoryCorrection&, std::string*,
+                      std::string* error) {
+  *error = "no corrected map: built without the pose-graph backend (Ceres was not found)";
+  return false;
+}
+
 }  // namespace eval
 }  // namespace scan_context_loop

@@ -115,10 +115,12 @@ long PoseGraph::addKeyframe(const Eigen::Isometry3d& odometry_pose) {
   } else {
     const std::size_t a = odometry_.size() - 1;
     const Eigen::Isometry3d step = odometry_.back().inverse() * odometry_pose;
+    const Matrix6d covariance = odometryCovariance(step, config_);
     Matrix6d sqrt_information;
-    sqrtInformation(odometryCovariance(step, config_), &sqrt_information);  // diagonal, positive: always
+    sqrtInformation(covariance, &sqrt_information);  // diagonal, positive: always
     g.problem->AddResidualBlock(RelativePoseError::create(step, sqrt_information), nullptr, g.positions[a].data(),
                                 g.rotations[a].coeffs().data(), p, q);
+    factors_.push_back({a, a + 1, step, covariance, false});
   }
   odometry_.push_back(odometry_pose);
   return static_cast<long>(odometry_.size()) - 1;
@@ -144,6 +146,7 @@ bool PoseGraph::addLoop(std::size_t query, std::size_t match, const Eigen::Isome
       RelativePoseError::create(query_from_match, sqrt_information), g.loop_loss.get(), g.positions[query].data(),
       g.rotations[query].coeffs().data(), g.positions[match].data(), g.rotations[match].coeffs().data());
   g.loop_blocks.push_back(id);
+  factors_.push_back({query, match, query_from_match, covariance, true});
   ++loop_count_;
   return true;
 }

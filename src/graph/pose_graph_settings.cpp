@@ -59,6 +59,11 @@ std::vector<Setting<PoseGraphOptions>> makePoseGraphNodeSettings() {
                        "map_cloud is republished at most this often [s] (0: on the publish_map service only)"),
       intSetting<PO>("queue_size", O(queue_size), closed(1, 1000000), "events waiting for the worker"),
       boolSetting<PO>("build_map", O(build_map), "keep the keyframe clouds for the map"),
+      stringSetting<PO>("map_directory", O(map_directory), {},
+                        "~save_map writes only here (empty: $ROS_HOME/scan_context_loop/maps)"),
+      stringSetting<PO>("map_save", O(map_save), {},
+                        "directory the map files are written to at shutdown (absolute, or relative to "
+                        "map_directory; empty: none)"),
   };
 }
 

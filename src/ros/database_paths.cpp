@@ -44,14 +44,17 @@ std::string mapDirectory(const NodeOptions& options) {
   if (!options.database_directory.empty()) return options.database_directory;
   if (!options.database_save.empty()) return directoryOf(options.database_save);
   if (!options.database_load.empty()) return directoryOf(options.database_load);
+  return rosHome() + "/scan_context_loop";
+}
+
+std::string rosHome() {
   const char* ros_home = std::getenv("ROS_HOME");
   const char* home = std::getenv("HOME");
-  const std::string base = ros_home && *ros_home ? ros_home : std::string(home ? home : "") + "/.ros";
-  return base + "/scan_context_loop";
+  return ros_home && *ros_home ? ros_home : std::string(home ? home : "") + "/.ros";
 }
 
 bool servicePath(const std::string& directory, const std::string& requested, std::string* path,
-                 std::string* error) {
+                 std::string* error, const std::string& setting) {
   if (requested.empty()) return refuse(error, "no path given");
   for (std::size_t begin = 0; begin <= requested.size();) {
     const std::size_t end = std::min(requested.find('/', begin), requested.size());
@@ -60,11 +63,11 @@ bool servicePath(const std::string& directory, const std::string& requested, std
     }
     begin = end + 1;
   }
-  if (directory.empty()) return refuse(error, "no map directory (database_directory)");
+  if (directory.empty()) return refuse(error, "no map directory (" + setting + ")");
   makeDirectories(directory);
   const std::string root = resolved(directory);
   if (root.empty()) {
-    return refuse(error, "the map directory " + directory + " (database_directory) cannot be used: " +
+    return refuse(error, "the map directory " + directory + " (" + setting + ") cannot be used: " +
                              std::strerror(errno));
   }
   const std::string full = requested.front() == '/' ? requested : root + "/" + requested;
@@ -73,11 +76,11 @@ bool servicePath(const std::string& directory, const std::string& requested, std
   const std::string parent = resolved(directoryOf(full));
   if (parent.empty()) {
     return refuse(error, requested + ": its directory cannot be resolved: " + std::string(std::strerror(errno)) +
-                             " (saves go inside the map directory " + root + ", database_directory)");
+                             " (saves go inside the map directory " + root + ", " + setting + ")");
   }
   if (parent != root && parent.compare(0, root.size() + 1, root + "/") != 0) {
     return refuse(error, requested + " is outside the map directory " + root +
-                             " (database_directory): refused");
+                             " (" + setting + "): refused");
   }
   const std::string target = (parent == "/" ? "" : parent) + "/" + name;
   struct stat st;

@@ -11,6 +11,8 @@ PoseGraphRos::PoseGraphRos(const ros::NodeHandle& nh, const ros::NodeHandle& pnh
     : nh_(nh), pnh_(pnh), name_(name) {}
 
 PoseGraphRos::~PoseGraphRos() {
+  save_srv_.shutdown();
+  if (service_spinner_) service_spinner_->stop();  // a save in progress finishes first
   map_srv_.shutdown();
   odom_sub_.shutdown();
   cloud_sub_.shutdown();
@@ -23,6 +25,7 @@ PoseGraphRos::~PoseGraphRos() {
   }
   queue_cv_.notify_all();
   if (worker_.joinable()) worker_.join();
+  saveAtShutdown();
 }
 
 bool PoseGraphRos::start() {
@@ -43,6 +46,7 @@ bool PoseGraphRos::start() {
   marker_pub_ = nh_.advertise<visualization_msgs::MarkerArray>("graph_markers", 1, true);
   map_pub_ = nh_.advertise<sensor_msgs::PointCloud2>("map_cloud", 1, true);
   map_srv_ = pnh_.advertiseService("publish_map", &PoseGraphRos::onPublishMap, this);
+  advertiseSaveMap();
   if (options_.publish_tf) {
     tf_broadcaster_.reset(new tf2_ros::TransformBroadcaster);
     tf_timer_ = nh_.createTimer(ros::Duration(1.0 / options_.tf_rate), &PoseGraphRos::onTfTimer, this);
@@ -143,6 +147,8 @@ void PoseGraphRos::diagnose(diagnostic_updater::DiagnosticStatusWrapper& status)
   status.add("last solve [ms]", last_solve_ms_.load());
   status.add("last final cost", last_cost_.load());
   status.add("map points kept", map_points_.load());
+  status.add("map saves written", saves_.load());
+  status.add("map saves failed", save_failures_.load());
 }
 
 }  // namespace scan_context_loop

@@ -50,22 +50,16 @@ void PoseGraphRos::work() {
       // While a solve is held back by min_solve_interval, wake up when it is due.
       const auto wait = std::chrono::milliseconds(solve_pending_ ? 50 : 500);
       queue_cv_.wait_for(lock, wait, [this] { return stop_ || !queue_.empty(); });
-      if (stop_) return;
+      if (stop_) {
+        // With a map to save at shutdown, what came before the stop goes into it (no publishing).
+        if (!options_.map_save.empty()) batch.swap(queue_);
+        lock.unlock();
+        handleBatch(batch, &changed);
+        return;
+      }
       batch.swap(queue_);
     }
-    bool map_asked = false;
-    for (const Event& event : batch) {
-      if (event.publish_map) {
-        map_asked = true;
-        continue;
-      }
-      std::string what;
-      if (!runCatching([&] { handle(event); }, &what)) {
-        ++rejected_;
-        ROS_ERROR_THROTTLE_NAMED(5.0, name_, "a message was dropped: handling it threw: %s", what.c_str());
-      }
-      changed = true;
-    }
+    const bool map_asked = handleBatch(batch, &changed);
     const ros::WallTime now = ros::WallTime::now();
     const bool idle = batch.empty();
     const bool solve = solve_pending_ && (now - last_solve_).toSec() >= options_.min_solve_interval;
@@ -86,6 +80,27 @@ void PoseGraphRos::work() {
       }
     }
   }
+}
+
+bool PoseGraphRos::handleBatch(const std::deque<Event>& batch, bool* changed) {
+  bool map_asked = false;
+  for (const Event& event : batch) {
+    if (event.publish_map) {
+      map_asked = true;
+      continue;
+    }
+    if (event.task) {
+      event.task();  // runOnWorker's: catches what it throws itself
+      continue;
+    }
+    std::string what;
+    if (!runCatching([&] { handle(event); }, &what)) {
+      ++rejected_;
+      ROS_ERROR_THROTTLE_NAMED(5.0, name_, "a message was dropped: handling it threw: %s", what.c_str());
+    }
+    *changed = true;
+  }
+  return map_asked;
 }
 
 void PoseGraphRos::handle(const Event& event) {

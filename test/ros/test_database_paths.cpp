@@ -63,6 +63,18 @@ TEST_F(MapDirectory, DotDotAbsolutePathsOutsideAndSymlinksOutAreRefused) {
   EXPECT_EQ(path, "unchanged");
 }
 
+TEST_F(MapDirectory, ADirectoryToWriteInIsCheckedTheSameWayAndTheMessagesNameTheSetting) {
+  // The pose_graph node's ~save_map: the last component names a directory inside map_directory.
+  std::string path, error;
+  ASSERT_TRUE(servicePath(maps_, "run1", &path, &error, "map_directory")) << error;
+  EXPECT_EQ(path, maps_ + "/run1");
+  EXPECT_FALSE(servicePath(maps_, root_, &path, &error, "map_directory"));
+  EXPECT_NE(error.find("outside the map directory " + maps_ + " (map_directory)"), std::string::npos) << error;
+  ASSERT_EQ(::symlink(root_.c_str(), (maps_ + "/linked").c_str()), 0);
+  EXPECT_FALSE(servicePath(maps_, "linked", &path, &error, "map_directory"));
+  EXPECT_NE(error.find("symbolic link"), std::string::npos) << error;
+}
+
 TEST_F(MapDirectory, AMissingMapDirectoryIsCreated) {
   std::string path, error;
   ASSERT_TRUE(servicePath(maps_ + "/new/deeper", "map.scdb", &path, &error)) << error;

@@ -17,17 +17,22 @@ TEST(PoseGraphParameters, DefaultsTypesUnknownKeysAndRangesAreChecked) {
   PoseGraphOptions options;
   EXPECT_TRUE(readPoseGraphParameters(ros::NodeHandle("/empty"), &graph, &map, &options).empty());
   EXPECT_EQ(options.map_frame, "map");
+  EXPECT_TRUE(options.map_directory.empty() && options.map_save.empty()) << "nothing is saved unless asked";
   ros::NodeHandle good("/graph_good");
   good.setParam("map_voxel", 1);  // an integer where a number is wanted: fine
   good.setParam("verified_only", false);
   good.setParam("map_frame", std::string("world"));
   good.setParam("map_keyframe_stride", 3);
+  good.setParam("map_directory", std::string("/data/maps"));
+  good.setParam("map_save", std::string("last_run"));
   auto problems = readPoseGraphParameters(good, &graph, &map, &options);
   EXPECT_TRUE(problems.empty()) << problems.front();
   EXPECT_DOUBLE_EQ(map.voxel, 1.0);
   EXPECT_FALSE(options.verified_only);
   EXPECT_EQ(options.map_frame, "world");
   EXPECT_EQ(map.keyframe_stride, 3);
+  EXPECT_EQ(options.map_directory, "/data/maps");
+  EXPECT_EQ(options.map_save, "last_run");
 
   ros::NodeHandle bad("/graph_bad");
   bad.setParam("publish_tf", 1);                  // an integer for a boolean

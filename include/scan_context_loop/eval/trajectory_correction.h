@@ -33,6 +33,7 @@ struct TrajectoryCorrection {
   TrajectoryError with_false_loop;
   double false_loop_gap = -1.0;  ///< the false loop's true length [m]; -1 when no pair was that far apart
   std::vector<Eigen::Isometry3d> corrected_poses;  ///< per sequence keyframe, from the reported loops
+  std::vector<PoseGraphFactor> corrected_factors;  ///< that graph's factors (odometry and loops)
 };
 
 /// Builds and solves the three graphs. Needs odometry (odom_poses.txt) and no prior map; otherwise
@@ -46,6 +47,14 @@ bool writeTrajectoryErrorJson(const std::string& path, const TrajectoryCorrectio
 /// (yaw of the x axis, radians), each in the truth's frame by its own alignment.
 bool writeCorrectedTrajectoryCsv(const std::string& path, const Sequence& sequence,
                                  const TrajectoryCorrection& correction, std::string* error);
+
+/// --save-map: the corrected map as the pose_graph node's ~save_map writes it (graph/map_files.h), into
+/// `directory`: the sequence's keyframe scans at the corrected poses through a KeyframeMap with the
+/// node's map defaults, the corrected and the odometry trajectories (stamps from times.txt) and the
+/// graph. False with the reason (nothing computed, a scan unreadable, a file not written); `summary`
+/// gets the files, sizes, points and voxel.
+bool saveCorrectedMap(const std::string& directory, const Sequence& sequence, const TrajectoryCorrection& correction,
+                      std::string* summary, std::string* error);
 
 }  // namespace eval
 }  // namespace scan_context_loop

@@ -44,6 +44,15 @@ struct PoseGraphConfig {
   std::vector<std::string> validate() const;
 };
 
+/// One factor of the graph as it was added: it measures T_a<-b with `covariance` (x y z roll pitch yaw,
+/// in a's axes; the residual's order above).
+struct PoseGraphFactor {
+  std::size_t a = 0, b = 0;
+  Eigen::Isometry3d measurement = Eigen::Isometry3d::Identity();  ///< T_a<-b
+  Matrix6d covariance = Matrix6d::Identity();
+  bool loop = false;  ///< a loop factor (else odometry between consecutive keyframes, b = a + 1)
+};
+
 struct PoseGraphResult {
   bool solved = false;          ///< Ceres reported a usable solution
   int iterations = 0;
@@ -80,12 +89,15 @@ class PoseGraph {
   /// The correction T_world<-odom at the newest keyframe: corrected pose x inverse(odometry pose).
   Eigen::Isometry3d correction() const;
   const Eigen::Isometry3d& odometryPose(std::size_t i) const { return odometry_[i]; }
+  /// Every factor in the order it was added (odometry and loops interleaved as they came).
+  const std::vector<PoseGraphFactor>& factors() const { return factors_; }
   const PoseGraphConfig& config() const { return config_; }
 
  private:
   struct Impl;
   PoseGraphConfig config_;
   std::vector<Eigen::Isometry3d> odometry_;
+  std::vector<PoseGraphFactor> factors_;
   std::size_t loop_count_ = 0;
   std::unique_ptr<Impl> impl_;
 };

@@ -34,6 +34,10 @@ struct PoseGraphOptions {
   int queue_size = 10000;
   /// Keyframe clouds are kept for the map (false: the keyframe_cloud topic is not subscribed).
   bool build_map = true;
+  /// The directory the ~save_map service writes in, and only in (empty: $ROS_HOME/scan_context_loop/maps).
+  std::string map_directory;
+  /// A directory the map is written to at shutdown (absolute, or relative to map_directory; empty: none).
+  std::string map_save;
 };
 
 /// The solver's keys (odometry noise, robust loss, iterations).

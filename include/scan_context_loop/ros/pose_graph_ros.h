@@ -1,12 +1,15 @@
 // The reference backend's ROS adapter: keyframe poses (keyframe_odom) and loop closures
 // (loop_closures) in; the corrected keyframe path, the raw odometry path, the loops as markers, the
-// correction as the tf map_frame -> odometry frame, and a corrected map cloud out. Callbacks queue what
-// arrives; one worker owns the graph and the map and publishes.
+// correction as the tf map_frame -> odometry frame, and a corrected map cloud out; the map as files on
+// ~save_map and at shutdown (map_save). Callbacks queue what arrives; one worker owns the graph and the
+// map and publishes.
 #pragma once
 
 #include <atomic>
 #include <condition_variable>
+#include <cstdint>
 #include <deque>
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -15,13 +18,16 @@
 
 #include <diagnostic_updater/diagnostic_updater.h>
 #include <nav_msgs/Odometry.h>
+#include <ros/callback_queue.h>
 #include <ros/ros.h>
 #include <sensor_msgs/PointCloud2.h>
 #include <std_srvs/Trigger.h>
 #include <tf2_ros/transform_broadcaster.h>
 
 #include "scan_context_loop/LoopClosure.h"
+#include "scan_context_loop/SaveMap.h"
 #include "scan_context_loop/graph/keyframe_map.h"
+#include "scan_context_loop/graph/map_files.h"
 #include "scan_context_loop/graph/pose_graph.h"
 #include "scan_context_loop/ros/pose_graph_parameters.h"
 
@@ -31,7 +37,8 @@ class PoseGraphRos {
  public:
   /// `nh` resolves the topics (relative names), `pnh` the parameters; `name` prefixes the logs.
   PoseGraphRos(const ros::NodeHandle& nh, const ros::NodeHandle& pnh, const std::string& name);
-  /// Stops the inputs and the worker (it finishes the solve in hand).
+  /// Stops the inputs and the worker (it finishes the solve in hand); with map_save set, the worker
+  /// first handles what is queued and the map is written there.
   ~PoseGraphRos();
 
   /// Reads and validates the parameters, then subscribes, advertises and starts the worker. False, with
@@ -39,12 +46,13 @@ class PoseGraphRos {
   bool start();
 
  private:
-  /// Something that arrived, waiting for the worker: exactly one pointer is set.
+  /// Something that arrived, waiting for the worker: exactly one pointer is set, or publish_map, or task.
   struct Event {
     nav_msgs::OdometryConstPtr odom;
     sensor_msgs::PointCloud2ConstPtr cloud;
     scan_context_loop::LoopClosureConstPtr loop;
     bool publish_map = false;  ///< the publish_map service asked for the map
+    std::function<void()> task;  ///< a service's work on the graph (runOnWorker)
   };
 
   void onOdom(const nav_msgs::OdometryConstPtr& msg);
@@ -55,8 +63,25 @@ class PoseGraphRos {
   void onTfTimer(const ros::TimerEvent&);
   void diagnose(diagnostic_updater::DiagnosticStatusWrapper& status);
 
+  // Saving the map (pose_graph_saving.cpp).
+  void advertiseSaveMap();
+  bool onSaveMap(scan_context_loop::SaveMap::Request& request, scan_context_loop::SaveMap::Response& response);
+  /// Runs `task` on the worker and waits for it; "" when it ran, else why not (stopping, timed out, threw).
+  std::string runOnWorker(std::function<void()> task);
+  /// The directory a save writes for `requested` (~save_map's path; empty: map_save), checked as
+  /// ~save_database's paths are (database_paths.h); false with the reason.
+  bool mapTarget(const std::string& requested, std::string* directory, std::string* error) const;
+  /// Worker: solves if a solve is due, then copies the graph and assembles the map.
+  MapFiles snapshotMap();
+  /// Writes `files` into `directory` and counts the save; false with the reason.
+  bool writeMap(const std::string& directory, const MapFiles& files, MapFilesReport* report, std::string* error);
+  /// After the worker stopped: writes map_save, if set.
+  void saveAtShutdown();
+
   // Worker (pose_graph_worker.cpp).
   void work();
+  /// Handles a batch taken from the queue; true if one asked for the map.
+  bool handleBatch(const std::deque<Event>& batch, bool* changed);
   void handle(const Event& event);
   void addKeyframe(const nav_msgs::Odometry& msg);
   void addCloud(const sensor_msgs::PointCloud2& msg);
@@ -76,7 +101,11 @@ class PoseGraphRos {
 
   ros::Subscriber odom_sub_, cloud_sub_, loop_sub_;
   ros::Publisher path_pub_, odometry_path_pub_, marker_pub_, map_pub_;
-  ros::ServiceServer map_srv_;
+  ros::ServiceServer map_srv_, save_srv_;
+  // ~save_map has its own queue and thread: a call waits for the worker and for its write, and holds up
+  // nothing else meanwhile.
+  ros::CallbackQueue service_queue_;
+  std::unique_ptr<ros::AsyncSpinner> service_spinner_;
   ros::Timer tf_timer_, diagnostics_timer_;
   std::unique_ptr<tf2_ros::TransformBroadcaster> tf_broadcaster_;
   std::unique_ptr<diagnostic_updater::Updater> diagnostics_;
@@ -96,7 +125,7 @@ class PoseGraphRos {
 
   // Counters read by diagnostics; written by callbacks and the worker.
   std::atomic<std::size_t> keyframes_{0}, loops_used_{0}, loops_skipped_{0}, loops_waiting_{0}, rejected_{0},
-      dropped_{0}, solves_{0}, map_points_{0};
+      dropped_{0}, solves_{0}, map_points_{0}, saves_{0}, save_failures_{0};
   std::atomic<double> last_solve_ms_{0.0}, last_cost_{0.0};
 
   // Worker-only state.

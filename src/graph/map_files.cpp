@@ -1,0 +1,273 @@
+#include "scan_context_loop/graph/map_files.h"
+
+#include <algorithm>
+#include <cerrno>
+#include <cstdarg>
+#include <cinttypes>
+#include <cstdio>
+#include <cstring>
+#include <memory>
+
+#include <Eigen/Cholesky>
+#include <sys/stat.h>
+
+namespace scan_context_loop {
+
+namespace {
+
+constexpr const char* kCloudFile = "map.pcd";
+
+void appendf(std::string* out, const char* format, ...) __attribute__((format(printf, 2, 3)));
+void appendf(std::string* out, const char* format, ...) {
+  char buffer[256];
+  va_list args;
+  va_start(args, format);
+  const int n = std::vsnprintf(buffer, sizeof(buffer), format, args);
+  va_end(args);
+  if (n > 0) out->append(buffer, static_cast<std::size_t>(std::min<int>(n, sizeof(buffer) - 1)));
+}
+
+/// Integer nanoseconds as seconds with nine decimals (exact: no double in between).
+void appendStamp(std::string* out, std::int64_t ns) {
+  const bool negative = ns < 0;
+  const std::uint64_t u = negative ? std::uint64_t(0) - static_cast<std::uint64_t>(ns) : static_cast<std::uint64_t>(ns);
+  appendf(out, "%s%" PRIu64 ".%09" PRIu64, negative ? "-" : "", u / 1000000000u, u % 1000000000u);
+}
+
+/// 17 significant digits: the double read back is the one written.
+void appendNumber(std::string* out, double value) { appendf(out, " %.17g", value); }
+
+/// The rotation as a unit quaternion with w >= 0 (g2o's and evo's habit).
+Eigen::Quaterniond quaternionOf(const Eigen::Isometry3d& pose) {
+  Eigen::Quaterniond q(pose.linear());
+  q.normalize();
+  if (q.w() < 0.0) q.coeffs() *= -1.0;
+  return q;
+}
+
+/// " x y z qx qy qz qw"
+void appendPose(std::string* out, const Eigen::Isometry3d& pose) {
+  const Eigen::Quaterniond q = quaternionOf(pose);
+  for (int i = 0; i < 3; ++i) appendNumber(out, pose.translation()[i]);
+  for (const double v : {q.x(), q.y(), q.z(), q.w()}) appendNumber(out, v);
+}
+
+std::string tumText(const std::vector<std::int64_t>& stamps, const std::vector<Eigen::Isometry3d>& poses) {
+  std::string out = "# timestamp tx ty tz qx qy qz qw\n";
+  for (std::size_t i = 0; i < poses.size(); ++i) {
+    appendStamp(&out, stamps[i]);
+    appendPose(&out, poses[i]);
+    out += '\n';
+  }
+  return out;
+}
+
+std::string kittiText(const std::vector<Eigen::Isometry3d>& poses) {
+  std::string out;
+  for (const auto& pose : poses) {
+    const Eigen::Matrix4d m = pose.matrix();
+    for (int r = 0; r < 3; ++r) {
+      for (int c = 0; c < 4; ++c) appendf(&out, r + c == 0 ? "%.17g" : " %.17g", m(r, c));
+    }
+    out += '\n';
+  }
+  return out;
+}
+
+std::string timesText(const std::vector<std::int64_t>& stamps) {
+  std::string out;
+  for (const std::int64_t stamp : stamps) {
+    appendStamp(&out, stamp);
+    out += '\n';
+  }
+  return out;
+}
+
+std::string g2oText(const MapFiles& files) {
+  std::string out;
+  for (std::size_t i = 0; i < files.corrected.size(); ++i) {
+    appendf(&out, "VERTEX_SE3:QUAT %zu", i);
+    appendPose(&out, files.corrected[i]);
+    out += '\n';
+  }
+  if (!files.corrected.empty()) out += "FIX 0\n";  // the graph's gauge: its first keyframe is held
+  for (const PoseGraphFactor& f : files.factors) {
+    appendf(&out, "EDGE_SE3:QUAT %zu %zu", f.a, f.b);
+    appendPose(&out, f.measurement);
+    const Matrix6d information = g2oInformation(f.measurement, f.covariance);
+    for (int r = 0; r < 6; ++r) {
+      for (int c = r; c < 6; ++c) appendNumber(&out, information(r, c));
+    }
+    out += '\n';
+  }
+  return out;
+}
+
+std::string pcdHeader(std::size_t points) {
+  std::string out =
+      "# .PCD v0.7 - Point Cloud Data file format\nVERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\n"
+      "COUNT 1 1 1\n";
+  appendf(&out, "WIDTH %zu\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS %zu\nDATA binary\n", points, points);
+  return out;
+}
+
+/// Writes the cloud's x y z as float32 (the host's byte order, as PCL writes binary PCD).
+bool writeCloud(AtomicFileWriter* file, const pcl::PointCloud<pcl::PointXYZ>& cloud, std::string* error) {
+  const std::string header = pcdHeader(cloud.size());
+  if (!file->write(header.data(), header.size(), error)) return false;
+  std::vector<float> block;
+  constexpr std::size_t kPointsPerBlock = 1 << 16;
+  for (std::size_t begin = 0; begin < cloud.size(); begin += kPointsPerBlock) {
+    const std::size_t end = std::min(cloud.size(), begin + kPointsPerBlock);
+    block.clear();
+    for (std::size_t i = begin; i < end; ++i) {
+      block.push_back(cloud[i].x);
+      block.push_back(cloud[i].y);
+      block.push_back(cloud[i].z);
+    }
+    if (!file->write(block.data(), block.size() * sizeof(float), error)) return false;
+  }
+  return true;
+}
+
+bool refuse(std::string* error, const std::string& why) {
+  if (error) *error = why;
+  return false;
+}
+
+/// Why `files` cannot be written as they are, or "".
+std::string inconsistency(const MapFiles& files) {
+  const std::size_t n = files.stamps_ns.size();
+  if (files.corrected.size() != n || files.odometry.size() != n) {
+    return "the stamps (" + std::to_string(n) + "), corrected poses (" + std::to_string(files.corrected.size()) +
+           ") and odometry poses (" + std::to_string(files.odometry.size()) + ") differ in number";
+  }
+  for (std::size_t i = 1; i < n; ++i) {
+    if (files.stamps_ns[i] <= files.stamps_ns[i - 1]) {
+      return "keyframe stamps do not increase at keyframe " + std::to_string(i);
+    }
+  }
+  for (const PoseGraphFactor& f : files.factors) {
+    if (f.a >= n || f.b >= n) {
+      return "a factor " + std::to_string(f.a) + " -> " + std::to_string(f.b) + " names a keyframe beyond the " +
+             std::to_string(n) + " there are";
+    }
+  }
+  return "";
+}
+
+/// The directory, created (one level) when missing.
+bool prepareDirectory(const std::string& directory, std::string* error) {
+  if (directory.empty()) return refuse(error, "no directory given");
+  struct stat st;
+  if (::stat(directory.c_str(), &st) == 0) {
+    return S_ISDIR(st.st_mode) || refuse(error, "cannot write the map into " + directory + ": not a directory");
+  }
+  if (::mkdir(directory.c_str(), 0755) != 0 && errno != EEXIST) {
+    return refuse(error, "cannot create the directory " + directory + ": " + std::strerror(errno));
+  }
+  return true;
+}
+
+std::string sizeText(std::uint64_t bytes) {
+  char buffer[32];
+  if (bytes < 10000) {
+    std::snprintf(buffer, sizeof(buffer), "%" PRIu64 " B", bytes);
+  } else if (bytes < 10000000) {
+    std::snprintf(buffer, sizeof(buffer), "%.1f kB", bytes / 1e3);
+  } else {
+    std::snprintf(buffer, sizeof(buffer), "%.1f MB", bytes / 1e6);
+  }
+  return buffer;
+}
+
+}  // namespace
+
+Matrix6d g2oInformation(const Eigen::Isometry3d& measurement, const Matrix6d& covariance) {
+  Matrix6d information = covariance.ldlt().solve(Matrix6d::Identity());
+  information = 0.5 * (information + information.transpose());
+  Matrix6d k = Matrix6d::Zero();
+  k.topLeftCorner<3, 3>() = measurement.linear();
+  k.bottomRightCorner<3, 3>() = 2.0 * Eigen::Matrix3d::Identity();
+  const Matrix6d converted = k.transpose() * information * k;
+  return 0.5 * (converted + converted.transpose());
+}
+
+MapFiles mapFilesOf(const PoseGraph& graph, const std::vector<std::int64_t>& stamps_ns) {
+  MapFiles files;
+  files.stamps_ns = stamps_ns;
+  files.corrected = graph.poses();
+  files.odometry.reserve(graph.size());
+  for (std::size_t i = 0; i < graph.size(); ++i) files.odometry.push_back(graph.odometryPose(i));
+  files.factors = graph.factors();
+  return files;
+}
+
+std::vector<std::string> mapFileNames(bool with_cloud) {
+  std::vector<std::string> names;
+  if (with_cloud) names.push_back(kCloudFile);
+  for (const char* name : {"corrected_tum.txt", "odometry_tum.txt", "corrected_kitti.txt", "times.txt", "pose_graph.g2o"}) {
+    names.push_back(name);
+  }
+  return names;
+}
+
+std::string MapFilesReport::summary() const {
+  std::string out = directory + ":";
+  for (std::size_t i = 0; i < files.size(); ++i) {
+    const std::size_t slash = files[i].rfind('/');
+    const std::string name = slash == std::string::npos ? files[i] : files[i].substr(slash + 1);
+    out += (i == 0 ? " " : ", ") + name + " " + sizeText(bytes[i]);
+    if (name == kCloudFile) {
+      char buffer[96];
+      std::snprintf(buffer, sizeof(buffer), " (%zu points, voxel-filtered at %.2f m)", points, voxel);
+      out += buffer;
+    }
+  }
+  out += "; " + std::to_string(keyframes) + " keyframes, " + std::to_string(loops) + " loops";
+  return out;
+}
+
+bool writeMapFiles(const std::string& directory, const MapFiles& files, MapFilesReport* report, std::string* error) {
+  const std::string why = inconsistency(files);
+  if (!why.empty()) return refuse(error, "map not saved: " + why);
+  if (!prepareDirectory(directory, error)) return false;
+  MapFilesReport done;
+  done.directory = directory;
+  done.keyframes = files.stamps_ns.size();
+  for (const auto& f : files.factors) done.loops += f.loop ? 1 : 0;
+  done.points = files.has_cloud ? files.cloud.size() : 0;
+  done.voxel = files.voxel;
+
+  const std::string prefix = directory.back() == '/' ? directory : directory + "/";
+  std::vector<std::unique_ptr<AtomicFileWriter>> writers;
+  for (const std::string& name : mapFileNames(files.has_cloud)) {
+    const std::string path = prefix + name;
+    for (AbandonedFile& file : removeAbandonedTemporaries(path)) done.abandoned.push_back(std::move(file));
+    writers.emplace_back(new AtomicFileWriter);
+    AtomicFileWriter* file = writers.back().get();
+    if (!file->open(path, error)) return false;  // the writers made so far remove their temporary files
+    std::string text;
+    if (name == kCloudFile) {
+      if (!writeCloud(file, files.cloud, error)) return false;
+      done.bytes.push_back(pcdHeader(files.cloud.size()).size() + files.cloud.size() * 3 * sizeof(float));
+    } else {
+      if (name == "corrected_tum.txt") text = tumText(files.stamps_ns, files.corrected);
+      if (name == "odometry_tum.txt") text = tumText(files.stamps_ns, files.odometry);
+      if (name == "corrected_kitti.txt") text = kittiText(files.corrected);
+      if (name == "times.txt") text = timesText(files.stamps_ns);
+      if (name == "pose_graph.g2o") text = g2oText(files);
+      if (!file->write(text.data(), text.size(), error)) return false;
+      done.bytes.push_back(text.size());
+    }
+    done.files.push_back(path);
+  }
+  // Everything is in temporary files: now the renames (each flushed first).
+  for (auto& file : writers) {
+    if (!file->commit(error)) return false;
+  }
+  if (report) *report = std::move(done);
+  return true;
+}
+
+}  // namespace scan_context_loop
