@@ -69,12 +69,15 @@ std::string trajectoryErrorLine(const TrajectoryCorrection& c) {
     loops += " (" + std::to_string(c.loops - c.prior_loops) + " within the sequence, " + std::to_string(c.prior_loops) +
              " into the prior's " + std::to_string(c.prior_keyframes) + " keyframes, held fixed)";
   }
+  // Millimetres where the truth is the odometry: what is left is the loops' registration error.
+  const int digits = c.own_odometry ? 2 : 3;
   std::snprintf(line, sizeof(line),
-                "trajectory error (ATE RMSE / max): odometry%s %.2f / %.2f m; corrected with the %s %.2f / %.2f m; "
-                "plain Scan Context (%zu loops, %zu false) %.2f / %.2f m; with one false loop added %.2f / %.2f m",
-                c.own_odometry ? "" : " (the truth: no odometry of its own)", c.odometry.rmse, c.odometry.max,
-                loops.c_str(), c.corrected.rmse, c.corrected.max, c.plain_loops, c.plain_false_loops, c.plain.rmse,
-                c.plain.max, c.with_false_loop.rmse, c.with_false_loop.max);
+                "trajectory error (ATE RMSE / max): odometry%s %.*f / %.*f m; corrected with the %s %.*f / %.*f m; "
+                "plain Scan Context (%zu loops, %zu false) %.*f / %.*f m; with one false loop added %.*f / %.*f m",
+                c.own_odometry ? "" : " (the truth: no odometry of its own)", digits, c.odometry.rmse, digits,
+                c.odometry.max, loops.c_str(), digits, c.corrected.rmse, digits, c.corrected.max, c.plain_loops,
+                c.plain_false_loops, digits, c.plain.rmse, digits, c.plain.max, digits, c.with_false_loop.rmse, digits,
+                c.with_false_loop.max);
   std::string text = line;
   if (c.in_prior) {
     std::snprintf(line, sizeof(line), "; the prior's stored poses %.2f / %.2f m off its truth, moved %.3f m",

@@ -357,7 +357,7 @@ TEST(Evaluation, WithoutOdometryTheLoopsCorrectThePerfectTrajectoryOnlyByTheirEr
                           "\"corrected\": {", "\"with_one_false_loop\""}) {
     EXPECT_NE(json.str().find(key), std::string::npos) << key << " in " << json.str();
   }
-  EXPECT_NE(trajectoryErrorLine(c).find("odometry (the truth: no odometry of its own) 0.00 / 0.00 m"),
+  EXPECT_NE(trajectoryErrorLine(c).find("odometry (the truth: no odometry of its own) 0.000 / 0.000 m"),
             std::string::npos) << trajectoryErrorLine(c);
 }
 
