@@ -143,10 +143,8 @@ def plot_map_before_after(out, sequence, rows, corrected_csv, threshold, metrics
         d = np.hypot(at["odom"][q][0] - at["odom"][m][0], at["odom"][q][1] - at["odom"][m][1])
         if good and d > gap:
             gap, centre = d, at["corrected"][q]
-    titles = {"odom": "%s: ATE %.2f m (max %.2f)" % (odometry_name(errors), errors["odometry"]["rmse_m"],
-                                                       errors["odometry"]["max_m"]),
-              "corrected": "corrected with %s: ATE %.2f m (max %.2f)" % (
-                  loops_name(errors), errors["corrected"]["rmse_m"], errors["corrected"]["max_m"])}
+    titles = {"odom": "%s: %s" % (odometry_name(errors), ate_text(errors, "odometry")),
+              "corrected": "corrected with %s: %s" % (loops_name(errors), ate_text(errors, "corrected"))}
     detail = centre is not None
     fig, axes = plt.subplots(2 if detail else 1, 2, figsize=(14, 20 if detail else 10), squeeze=False)
     for row in range(axes.shape[0]):
@@ -189,6 +187,12 @@ def odometry_name(errors):
     return "odometry (the truth)" if errors.get("odometry_source") == "truth" else "odometry"
 
 
+def ate_text(errors, key):
+    """One trajectory's ATE for a label: in millimetres' precision where the truth is the odometry."""
+    digits = 3 if errors.get("odometry_source") == "truth" else 2
+    return "ATE %.*f m (max %.*f)" % (digits, errors[key]["rmse_m"], digits, errors[key]["max_m"])
+
+
 def loops_name(errors):
     """The loops that corrected the trajectory, those into a prior map's fixed keyframes named."""
     if "prior" in errors:
@@ -207,11 +211,9 @@ def plot_correction(out, trajectory, corrected_csv):
     ax.plot([trajectory[f][0] for f in frames], [trajectory[f][1] for f in frames], "-", color="k", lw=2.5,
             alpha=0.25, label="truth")
     ax.plot([float(r["odom_x"]) for r in rows], [float(r["odom_y"]) for r in rows], "--", color="tab:red", lw=1, alpha=0.8,
-            label="%s: ATE %.2f m (max %.2f)" % (odometry_name(errors), errors["odometry"]["rmse_m"],
-                                                 errors["odometry"]["max_m"]))
+            label="%s: %s" % (odometry_name(errors), ate_text(errors, "odometry")))
     ax.plot([float(r["corrected_x"]) for r in rows], [float(r["corrected_y"]) for r in rows], "-", color="tab:blue",
-            lw=1.2, label="corrected with %s: ATE %.2f m (max %.2f)" % (
-                loops_name(errors), errors["corrected"]["rmse_m"], errors["corrected"]["max_m"]))
+            lw=1.2, label="corrected with %s: %s" % (loops_name(errors), ate_text(errors, "corrected")))
     ax.set_aspect("equal")
     ax.set_xlabel("x [m]")
     ax.set_ylabel("y [m]")
