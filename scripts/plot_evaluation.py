@@ -133,8 +133,9 @@ def plot_map_before_after(out, sequence, rows, corrected_csv, threshold, metrics
             if len(p):
                 parts.append(np.column_stack((x + c * p[:, 0] - s_ * p[:, 1], y + s_ * p[:, 0] + c * p[:, 1])))
         world[key] = np.vstack(parts) if parts else np.zeros((0, 2))
+    # With --prior a match may be a prior frame, whose number may also be one of this sequence's.
     loops = [(int(r["query"]), int(r["match"]), int(r["correct"])) for r in rows
-             if int(r["match"]) >= 0 and float(r["distance"]) < threshold
+             if int(r["match"]) >= 0 and float(r["distance"]) < threshold and not int(r.get("match_in_prior", "0"))
              and int(r["query"]) in poses and int(r["match"]) in poses]
     # The detail: where the odometry disagrees most with itself across a true loop.
     centre, gap = None, -1.0
@@ -142,9 +143,8 @@ def plot_map_before_after(out, sequence, rows, corrected_csv, threshold, metrics
         d = np.hypot(at["odom"][q][0] - at["odom"][m][0], at["odom"][q][1] - at["odom"][m][1])
         if good and d > gap:
             gap, centre = d, at["corrected"][q]
-    titles = {"odom": "odometry: ATE %.2f m (max %.2f)" % (errors["odometry"]["rmse_m"], errors["odometry"]["max_m"]),
-              "corrected": "corrected with %d loops: ATE %.2f m (max %.2f)" % (
-                  errors["loops"], errors["corrected"]["rmse_m"], errors["corrected"]["max_m"])}
+    titles = {"odom": "%s: %s" % (odometry_name(errors), ate_text(errors, "odometry")),
+              "corrected": "corrected with %s: %s" % (loops_name(errors), ate_text(errors, "corrected"))}
     detail = centre is not None
     fig, axes = plt.subplots(2 if detail else 1, 2, figsize=(14, 20 if detail else 10), squeeze=False)
     for row in range(axes.shape[0]):
@@ -182,6 +182,24 @@ def plot_map_before_after(out, sequence, rows, corrected_csv, threshold, metrics
     plt.close(fig)
 
 
+def odometry_name(errors):
+    """What the odometry was: the sequence's own, or the truth (trajectory_error.json's odometry_source)."""
+    return "odometry (the truth)" if errors.get("odometry_source") == "truth" else "odometry"
+
+
+def ate_text(errors, key):
+    """One trajectory's ATE for a label: in millimetres' precision where the truth is the odometry."""
+    digits = 3 if errors.get("odometry_source") == "truth" else 2
+    return "ATE %.*f m (max %.*f)" % (digits, errors[key]["rmse_m"], digits, errors[key]["max_m"])
+
+
+def loops_name(errors):
+    """The loops that corrected the trajectory, those into a prior map's fixed keyframes named."""
+    if "prior" in errors:
+        return "%d loops (%d into the prior, held fixed)" % (errors["loops"], errors.get("prior_loops", 0))
+    return "%d loops" % errors["loops"]
+
+
 def plot_correction(out, trajectory, corrected_csv):
     """Top-down: the truth, the odometry and the corrected trajectory, with their errors."""
     with open(corrected_csv) as f:
@@ -193,10 +211,9 @@ def plot_correction(out, trajectory, corrected_csv):
     ax.plot([trajectory[f][0] for f in frames], [trajectory[f][1] for f in frames], "-", color="k", lw=2.5,
             alpha=0.25, label="truth")
     ax.plot([float(r["odom_x"]) for r in rows], [float(r["odom_y"]) for r in rows], "--", color="tab:red", lw=1, alpha=0.8,
-            label="odometry: ATE %.2f m (max %.2f)" % (errors["odometry"]["rmse_m"], errors["odometry"]["max_m"]))
+            label="%s: %s" % (odometry_name(errors), ate_text(errors, "odometry")))
     ax.plot([float(r["corrected_x"]) for r in rows], [float(r["corrected_y"]) for r in rows], "-", color="tab:blue",
-            lw=1.2, label="corrected with %d loops: ATE %.2f m (max %.2f)" % (
-                errors["loops"], errors["corrected"]["rmse_m"], errors["corrected"]["max_m"]))
+            lw=1.2, label="corrected with %s: %s" % (loops_name(errors), ate_text(errors, "corrected")))
     ax.set_aspect("equal")
     ax.set_xlabel("x [m]")
     ax.set_ylabel("y [m]")

@@ -117,7 +117,8 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "scan_context_evaluate: %s\n", error.c_str());
     return 1;
   }
-  // What the loops do to the map: the reference pose graph over the odometry and the loops.
+  // What the loops do to the map: the reference pose graph over the odometry (in a prior map, and the
+  // prior's keyframes held fixed) and the loops.
   const eval::TrajectoryCorrection correction = eval::correctTrajectory(sequence, result, config);
   if (!eval::writeTrajectoryErrorJson(out_dir + "/trajectory_error.json", correction, &error) ||
       (correction.computed &&
@@ -135,13 +136,7 @@ int main(int argc, char** argv) {
     std::printf("map saved to %s\n", summary.c_str());
   }
   const eval::Metrics& m = result.metrics;
-  if (correction.computed) {
-    std::printf("trajectory error (ATE RMSE / max): odometry %.2f / %.2f m; corrected with the %zu loops %.2f / %.2f m; "
-                "plain Scan Context (%zu loops, %zu false) %.2f / %.2f m; with one false loop added %.2f / %.2f m\n",
-                correction.odometry.rmse, correction.odometry.max, correction.loops, correction.corrected.rmse,
-                correction.corrected.max, correction.plain_loops, correction.plain_false_loops, correction.plain.rmse,
-                correction.plain.max, correction.with_false_loop.rmse, correction.with_false_loop.max);
-  }
+  std::printf("%s\n", eval::trajectoryErrorLine(correction).c_str());
   std::printf("%s: %zu keyframes (%zu missing scans), %zu queries, %zu true revisits (R = %.1f m)\n",
               sequence_dir.c_str(), sequence.frames.size(), sequence.missing_scans, m.queries, m.revisits, radius);
   std::printf("at threshold %.3f: precision %.3f, recall %.3f (%zu TP, %zu FP)\n", m.threshold, m.precision, m.recall,

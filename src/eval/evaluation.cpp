@@ -90,6 +90,15 @@ class SequenceScorer {
   void priorMapBuilt() {
     prior_count_ = keyframes_.size();
     has_prior_ = true;
+    Sequence& stored = e_.prior_keyframes;
+    for (const Keyframe& kf : keyframes_) {
+      stored.dir = kf.sequence->dir;
+      stored.odometry_from_file = kf.sequence->odometry_from_file;
+      stored.frames.push_back(kf.frame());
+      stored.truth.push_back(kf.truth());
+      stored.odometry.push_back(kf.sequence->odometry[kf.k]);
+      stored.stamps.push_back(kf.sequence->stamps[kf.k]);
+    }
   }
   bool inPrior(std::size_t index) const { return index < prior_count_; }
   PriorOutcome priorOutcome(const Sequence& s, std::size_t k) const;

@@ -1,7 +1,9 @@
 // The trajectory correction's files: trajectory_error.json and trajectory_corrected.csv.
 #include "scan_context_loop/eval/trajectory_correction.h"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 
 namespace scan_context_loop {
@@ -9,9 +11,16 @@ namespace eval {
 
 namespace {
 
-void writeError(std::ostream& out, const char* name, const TrajectoryError& e) {
-  out << "  \"" << name << "\": {\"rmse_m\": " << e.rmse << ", \"mean_m\": " << e.mean << ", \"max_m\": " << e.max
-      << "}";
+void writeError(std::ostream& out, const char* name, const TrajectoryError& e, const char* indent = "  ") {
+  out << indent << "\"" << name << "\": {\"rmse_m\": " << e.rmse << ", \"mean_m\": " << e.mean
+      << ", \"max_m\": " << e.max << "}";
+}
+
+/// A note or a path as a JSON string's contents (quotes and backslashes, which they do not hold, replaced).
+std::string jsonText(std::string text) {
+  std::replace(text.begin(), text.end(), '"', '\'');
+  std::replace(text.begin(), text.end(), '\\', '/');
+  return text;
 }
 
 }  // namespace
@@ -24,19 +33,58 @@ bool writeTrajectoryErrorJson(const std::string& path, const TrajectoryCorrectio
   }
   out.precision(6);
   if (!c.computed) {
-    out << "{\n  \"computed\": false,\n  \"note\": \"" << c.note << "\"\n}\n";
+    out << "{\n  \"computed\": false,\n  \"note\": \"" << jsonText(c.note) << "\"\n}\n";
     return out.good();
   }
-  out << "{\n  \"computed\": true,\n  \"keyframes\": " << c.odometry.poses << ",\n";
+  out << "{\n  \"computed\": true,\n  \"odometry_source\": \"" << (c.own_odometry ? "odom_poses.txt" : "truth")
+      << "\",\n";
+  if (!c.note.empty()) out << "  \"note\": \"" << jsonText(c.note) << "\",\n";
+  out << "  \"keyframes\": " << c.odometry.poses << ",\n";
   writeError(out, "odometry", c.odometry);
   out << ",\n";
   writeError(out, "corrected", c.corrected);
-  out << ",\n  \"loops\": " << c.loops << ",\n";
+  out << ",\n  \"loops\": " << c.loops << ",\n  \"sequence_loops\": " << (c.loops - c.prior_loops)
+      << ",\n  \"prior_loops\": " << c.prior_loops << ",\n";
+  if (c.in_prior) {
+    out << "  \"prior\": {\"source\": \"" << jsonText(c.prior_source) << "\", \"keyframes\": " << c.prior_keyframes
+        << ", \"held_fixed\": true, \"moved_m\": " << c.prior_moved << ", ";
+    writeError(out, "odometry", c.prior_odometry, "");
+    out << "},\n";
+  }
   writeError(out, "plain_scan_context", c.plain);
   out << ",\n  \"plain_loops\": " << c.plain_loops << ",\n  \"plain_false_loops\": " << c.plain_false_loops << ",\n";
   writeError(out, "with_one_false_loop", c.with_false_loop);
   out << ",\n  \"false_loop_gap_m\": " << c.false_loop_gap << "\n}\n";
   return out.good();
+}
+
+std::string trajectoryErrorLine(const TrajectoryCorrection& c) {
+  char line[1024];
+  if (!c.computed) {
+    std::snprintf(line, sizeof(line), "trajectory error: not computed (%s)", c.note.c_str());
+    return line;
+  }
+  std::string loops = std::to_string(c.loops) + " loops";
+  if (c.in_prior) {
+    loops += " (" + std::to_string(c.loops - c.prior_loops) + " within the sequence, " + std::to_string(c.prior_loops) +
+             " into the prior's " + std::to_string(c.prior_keyframes) + " keyframes, held fixed)";
+  }
+  // Millimetres where the truth is the odometry: what is left is the loops' registration error.
+  const int digits = c.own_odometry ? 2 : 3;
+  std::snprintf(line, sizeof(line),
+                "trajectory error (ATE RMSE / max): odometry%s %.*f / %.*f m; corrected with the %s %.*f / %.*f m; "
+                "plain Scan Context (%zu loops, %zu false) %.*f / %.*f m; with one false loop added %.*f / %.*f m",
+                c.own_odometry ? "" : " (the truth: no odometry of its own)", digits, c.odometry.rmse, digits,
+                c.odometry.max, loops.c_str(), digits, c.corrected.rmse, digits, c.corrected.max, c.plain_loops,
+                c.plain_false_loops, digits, c.plain.rmse, digits, c.plain.max, digits, c.with_false_loop.rmse, digits,
+                c.with_false_loop.max);
+  std::string text = line;
+  if (c.in_prior) {
+    std::snprintf(line, sizeof(line), "; the prior's stored poses %.2f / %.2f m off its truth, moved %.3f m",
+                  c.prior_odometry.rmse, c.prior_odometry.max, c.prior_moved);
+    text += line;
+  }
+  return text;
 }
 
 bool writeCorrectedTrajectoryCsv(const std::string& path, const Sequence& s, const TrajectoryCorrection& c,

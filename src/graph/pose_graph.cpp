@@ -84,11 +84,28 @@ struct PoseGraph::Impl {
   std::deque<Eigen::Vector3d> positions;
   std::deque<Eigen::Quaterniond> rotations;
   std::vector<ceres::ResidualBlockId> loop_blocks;
+  std::vector<bool> fixed;       ///< per keyframe: added with addFixedKeyframe
+  long chain_first = -1;         ///< the odometry chain's first keyframe (the gauge until anchored), -1: none yet
+  long chain_last = -1;          ///< its newest keyframe, which the next addKeyframe chains to
+  bool anchored = false;         ///< a loop ties the chain to a fixed keyframe
   ceres_compat::EigenQuaternion quaternion_parameterization;
   /// The loops' loss: switched between none (least squares) and the Cauchy loss by optimize().
   std::unique_ptr<ceres::LossFunctionWrapper> loop_loss =
       std::make_unique<ceres::LossFunctionWrapper>(nullptr, ceres::TAKE_OWNERSHIP);
   std::unique_ptr<ceres::Problem> problem;
+
+  /// A keyframe's parameter blocks (position, rotation) starting at `estimate`.
+  void addBlocks(const Eigen::Isometry3d& estimate, bool is_fixed) {
+    positions.push_back(estimate.translation());
+    rotations.push_back(Eigen::Quaterniond(estimate.linear()).normalized());
+    problem->AddParameterBlock(positions.back().data(), 3);
+    problem->AddParameterBlock(rotations.back().coeffs().data(), 4, &quaternion_parameterization);
+    fixed.push_back(is_fixed);
+  }
+  void holdConstant(std::size_t i) {
+    problem->SetParameterBlockConstant(positions[i].data());
+    problem->SetParameterBlockConstant(rotations[i].coeffs().data());
+  }
 };
 
 PoseGraph::PoseGraph(const PoseGraphConfig& config) : config_(config), impl_(std::make_unique<Impl>()) {}
@@ -98,33 +115,41 @@ PoseGraph::~PoseGraph() = default;
 long PoseGraph::addKeyframe(const Eigen::Isometry3d& odometry_pose) {
   if (!odometry_pose.translation().allFinite() || !isRotation(odometry_pose.linear())) return -1;
   Impl& g = *impl_;
-  Eigen::Isometry3d estimate = odometry_pose;
-  if (!odometry_.empty()) {
-    const Eigen::Isometry3d step = odometry_.back().inverse() * odometry_pose;
-    estimate = pose(odometry_.size() - 1) * step;
+  Eigen::Isometry3d estimate = odometry_pose, step = Eigen::Isometry3d::Identity();
+  if (g.chain_last >= 0) {
+    step = odometry_[g.chain_last].inverse() * odometry_pose;
+    estimate = pose(g.chain_last) * step;
   }
-  g.positions.push_back(estimate.translation());
-  g.rotations.push_back(Eigen::Quaterniond(estimate.linear()).normalized());
-  double* p = g.positions.back().data();
-  double* q = g.rotations.back().coeffs().data();
-  g.problem->AddParameterBlock(p, 3);
-  g.problem->AddParameterBlock(q, 4, &g.quaternion_parameterization);
-  if (odometry_.empty()) {
-    g.problem->SetParameterBlockConstant(p);  // the gauge
-    g.problem->SetParameterBlockConstant(q);
+  const long index = static_cast<long>(odometry_.size());
+  g.addBlocks(estimate, false);
+  if (g.chain_last < 0) {
+    g.holdConstant(index);  // the gauge
+    g.chain_first = index;
   } else {
-    const std::size_t a = odometry_.size() - 1;
-    const Eigen::Isometry3d step = odometry_.back().inverse() * odometry_pose;
+    const std::size_t a = static_cast<std::size_t>(g.chain_last);
     const Matrix6d covariance = odometryCovariance(step, config_);
     Matrix6d sqrt_information;
     sqrtInformation(covariance, &sqrt_information);  // diagonal, positive: always
     g.problem->AddResidualBlock(RelativePoseError::create(step, sqrt_information), nullptr, g.positions[a].data(),
-                                g.rotations[a].coeffs().data(), p, q);
-    factors_.push_back({a, a + 1, step, covariance, false});
+                                g.rotations[a].coeffs().data(), g.positions.back().data(),
+                                g.rotations.back().coeffs().data());
+    factors_.push_back({a, static_cast<std::size_t>(index), step, covariance, false});
   }
+  g.chain_last = index;
   odometry_.push_back(odometry_pose);
-  return static_cast<long>(odometry_.size()) - 1;
+  return index;
 }
+
+long PoseGraph::addFixedKeyframe(const Eigen::Isometry3d& stored_pose) {
+  if (!stored_pose.translation().allFinite() || !isRotation(stored_pose.linear())) return -1;
+  const long index = static_cast<long>(odometry_.size());
+  impl_->addBlocks(stored_pose, true);
+  impl_->holdConstant(index);
+  odometry_.push_back(stored_pose);
+  return index;
+}
+
+bool PoseGraph::fixed(std::size_t i) const { return i < impl_->fixed.size() && impl_->fixed[i]; }
 
 bool PoseGraph::addLoop(std::size_t query, std::size_t match, const Eigen::Isometry3d& query_from_match,
                         const Matrix6d& covariance, std::string* error) {
@@ -137,11 +162,29 @@ bool PoseGraph::addLoop(std::size_t query, std::size_t match, const Eigen::Isome
   if (!query_from_match.translation().allFinite() || !isRotation(query_from_match.linear())) {
     return fail("the relative pose is not finite or not a rotation");
   }
+  if (fixed(query) && fixed(match)) return fail("a loop between two fixed keyframes");
   Matrix6d sqrt_information;
   if (!sqrtInformation(covariance, &sqrt_information)) {
     return fail("the covariance is not symmetric positive definite");
   }
   Impl& g = *impl_;
+  if (!g.anchored && (fixed(query) || fixed(match))) {
+    // The chain's first loop into a fixed keyframe: move the chain rigidly so that it holds, and let the
+    // fixed keyframes hold the chain from now on.
+    const std::size_t chained = fixed(query) ? match : query;
+    const Eigen::Isometry3d target = fixed(query) ? pose(query) * query_from_match
+                                                  : pose(match) * query_from_match.inverse();
+    const Eigen::Isometry3d move = target * pose(chained).inverse();
+    for (std::size_t i = 0; i < size(); ++i) {
+      if (fixed(i)) continue;
+      const Eigen::Isometry3d moved = move * pose(i);
+      g.positions[i] = moved.translation();
+      g.rotations[i] = Eigen::Quaterniond(moved.linear()).normalized();
+    }
+    g.problem->SetParameterBlockVariable(g.positions[g.chain_first].data());
+    g.problem->SetParameterBlockVariable(g.rotations[g.chain_first].coeffs().data());
+    g.anchored = true;
+  }
   const ceres::ResidualBlockId id = g.problem->AddResidualBlock(
       RelativePoseError::create(query_from_match, sqrt_information), g.loop_loss.get(), g.positions[query].data(),
       g.rotations[query].coeffs().data(), g.positions[match].data(), g.rotations[match].coeffs().data());
@@ -153,7 +196,7 @@ bool PoseGraph::addLoop(std::size_t query, std::size_t match, const Eigen::Isome
 
 PoseGraphResult PoseGraph::optimize() {
   PoseGraphResult result;
-  if (size() < 2) {
+  if (size() < 2 || impl_->chain_last < 0) {
     result.solved = true;
     result.message = "nothing to solve";
     return result;
@@ -182,7 +225,9 @@ PoseGraphResult PoseGraph::optimize() {
   result.solved = summary.IsSolutionUsable();
   result.final_cost = summary.final_cost;
   result.message = summary.BriefReport();
-  for (auto& q : impl_->rotations) q.normalize();
+  for (std::size_t i = 0; i < size(); ++i) {
+    if (!fixed(i)) impl_->rotations[i].normalize();  // fixed ones stay exactly as given
+  }
   return result;
 }
 
@@ -201,8 +246,9 @@ std::vector<Eigen::Isometry3d> PoseGraph::poses() const {
 }
 
 Eigen::Isometry3d PoseGraph::correction() const {
-  if (odometry_.empty()) return Eigen::Isometry3d::Identity();
-  return pose(size() - 1) * odometry_.back().inverse();
+  const long last = impl_->chain_last;
+  if (last < 0) return Eigen::Isometry3d::Identity();
+  return pose(last) * odometry_[last].inverse();
 }
 
 }  // namespace scan_context_loop

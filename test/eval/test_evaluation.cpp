@@ -306,12 +306,59 @@ TEST(Evaluation, VerifiedLoopsCorrectTheDriftedTrajectoryAndHoldOffAFalseOne) {
   while (std::getline(csv, line)) ++rows;
   EXPECT_EQ(rows, sequence.frames.size() + 1);
 
-  // Without odometry of its own there is nothing to correct, and the reason says so.
-  Sequence truth_only = sequence;
-  truth_only.odometry_from_file = false;
-  const TrajectoryCorrection none = correctTrajectory(truth_only, e, config);
+  EXPECT_TRUE(c.own_odometry);
+  EXPECT_FALSE(c.in_prior);
+  EXPECT_EQ(c.prior_loops, 0u);
+  EXPECT_NE(json.str().find("\"odometry_source\": \"odom_poses.txt\""), std::string::npos);
+  const std::string printed = trajectoryErrorLine(c);
+  EXPECT_EQ(printed.rfind("trajectory error (ATE RMSE / max): odometry ", 0), 0u) << printed;
+  EXPECT_NE(printed.find("corrected with the " + std::to_string(c.loops) + " loops"), std::string::npos) << printed;
+
+  // Too few keyframes: nothing is computed, and the note and the printed line say why.
+  Sequence three = sequence;
+  three.frames.resize(2);
+  three.truth.resize(2);
+  three.odometry.resize(2);
+  const TrajectoryCorrection none = correctTrajectory(three, e, config);
   EXPECT_FALSE(none.computed);
-  EXPECT_NE(none.note.find("odom_poses.txt"), std::string::npos);
+  EXPECT_EQ(trajectoryErrorLine(none), "trajectory error: not computed (fewer than 3 keyframes)");
+}
+
+TEST(Evaluation, WithoutOdometryTheLoopsCorrectThePerfectTrajectoryOnlyByTheirErrors) {
+  // The loop sequence read without its odom_poses.txt (as --truth-odometry does, and as a real KITTI
+  // sequence is): the truth is the odometry, its error 0; the verified loops' registration errors are
+  // all that moves the corrected trajectory, by centimetres.
+  ASSERT_FALSE(simulatedLoop().frames.empty());
+  SequenceOptions options;
+  options.use_odometry_file = false;
+  Sequence sequence;
+  std::string error;
+  ASSERT_TRUE(loadSequence(simulatedLoop().dir, options, &sequence, &error)) << error;
+  ASSERT_FALSE(sequence.odometry_from_file);
+  Config config;
+  config.exclude_recent_frames = 30;
+  config.verification.enabled = true;
+  const Evaluation e = evaluate(sequence, config, 5.0);
+  const TrajectoryCorrection c = correctTrajectory(sequence, e, config);
+  ASSERT_TRUE(c.computed) << c.note;
+  std::printf("truth as the odometry: corrected ATE %.4f m (max %.4f m) with %zu loops\n", c.corrected.rmse,
+              c.corrected.max, c.loops);
+  EXPECT_FALSE(c.own_odometry);
+  EXPECT_EQ(c.odometry.poses, sequence.frames.size());
+  EXPECT_LT(c.odometry.rmse, 1e-9);
+  EXPECT_GT(c.loops, 20u);
+  EXPECT_GT(c.corrected.rmse, 0.0);
+  EXPECT_LT(c.corrected.rmse, 0.1);
+  EXPECT_NE(c.note.find("the truth is the odometry"), std::string::npos) << c.note;
+  ASSERT_TRUE(writeTrajectoryErrorJson(temp("truth_odometry.json"), c, &error)) << error;
+  std::stringstream json;
+  json << std::ifstream(temp("truth_odometry.json")).rdbuf();
+  for (const char* key : {"\"computed\": true", "\"odometry_source\": \"truth\"", "\"note\": \"no odometry",
+                          "\"corrected\": {", "\"with_one_false_loop\""}) {
+    EXPECT_NE(json.str().find(key), std::string::npos) << key << " in " << json.str();
+  }
+  EXPECT_NE(trajectoryErrorLine(c).find("odometry (the truth: no odometry of its own) 0.000 / 0.000 m"),
+            std::string::npos) << trajectoryErrorLine(c);
 }
 
 TEST(Evaluation, CandidatesWhoseDataWasDroppedLeaveTheirTurnToKeptOnes) {

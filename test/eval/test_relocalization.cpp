@@ -2,10 +2,13 @@
 #include <cmath>
 #include <fstream>
 #include <sstream>
+#include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
 #include "scan_context_loop/eval/evaluation.h"
+#include "scan_context_loop/eval/trajectory_correction.h"
 #include "../common/sim_drive.h"
 #include "../common/written_sequence.h"
 
@@ -108,6 +111,75 @@ TEST(Relocalization, LoopTrackingCarriesTheRevisitWhereTheDescriptorMisses) {
   for (std::size_t i = 0; i < plain.prior_outcomes.size(); ++i) {
     if (plain.prior_outcomes[i].correct) EXPECT_TRUE(tracked.prior_outcomes[i].correct) << "query " << i;
   }
+}
+
+/// The prior map of `e` as the correction held it: every keyframe where it was stored, and a summary.
+void expectPriorHeldFixed(const Evaluation& e, const Sequence& prior_map, const TrajectoryCorrection& c) {
+  EXPECT_TRUE(c.in_prior);
+  EXPECT_EQ(c.prior_keyframes, prior_map.frames.size());
+  ASSERT_EQ(e.prior_keyframes.frames, prior_map.frames);
+  for (std::size_t i = 0; i < prior_map.frames.size(); ++i) {
+    EXPECT_TRUE(e.prior_keyframes.odometry[i].isApprox(prior_map.odometry[i], 1e-12)) << "prior keyframe " << i;
+  }
+  EXPECT_EQ(c.prior_moved, 0.0);
+  EXPECT_GT(c.prior_loops, 10u);
+  EXPECT_LE(c.prior_loops, c.loops);
+  ASSERT_EQ(c.corrected_poses.size(), c.odometry.poses);
+}
+
+TEST(Relocalization, AFixedPerfectPriorMapPullsTheDriftingSessionOntoTheTruth) {
+  // The prior map at its true poses (read without its odometry: as a map corrected before it was saved)
+  // and the second session with its own drifting odometry from the identity: its loops into the fixed
+  // prior move it into the prior's frame and onto the truth.
+  const Sequence& query = written(sessions().second, "query", 12, 0.0);
+  ASSERT_FALSE(prior().frames.empty());
+  SequenceOptions options;
+  options.use_odometry_file = false;
+  Sequence perfect;
+  std::string error;
+  ASSERT_TRUE(loadSequence(prior().dir, options, &perfect, &error)) << error;
+  const Config config;
+  const Evaluation e = evaluate(query, config, 5.0, &perfect);
+  const TrajectoryCorrection c = correctTrajectory(query, e, config);
+  ASSERT_TRUE(c.computed) << c.note;
+  std::printf("session 2 in a perfect fixed prior: odometry ATE %.3f m (max %.3f), corrected %.3f m (max %.3f) with "
+              "%zu loops, %zu into the prior\n", c.odometry.rmse, c.odometry.max, c.corrected.rmse, c.corrected.max,
+              c.loops, c.prior_loops);
+  expectPriorHeldFixed(e, perfect, c);
+  EXPECT_LT(c.prior_odometry.rmse, 1e-9);
+  EXPECT_TRUE(c.own_odometry);
+  EXPECT_GT(c.odometry.rmse, 0.05) << "the simulated odometry should drift";
+  EXPECT_LT(c.corrected.rmse, 0.3 * c.odometry.rmse);
+  EXPECT_LT(c.corrected.max, c.odometry.max);
+
+  ASSERT_TRUE(writeTrajectoryErrorJson(temp("trajectory_error.json"), c, &error)) << error;
+  std::stringstream json;
+  json << std::ifstream(temp("trajectory_error.json")).rdbuf();
+  const std::vector<std::string> keys = {"\"computed\": true", "\"corrected\": {",
+                                         "\"prior_loops\": " + std::to_string(c.prior_loops),
+                                         "\"prior\": {\"source\": \"" + perfect.dir + "\"", "\"held_fixed\": true"};
+  for (const std::string& key : keys) {
+    EXPECT_NE(json.str().find(key), std::string::npos) << key << " in " << json.str();
+  }
+  const std::string line = trajectoryErrorLine(c);
+  EXPECT_NE(line.find(std::to_string(c.prior_loops) + " into the prior's " + std::to_string(perfect.frames.size()) +
+                      " keyframes, held fixed"), std::string::npos) << line;
+}
+
+TEST(Relocalization, TheDriftingPriorMapStaysWhereItWasStored) {
+  // The prior at its own drifting odometry, as a mapping run stores it: the session joins that map, so
+  // its corrected trajectory takes the prior's shape where they meet, and its error is bounded by the two
+  // odometries' together rather than by its own.
+  const Sequence& query = written(sessions().second, "query", 12, 0.0);
+  const Config config;
+  const Evaluation e = evaluate(query, config, 5.0, &prior());
+  const TrajectoryCorrection c = correctTrajectory(query, e, config);
+  ASSERT_TRUE(c.computed) << c.note;
+  std::printf("session 2 in the drifting prior: odometry ATE %.3f m, prior's %.3f m, corrected %.3f m (%zu loops, "
+              "%zu into the prior)\n", c.odometry.rmse, c.prior_odometry.rmse, c.corrected.rmse, c.loops, c.prior_loops);
+  expectPriorHeldFixed(e, prior(), c);
+  EXPECT_GT(c.prior_odometry.rmse, 0.05);
+  EXPECT_LT(c.corrected.rmse, c.odometry.rmse + c.prior_odometry.rmse);
 }
 
 TEST(Relocalization, WithoutAPriorNothingIsScoredAgainstOne) {

@@ -1,6 +1,7 @@
 // The reference backend on a simulated multi-lap drive with drifting odometry: correct loops bring the
 // trajectory back to the truth; a false loop neither pulls it when its covariance says it is vague nor,
 // under the robust loss, when it claims to be sure.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <random>
@@ -150,6 +151,69 @@ TEST(PoseGraph, KeyframesAddedAfterACorrectionStartFromIt) {
   ASSERT_EQ(graph.addKeyframe(next_odometry), static_cast<long>(drive.odometry.size()));
   EXPECT_TRUE(graph.pose(graph.size() - 1).isApprox(graph.pose(graph.size() - 2) * step, 1e-9));
   EXPECT_TRUE((graph.correction() * next_odometry).isApprox(graph.pose(graph.size() - 1), 1e-9));
+}
+
+TEST(PoseGraph, FixedKeyframesStayPutAndHoldTheChainThroughItsLoops) {
+  // A prior map (lap 1 at its true poses, fixed) and a later session (laps 2 and 3) whose drifting
+  // odometry starts in a frame of its own, 30 m and 100 deg off: its loops into the prior bring it into
+  // the prior's frame and onto the truth there, the prior keyframes untouched.
+  const Drive drive;
+  const Eigen::Isometry3d elsewhere = planar(30.0, -12.0, 100.0 * M_PI / 180.0);
+  PoseGraph graph;
+  for (std::size_t i = 0; i < kPerLap; ++i) ASSERT_EQ(graph.addFixedKeyframe(drive.truth[i]), static_cast<long>(i));
+  std::vector<Eigen::Isometry3d> session_truth, session_odometry;
+  for (std::size_t i = kPerLap; i < drive.truth.size(); ++i) {
+    session_truth.push_back(drive.truth[i]);
+    session_odometry.push_back(elsewhere * drive.odometry[kPerLap].inverse() * drive.odometry[i]);
+    ASSERT_EQ(graph.addKeyframe(session_odometry.back()), static_cast<long>(i));
+  }
+  EXPECT_TRUE(graph.fixed(0) && graph.fixed(kPerLap - 1));
+  EXPECT_FALSE(graph.fixed(kPerLap) || graph.fixed(graph.size() - 1));
+  std::string error;
+  EXPECT_FALSE(graph.addLoop(5, 3, Eigen::Isometry3d::Identity(), verifiedCovariance(), &error));
+  EXPECT_EQ(error, "a loop between two fixed keyframes");
+  // Before any loop into the prior the chain's first keyframe is the gauge, as without fixed keyframes.
+  EXPECT_TRUE(graph.correction().isApprox(Eigen::Isometry3d::Identity(), 1e-9));
+
+  std::mt19937 rng(13);
+  std::normal_distribution<double> metres(0.0, 0.03), radians(0.0, 0.1 * M_PI / 180.0);
+  std::size_t into_prior = 0;
+  for (std::size_t q = kPerLap + 1; q < drive.truth.size(); q += 3) {
+    const std::size_t m = q % kPerLap;  // the same place in lap 1, the prior's
+    const Eigen::Isometry3d measured = drive.truth[q].inverse() * drive.truth[m] *
+                                       planar(metres(rng), metres(rng), radians(rng));
+    ASSERT_TRUE(graph.addLoop(q, m, measured, verifiedCovariance(), &error)) << error;
+    ++into_prior;
+    if (into_prior == 1) {
+      // The first loop into the prior moved the chain into its frame: that loop holds exactly.
+      EXPECT_TRUE((graph.pose(q).inverse() * graph.pose(m)).isApprox(measured, 1e-9));
+    }
+    if (q >= 2 * kPerLap) {  // and to lap 2, the session's own
+      ASSERT_TRUE(graph.addLoop(q, q - kPerLap, drive.truth[q].inverse() * drive.truth[q - kPerLap],
+                                verifiedCovariance()));
+    }
+  }
+  const PoseGraphResult result = graph.optimize();
+  ASSERT_TRUE(result.solved) << result.message;
+  for (std::size_t i = 0; i < kPerLap; ++i) {
+    EXPECT_EQ(graph.pose(i).translation(), drive.truth[i].translation()) << "prior keyframe " << i;
+    EXPECT_TRUE(graph.pose(i).linear().isApprox(drive.truth[i].linear(), 1e-12)) << "prior keyframe " << i;
+  }
+  // The session lies on the truth in the prior's frame, with no alignment.
+  double worst = 0.0;
+  std::vector<Eigen::Isometry3d> corrected;
+  for (std::size_t i = kPerLap; i < graph.size(); ++i) {
+    corrected.push_back(graph.pose(i));
+    worst = std::max(worst, (graph.pose(i).translation() - drive.truth[i].translation()).norm());
+  }
+  const double odometry = absoluteTrajectoryError(session_odometry, session_truth).rmse;
+  const double after = absoluteTrajectoryError(corrected, session_truth).rmse;
+  std::printf("session in a fixed prior: odometry ATE %.2f m, corrected %.3f m, %.3f m at most off the truth\n",
+              odometry, after, worst);
+  EXPECT_GT(odometry, 2.0) << "the simulated odometry should drift";
+  EXPECT_LT(after, 0.1 * odometry);
+  EXPECT_LT(worst, 0.5);
+  EXPECT_FALSE(graph.pose(kPerLap).isApprox(session_odometry.front(), 1e-3)) << "the chain's start moved too";
 }
 
 TEST(PoseGraph, UnusableInputIsRefusedAndNamed) {

@@ -49,6 +49,9 @@ struct Evaluation {
   std::string prior_truth;   ///< with a database prior: the sequence whose poses.txt its tags index
   std::vector<PriorOutcome> prior_outcomes;
   RelocalizationMetrics relocalization;
+  /// The prior map's keyframes in database order (database index i < frames.size()): frame index (tag),
+  /// true pose, stamp, and as `odometry` the pose the pipeline stored (the prior's odometry).
+  Sequence prior_keyframes;
 };
 
 struct DatabasePrior;  // prior_map.h

@@ -1,6 +1,9 @@
 // What the loops do to the map: the sequence's odometry keyframe poses and the evaluation's loops go
 // into the reference pose graph (graph/pose_graph.h), and the corrected trajectory is scored against
-// the truth (absolute trajectory error), next to the odometry's own.
+// the truth (absolute trajectory error), next to the odometry's own. Every sequence gets one: without
+// odometry of its own the truth is the odometry (what the loops' registration errors do to a perfect
+// trajectory); in a prior map the prior's keyframes are held at their stored poses and the sequence's
+// loops into them go in with its own.
 #pragma once
 
 #include <string>
@@ -18,12 +21,25 @@ namespace eval {
 
 struct TrajectoryCorrection {
   bool computed = false;
-  std::string note;  ///< why nothing was computed, when so
+  /// Why nothing was computed, when so; when computed, what the numbers mean for this kind of sequence
+  /// (the truth as the odometry, a prior map), empty for a sequence with its own odometry.
+  std::string note;
+  /// The sequence has odometry of its own (odom_poses.txt, fed to the detector); false: the truth is the
+  /// odometry, whose error is then 0.
+  bool own_odometry = true;
   TrajectoryError odometry;   ///< the odometry's keyframe poses as they are
   /// The loops the detector reported (verified ones when verification is on), each with the covariance
   /// the node publishes.
   TrajectoryError corrected;
   std::size_t loops = 0;
+  std::size_t prior_loops = 0;  ///< of `loops`, those into the prior map's keyframes (the rest: the sequence's own)
+  /// In a prior map: its keyframes, each held at the pose the pipeline stored; that stored trajectory's
+  /// own error against the prior's truth; and how far the solver moved any of them (0: they stayed fixed).
+  bool in_prior = false;
+  std::string prior_source;
+  std::size_t prior_keyframes = 0;
+  TrajectoryError prior_odometry;
+  double prior_moved = 0.0;  ///< [m]
   /// Plain Scan Context: every query whose best descriptor candidate is under the threshold, as a loop
   /// with the descriptor's yaw prior and the prior covariance (what the node publishes without verify).
   TrajectoryError plain;
@@ -36,13 +52,19 @@ struct TrajectoryCorrection {
   std::vector<PoseGraphFactor> corrected_factors;  ///< that graph's factors (odometry and loops)
 };
 
-/// Builds and solves the three graphs. Needs odometry (odom_poses.txt) and no prior map; otherwise
-/// returns computed = false with the reason in `note`.
+/// Builds and solves the three graphs: the sequence's odometry chain (the truth when it has no odometry
+/// of its own) and, in a prior map, the prior's keyframes fixed at their stored poses, with the loops
+/// (the plain ones and the false one likewise). computed = false, the reason in `note`, with fewer than 3
+/// keyframes or in a build without the backend.
 TrajectoryCorrection correctTrajectory(const Sequence& sequence, const Evaluation& evaluation, const Config& config,
                                        const PoseGraphConfig& graph_config = PoseGraphConfig());
 
-/// trajectory_error.json: the four trajectory errors (RMSE, mean, max) and the loop counts, or the note.
+/// trajectory_error.json: the four trajectory errors (RMSE, mean, max) and the loop counts, what the
+/// odometry was, the prior map's part and the note; or computed false and the note.
 bool writeTrajectoryErrorJson(const std::string& path, const TrajectoryCorrection& correction, std::string* error);
+/// The summary line scan_context_evaluate prints: the odometry's and the corrected ATE (RMSE / max) and
+/// which loops went in, or why there is none.
+std::string trajectoryErrorLine(const TrajectoryCorrection& correction);
 /// trajectory_corrected.csv: per keyframe, its frame and the odometry's and the corrected positions and headings
 /// (yaw of the x axis, radians), each in the truth's frame by its own alignment.
 bool writeCorrectedTrajectoryCsv(const std::string& path, const Sequence& sequence,

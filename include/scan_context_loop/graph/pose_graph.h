@@ -12,6 +12,10 @@
 // - Odometry between consecutive keyframes is the factor a = i, b = i+1 with the odometry's own
 //   T_i^-1 T_i+1 and a diagonal covariance that grows with the step (PoseGraphConfig).
 // - The first keyframe is held fixed (the gauge): the corrected trajectory starts where the odometry did.
+// - Fixed keyframes (addFixedKeyframe: a prior map's, at their stored poses) never move and join no
+//   odometry chain. The first loop between one and the odometry chain moves the whole chain rigidly so
+//   that the loop holds (the chain now lies in the fixed keyframes' frame) and frees the gauge: from then
+//   the fixed keyframes hold the chain, through its loops into them.
 #pragma once
 
 #include <cstddef>
@@ -73,9 +77,15 @@ class PoseGraph {
   /// at the previous keyframe's estimate moved by the odometry step, so earlier corrections carry on.
   /// Returns -1 (nothing added) if the pose is not finite or its rotation is not one.
   long addKeyframe(const Eigen::Isometry3d& odometry_pose);
+  /// Appends a keyframe held fixed at `pose` (T_world<-keyframe; a prior map's keyframe at its stored
+  /// pose); returns its index, or -1 (nothing added) as addKeyframe. No odometry factor ties it to
+  /// another keyframe (the next addKeyframe chains to the last keyframe addKeyframe added); loops may.
+  long addFixedKeyframe(const Eigen::Isometry3d& pose);
+  /// Keyframe i was added with addFixedKeyframe.
+  bool fixed(std::size_t i) const;
   /// Adds a loop factor T_query<-match with its covariance (x y z roll pitch yaw in the query's axes).
   /// False (nothing added) for an unknown keyframe, a self-loop, a non-finite pose or a covariance that
-  /// is not symmetric positive definite; `error` then says which.
+  /// is not symmetric positive definite, or between two fixed keyframes; `error` then says which.
   bool addLoop(std::size_t query, std::size_t match, const Eigen::Isometry3d& query_from_match,
                const Matrix6d& covariance, std::string* error = nullptr);
   /// Solves from the current estimates (warm start).
@@ -83,11 +93,14 @@ class PoseGraph {
 
   std::size_t size() const { return odometry_.size(); }
   std::size_t loops() const { return loop_count_; }
-  /// The corrected pose T_world<-keyframe of keyframe i (world = the odometry frame at keyframe 0).
+  /// The corrected pose T_world<-keyframe of keyframe i (world = the odometry frame at keyframe 0,
+  /// or with fixed keyframes their frame).
   Eigen::Isometry3d pose(std::size_t i) const;
   std::vector<Eigen::Isometry3d> poses() const;
-  /// The correction T_world<-odom at the newest keyframe: corrected pose x inverse(odometry pose).
+  /// The correction T_world<-odom at the newest keyframe of the odometry chain: corrected pose x
+  /// inverse(odometry pose); the identity before the chain's first keyframe.
   Eigen::Isometry3d correction() const;
+  /// The odometry pose keyframe i was added with (a fixed keyframe's: its fixed pose).
   const Eigen::Isometry3d& odometryPose(std::size_t i) const { return odometry_[i]; }
   /// Every factor in the order it was added (odometry and loops interleaved as they came).
   const std::vector<PoseGraphFactor>& factors() const { return factors_; }
