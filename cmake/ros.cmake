@@ -17,6 +17,7 @@ add_library(scan_context_loop_ros
   src/ros/keyframe_processor.cpp
   src/ros/keyframe_worker.cpp
   src/ros/loop_publisher.cpp
+  src/ros/keyframe_publisher.cpp
   src/ros/marker_publisher.cpp
   src/ros/node_diagnostics.cpp
   src/ros/database_paths.cpp

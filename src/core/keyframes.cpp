@@ -2,6 +2,7 @@
 #include "scan_context_loop/core/keyframes.h"
 
 #include <cmath>
+#include <cstring>
 #include <sstream>
 
 #include <pcl/filters/voxel_grid.h>
@@ -18,6 +19,25 @@ Eigen::Matrix<double, 6, 6> loopCovariance(const Loop& loop, const Config& confi
   diagonal << config.covariance_translation, config.covariance_translation, config.covariance_translation,
       config.covariance_rotation, config.covariance_rotation, half_sector * half_sector;
   return diagonal.asDiagonal();
+}
+
+pcl::PointCloud<pcl::PointXYZ> keyframeCloud(const PointView& points, const Config& config) {
+  pcl::PointCloud<pcl::PointXYZ> kept;
+  kept.reserve(points.count);
+  const double min_squared = config.min_range * config.min_range;
+  const double max_squared = config.max_radius * config.max_radius;
+  for (std::size_t i = 0; i < points.count; ++i) {
+    const std::uint8_t* p = points.data + i * points.stride;
+    float x, y, z;
+    std::memcpy(&x, p + points.offset_x, sizeof x);
+    std::memcpy(&y, p + points.offset_y, sizeof y);
+    std::memcpy(&z, p + points.offset_z, sizeof z);
+    if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(z)) continue;
+    const double horizontal = static_cast<double>(x) * x + static_cast<double>(y) * y;
+    if (horizontal < min_squared || horizontal > max_squared) continue;
+    kept.push_back(pcl::PointXYZ(x, y, z));
+  }
+  return kept;
 }
 
 struct KeyframePipeline::Scan {
@@ -157,7 +177,8 @@ void KeyframePipeline::remember(const PointView& cloud, const KeyframeInfo& info
   }
 }
 
-Detection KeyframePipeline::process(const PointView& cloud, const KeyframeInfo& info) {
+Detection KeyframePipeline::process(const PointView& cloud, const KeyframeInfo& info,
+                                     pcl::PointCloud<pcl::PointXYZ>* described) {
   const Config& c = config();
   const bool accumulate = c.accumulate_seconds > 0.0 || c.accumulate_distance > 0.0;
   if ((c.cloud_in_world_frame || accumulate) && !info.pose) {
@@ -210,6 +231,7 @@ Detection KeyframePipeline::process(const PointView& cloud, const KeyframeInfo& 
   if (accumulate || c.cloud_in_world_frame || c.voxel_leaf > 0.0) view = viewOf(copy);
   Detection detection = detector_.process(view, info);
   detection.new_session = new_session;
+  if (described && detection.accepted) *described = keyframeCloud(view, c);
   if (detection.accepted && info.pose) {
     has_last_ = true;
     last_pose_ = *info.pose;

@@ -46,13 +46,15 @@ struct ThreadUsage {
 }  // namespace
 
 KeyframeProcessor::KeyframeProcessor(const std::string& name, const Config& config, const RosOptions& options,
-                                     NodeCounters* counters, LoopPublisher* loops, MarkerPublisher* markers)
+                                     NodeCounters* counters, LoopPublisher* loops, MarkerPublisher* markers,
+                                     SelectedKeyframePublisher* selected)
     : name_(name),
       config_(config),
       options_(options),
       counters_(counters),
       loops_(loops),
       markers_(markers),
+      selected_(selected),
       pipeline_(std::make_shared<KeyframePipeline>(config)) {}
 
 KeyframeProcessor::~KeyframeProcessor() = default;
@@ -91,7 +93,7 @@ void KeyframeProcessor::followCloudStore() {
 
 bool KeyframeProcessor::lookUpPose(QueuedKeyframe* keyframe) {
   // A registered cloud's frame is the fixed frame: the sensor's own frame must be named.
-  const std::string& sensor = options_.sensor_frame.empty() ? keyframe->cloud_frame : options_.sensor_frame;
+  const std::string& sensor = sensorFrame(*keyframe);
   try {
     const auto t = tf_->lookupTransform(options_.fixed_frame, sensor, keyframe->cloud->header.stamp,
                                         ros::Duration(options_.tf_timeout));
@@ -113,13 +115,16 @@ bool KeyframeProcessor::lookUpPose(QueuedKeyframe* keyframe) {
   }
 }
 
+const std::string& KeyframeProcessor::sensorFrame(const QueuedKeyframe& keyframe) const {
+  // A registered cloud's own frame is the world's: only a named sensor_frame, or the odometry's child,
+  // says where the sensor is (in tf mode the cloud's frame, as lookUpPose takes it, when none is named).
+  if (!options_.sensor_frame.empty()) return options_.sensor_frame;
+  return config_.cloud_in_world_frame && !keyframe.child_frame.empty() ? keyframe.child_frame : keyframe.cloud_frame;
+}
+
 SensorExtrinsic::State KeyframeProcessor::resolveExtrinsic(const QueuedKeyframe& keyframe) {
   if (!extrinsic_ || keyframe.child_frame.empty()) return SensorExtrinsic::State::kKnown;  // none needed
-  // A registered cloud's own frame is the world's: only a named sensor_frame says where the sensor is.
-  const std::string& sensor = !options_.sensor_frame.empty() ? options_.sensor_frame
-                              : config_.cloud_in_world_frame ? keyframe.child_frame
-                                                             : keyframe.cloud_frame;
-  return extrinsic_->resolve(keyframe.child_frame, sensor, wallNow());
+  return extrinsic_->resolve(keyframe.child_frame, sensorFrame(keyframe), wallNow());
 }
 
 void KeyframeProcessor::applyExtrinsic(QueuedKeyframe* keyframe) {
@@ -149,8 +154,11 @@ void KeyframeProcessor::process(QueuedKeyframe keyframe) {
   KeyframeInfo info;
   setKeyframeStamp(msg.header.stamp, &info);  // the database keeps the ROS stamp exactly (stored_keyframe.h)
   info.pose = keyframe.pose;
-  // Keyframe selection, registered clouds back to the sensor frame, the voxel filter: in the core.
-  const Detection detection = pipeline_->process(view, info);
+  // Keyframe selection, registered clouds back to the sensor frame, the voxel filter: in the core. The
+  // points as described are wanted only while someone subscribes to them.
+  pcl::PointCloud<pcl::PointXYZ> described;
+  const bool want_cloud = selected_ && selected_->cloudListened();
+  const Detection detection = pipeline_->process(view, info, want_cloud ? &described : nullptr);
   if (!detection.selected) return;
   if (!detection.accepted) {
     ++counters_->rejected;
@@ -164,6 +172,11 @@ void KeyframeProcessor::process(QueuedKeyframe keyframe) {
                             detection.index, info.stamp, detection.points_skipped);
   }
   reportWorldTilt(detection);
+  // Stored: the keyframe goes out before its loops, so a backend knows it when they come.
+  if (selected_) {
+    selected_->publish(msg.header.stamp, keyframe.pose_frame, sensorFrame(keyframe), keyframe.pose,
+                       want_cloud ? &described : nullptr);
+  }
   const Database& database = pipeline_->detector().database();
   if (detection.new_session) {
     const double previous = keyframeStamp(database.keyframe(detection.index - 1).info).toSec();

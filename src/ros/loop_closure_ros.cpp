@@ -59,7 +59,11 @@ bool LoopClosureRos::start() {
   queue_.reset(new KeyframeQueue(static_cast<std::size_t>(options_.queue_size), &counters_.queue_length));
   markers_.reset(new MarkerPublisher(config_));
   loops_.reset(new LoopPublisher(name_, config_, options_, &counters_, markers_.get()));
-  processor_.reset(new KeyframeProcessor(name_, config_, options_, &counters_, loops_.get(), markers_.get()));
+  // In relocalize mode keyframes are placed in the loaded map, not added to a map of this run's: none
+  // is published as selected.
+  if (options_.mode != "relocalize") selected_.reset(new SelectedKeyframePublisher);
+  processor_.reset(
+      new KeyframeProcessor(name_, config_, options_, &counters_, loops_.get(), markers_.get(), selected_.get()));
   worker_.reset(new KeyframeWorker(name_, options_, queue_.get(), processor_.get(), markers_.get(), &counters_,
                                    [this] { takeReconfigured(); }));
   if (!options_.database_load.empty()) {
@@ -88,6 +92,7 @@ bool LoopClosureRos::start() {
   }
 
   loops_->advertise(nh_);
+  if (selected_) selected_->advertise(nh_);
   KeyframeQueue* queue = queue_.get();
   markers_->advertise(nh_, [queue] { queue->requestRedraw(); });
   advertiseSessionServices();

@@ -57,9 +57,9 @@ bool PoseGraphRos::start() {
   diagnostics_timer_ = nh_.createTimer(ros::Duration(1.0), [this](const ros::TimerEvent&) { diagnostics_->update(); });
 
   worker_ = std::thread(&PoseGraphRos::work, this);
-  odom_sub_ = nh_.subscribe("keyframe_odom", 1000, &PoseGraphRos::onOdom, this);
+  odom_sub_ = nh_.subscribe("selected_keyframe_odom", 1000, &PoseGraphRos::onOdom, this);
   loop_sub_ = nh_.subscribe("loop_closures", 1000, &PoseGraphRos::onLoop, this);
-  if (options_.build_map) cloud_sub_ = nh_.subscribe("keyframe_cloud", 1000, &PoseGraphRos::onCloud, this);
+  if (options_.build_map) cloud_sub_ = nh_.subscribe("selected_keyframe_cloud", 1000, &PoseGraphRos::onCloud, this);
   ROS_INFO_NAMED(name_, "pose graph on %s + %s%s; %s loops; corrected poses in %s", odom_sub_.getTopic().c_str(),
                  loop_sub_.getTopic().c_str(), options_.build_map ? (", map from " + cloud_sub_.getTopic()).c_str() : "",
                  options_.verified_only ? "verified" : "all", options_.map_frame.c_str());

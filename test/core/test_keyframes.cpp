@@ -82,6 +82,36 @@ TEST(KeyframePipeline, VoxelFilterThinsTheCloudBeforeDescribing) {
   EXPECT_GT(db.points_used, 0u);
 }
 
+TEST(KeyframePipeline, TheDescribedCloudIsTheSensorFrameCloudInRange) {
+  // A registered cloud comes back in the sensor frame, with the points beyond max_radius (and NaN) left out.
+  Config c;
+  c.cloud_in_world_frame = true;
+  c.max_radius = 30.0;
+  KeyframePipeline pipeline(c);
+  auto scene = test::streetScene(7);
+  scene.push_back(pcl::PointXYZ(std::nanf(""), 1.0f, 1.0f));
+  scene.push_back(pcl::PointXYZ(40.0f, 0.0f, 1.0f));
+  const KeyframeInfo info = at(40.0, 30.0, 1.0);
+  pcl::PointCloud<pcl::PointXYZ> registered, described;
+  pcl::transformPointCloud(scene, registered, info.pose->matrix().cast<float>());
+  ASSERT_TRUE(pipeline.process(viewOf(registered), info, &described).accepted);
+  const pcl::PointCloud<pcl::PointXYZ> expected = keyframeCloud(viewOf(scene), c);
+  ASSERT_GT(expected.size(), 1000u);
+  EXPECT_LT(expected.size(), scene.size() - 1) << "the far point and the NaN are left out";
+  ASSERT_EQ(described.size(), expected.size());
+  for (std::size_t i = 0; i < expected.size(); ++i) {
+    ASSERT_LT((described[i].getVector3fMap() - expected[i].getVector3fMap()).norm(), 1e-3f) << i;
+    ASSERT_LE(std::hypot(described[i].x, described[i].y), 30.0 + 1e-3) << i;
+  }
+  // A keyframe that selection passes over leaves it as it was.
+  c.keyframe_min_distance = 1.0;
+  KeyframePipeline selecting(c);
+  ASSERT_TRUE(selecting.process(viewOf(registered), info, &described).accepted);
+  pcl::PointCloud<pcl::PointXYZ> untouched;
+  EXPECT_FALSE(selecting.process(viewOf(registered), at(40.1, 30.0, 2.0), &untouched).selected);
+  EXPECT_TRUE(untouched.empty());
+}
+
 /// The points of `scene` within `half_width_deg` of azimuth `centre_deg` (a narrow field of view).
 pcl::PointCloud<pcl::PointXYZ> wedge(const pcl::PointCloud<pcl::PointXYZ>& scene, double centre_deg,
                                      double half_width_deg) {

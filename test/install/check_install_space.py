@@ -25,13 +25,14 @@ sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."
 from check_report import report  # noqa: E402
 
 LOOP_CLOSURE = {
-    "publishes": ["/loop_closures", "/loop_markers", "/loop_closure_pairs", "/keyframe_timing"],
+    "publishes": ["/loop_closures", "/loop_markers", "/loop_closure_pairs", "/keyframe_timing",
+                  "/selected_keyframe_odom", "/selected_keyframe_cloud"],
     "subscribes": ["/keyframe_cloud", "/keyframe_odom"],
     "services": ["save_database", "load_database", "reset"],
 }
 POSE_GRAPH = {
     "publishes": ["/corrected_path", "/odometry_path", "/graph_markers", "/map_cloud"],
-    "subscribes": ["/keyframe_odom", "/loop_closures", "/keyframe_cloud"],
+    "subscribes": ["/selected_keyframe_odom", "/loop_closures", "/selected_keyframe_cloud"],
     "services": ["publish_map"],
 }
 

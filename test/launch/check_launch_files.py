@@ -13,7 +13,12 @@ own loader, without starting anything, and checks what they would start:
 - the stacks' settings: gravity_alignment auto everywhere (it measures a world frame that is not gravity
   aligned, A-LOAM's, FAST-LIO's and LeGO-LOAM's, and corrects a y-up one), a 30 s exclusion for
   LIO-SAM; every key of config/stacks/ is a key of config/default.yaml;
-- config/loop_closure.rviz subscribes only to relative topics and is framed on the fixed frame's origin.
+- config/loop_closure.rviz subscribes only to relative topics and is framed on the fixed frame's origin;
+- the backend switch: no backend by default; with pose_graph:=true one pose_graph beside the node (the
+  standalone node, or loaded into the node's manager, in its namespace) on the node's selected keyframes
+  and loops, with the stack's frames (map_frame, publish_tf: A-LOAM and FAST-LIO send map -> camera_init,
+  LeGO-LOAM keeps camera_init under run.launch's map, LIO-SAM under its own map -> odom); map_save:=DIR
+  reaches its map_save, and only then.
 
 The package under test is --package (default: the tree holding this file); it is put first on
 ROS_PACKAGE_PATH, so the check runs from a plain shell with Debian's python3 and ROS's Python modules:
@@ -48,6 +53,15 @@ STACKS = {
                               "cloud_in_world_frame": True}),
     "fast_lio": dict(cloud="/cloud_registered_body", odom="/Odometry", lio="lio_loop", frame="camera_init",
                      settings={"gravity_alignment": "auto", "cloud_in_world_frame": False}),
+}
+# The backend each launch file sets up with pose_graph:=true: the frame of its corrected poses and whether
+# it sends the tf map_frame -> odometry frame.
+BACKEND = {
+    "loop_closure": dict(map_frame="map", publish_tf=True),
+    "aloam": dict(map_frame="map", publish_tf=True),
+    "lego_loam": dict(map_frame="camera_init", publish_tf=False),
+    "lio_sam": dict(map_frame="odom", publish_tf=False),
+    "fast_lio": dict(map_frame="map", publish_tf=True),
 }
 # The non-default arguments, and the remaps they must give (node's name -> the topic it is remapped to).
 CUSTOM_ARGS = ["name:=other", "manager:=mgr", "cloud_topic:=/my/cloud", "odom_topic:=my_odom",
@@ -103,6 +117,13 @@ def the_loop_node(config, errors):
         errors.append("%d loop-closure nodes, not one: %s" % (len(nodes), [full_name(n) for n in nodes]))
         return None
     return nodes[0]
+
+
+def is_backend(node):
+    """The reference backend's standalone node, or the nodelet's loader."""
+    if (node.package, node.type) == (PACKAGE, "pose_graph_node"):
+        return True
+    return (node.package, node.type) == ("nodelet", "nodelet") and "PoseGraphNodelet" in (node.args or "")
 
 
 def load_loop_node(path=None, args=(), ns=None, text=None):
@@ -169,6 +190,56 @@ def case_defaults(package, stack, path):
         errors.append("/use_sim_time is set without use_sim_time:=true")
     if any(n.package == "rviz" for n in config.nodes):
         errors.append("RViz starts without rviz:=true")
+    if any(is_backend(n) for n in config.nodes):
+        errors.append("the backend starts without pose_graph:=true")
+    return errors
+
+
+def check_backend(config, node, stack, errors, loops="loop_closures", map_save=None):
+    """One backend beside `node` (its namespace, its manager if it has one) with the stack's frames."""
+    backends = [n for n in config.nodes if is_backend(n)]
+    if len(backends) != 1:
+        errors.append("%d backends with pose_graph:=true, not one" % len(backends))
+        return
+    backend = backends[0]
+    if backend.namespace != node.namespace:
+        errors.append("the backend is in %s, the node in %s" % (backend.namespace, node.namespace))
+    manager = (node.args or "").split()[-1:] if node.type == "nodelet" else []
+    if manager and (backend.type != "nodelet" or (backend.args or "").split()[-1:] != manager):
+        errors.append("the backend is %s '%s', not loaded into the node's manager %s"
+                      % (backend.type, backend.args, manager[0]))
+    if not manager and backend.type != "pose_graph_node":
+        errors.append("without a manager the backend is %s/%s, not the standalone node" % (backend.package, backend.type))
+    check_remaps(backend, {"selected_keyframe_odom": "selected_keyframe_odom",
+                           "selected_keyframe_cloud": "selected_keyframe_cloud", "loop_closures": loops},
+                 errors, "the backend")
+    backend_ns = full_name(backend) + "/"
+    expected = dict(BACKEND[stack])
+    if map_save is not None:
+        expected["map_save"] = map_save
+    check_settings(config, backend_ns, expected, errors)
+    if map_save is None and backend_ns + "map_save" in config.params:
+        errors.append("%smap_save is set without map_save:=DIR" % backend_ns)
+
+
+def case_backend(package, stack, path):
+    """pose_graph:=true beside the standalone node, then in a manager in a namespace with map_save."""
+    config, node, errors = load_loop_node(path, ["pose_graph:=true"])
+    if node is not None:
+        check_backend(config, node, stack, errors)
+    config, node, more = load_loop_node(path, ["pose_graph:=true", "manager:=mgr", "name:=other",
+                                               "loops_topic:=my_loops", "map_save:=run1"], ns="/robot")
+    errors += more
+    if node is not None:
+        check_backend(config, node, stack, errors, loops="my_loops", map_save="run1")
+    # The stack's frames can be changed like any argument.
+    config, node, more = load_loop_node(path, ["pose_graph:=true", "pose_graph_map_frame:=world",
+                                               "pose_graph_publish_tf:=%s" % str(not BACKEND[stack]["publish_tf"]).lower()])
+    errors += more
+    if config is not None:
+        backend_ns = "/pose_graph/"
+        check_settings(config, backend_ns, {"map_frame": "world", "publish_tf": not BACKEND[stack]["publish_tf"]},
+                       errors)
     return errors
 
 
@@ -324,6 +395,7 @@ def main():
         cases.append(("%s_renamed_in_namespace_with_manager_rviz_sim_time" % stack, case_renamed(package, stack, path)))
         cases.append(("%s_in_enclosing_group" % stack, case_in_group(package, stack, path)))
         cases.append(("%s_preset_over_stack_overrides_last" % stack, case_layers(package, stack, path)))
+        cases.append(("%s_backend_switch_frames_manager_map_save" % stack, case_backend(package, stack, path)))
     cases.append(("stack_gravity_alignment_and_lio_sam_exclusion", case_stack_settings(package)))
     cases.append(("stack_settings_use_known_keys", case_stack_keys(package)))
     cases.append(("rviz_config_relative_topics_origin_view", case_rviz_config(package)))

@@ -47,7 +47,7 @@ TEST(KeyframeWorker, WhatThrowsIsCountedAndTheNextKeyframeIsProcessed) {
   NodeCounters counters;
   MarkerPublisher markers(config);
   LoopPublisher loops("worker_test", config, options, &counters, &markers);
-  KeyframeProcessor processor("worker_test", config, options, &counters, &loops, &markers);
+  KeyframeProcessor processor("worker_test", config, options, &counters, &loops, &markers, nullptr);
   KeyframeQueue queue(10, &counters.queue_length);
   bool settings_throw = true;  // the hand-over of reconfigured settings throws once
   KeyframeWorker worker("worker_test", options, &queue, &processor, &markers, &counters, [&] {

@@ -25,50 +25,13 @@
 #include "../common/map_file_readers.h"
 #include "harness.h"
 #include "scan_context_loop/SaveMap.h"
+#include "topic_watch.h"
 #include "scan_context_loop/eval/trajectory_error.h"
 #include "scan_context_sim/trajectory.h"
 
 namespace scan_context_loop {
 namespace test {
 namespace {
-
-/// The latest message of a latched topic.
-template <typename M>
-class Latest {
- public:
-  Latest(ros::NodeHandle nh, const std::string& topic)
-      : sub_(nh.subscribe(topic, 2, &Latest::on, this)) {}
-  /// Unsubscribes first (waiting for a callback in progress): the message it writes is declared after.
-  ~Latest() { sub_.shutdown(); }
-  /// The latest message once `ready` holds for it; false after `seconds` (with the latest in `out`).
-  bool waitFor(const std::function<bool(const M&)>& ready, double seconds, M* out) const {
-    const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(seconds);
-    while (ros::ok() && ros::WallTime::now() < end) {
-      {
-        std::lock_guard<std::mutex> lock(mutex_);
-        if (have_ && ready(latest_)) {
-          *out = latest_;
-          return true;
-        }
-      }
-      ros::WallDuration(0.1).sleep();
-    }
-    std::lock_guard<std::mutex> lock(mutex_);
-    if (have_) *out = latest_;  // for the failure message
-    return false;
-  }
-
- private:
-  void on(const M& msg) {
-    std::lock_guard<std::mutex> lock(mutex_);
-    latest_ = msg;
-    have_ = true;
-  }
-  ros::Subscriber sub_;
-  mutable std::mutex mutex_;  // guards latest_ and have_ (callback thread vs. test thread)
-  M latest_;
-  bool have_ = false;
-};
 
 std::vector<Eigen::Isometry3d> posesOf(const nav_msgs::Path& path) {
   std::vector<Eigen::Isometry3d> poses;
@@ -257,7 +220,8 @@ TEST_F(PoseGraphNode, CorrectsTheDriftPublishesTheTfAndTheMapAndHoldsOffAFalseLo
 
   // A confident false loop (keyframe 5 said to lie on the far side of the block, 0.1 m standard deviation)
   // and bad inputs (a loop at stamps of no keyframe, one with a zero covariance, a keyframe stamped before
-  // the last, one with a NaN position): the robust loss holds the graph, the rest is counted and skipped.
+  // the last, one with a NaN position, both sent as the loop-closure node sends selected keyframes): the
+  // robust loss holds the graph, the rest is counted and skipped.
   scan_context_loop::LoopClosure false_loop = harness.loops().front();
   false_loop.query_stamp = harness.base + ros::Duration(drive_->times[n / 2]);
   false_loop.match_stamp = harness.base + ros::Duration(drive_->times[5]);
@@ -266,6 +230,7 @@ TEST_F(PoseGraphNode, CorrectsTheDriftPublishesTheTfAndTheMapAndHoldsOffAFalseLo
   for (int i = 0; i < 6; ++i) false_loop.covariance[7 * i] = i < 3 ? 0.01 : 1e-4;
   false_loop.verified = true;
   ros::Publisher loop_pub = nh.advertise<scan_context_loop::LoopClosure>("loop_closures", 10);
+  ros::Publisher keyframe_pub = nh.advertise<nav_msgs::Odometry>("selected_keyframe_odom", 10);
   scan_context_loop::LoopClosure unknown = false_loop;
   unknown.query_stamp = harness.base + ros::Duration(0.05);  // between two keyframes
   scan_context_loop::LoopClosure bad_covariance = harness.loops().back();
@@ -279,8 +244,8 @@ TEST_F(PoseGraphNode, CorrectsTheDriftPublishesTheTfAndTheMapAndHoldsOffAFalseLo
   loop_pub.publish(false_loop);
   loop_pub.publish(unknown);
   loop_pub.publish(bad_covariance);
-  harness.odom_pub.publish(back_in_time);
-  harness.odom_pub.publish(nan_pose);
+  keyframe_pub.publish(back_in_time);
+  keyframe_pub.publish(nan_pose);
   ASSERT_TRUE(markers.waitFor([&](const visualization_msgs::MarkerArray& m) {
     return !m.markers.empty() && m.markers[0].points.size() == 2 * (loops + 1); }, 10.0, &shown));
   ASSERT_TRUE(corrected.waitFor(complete, 10.0, &path));

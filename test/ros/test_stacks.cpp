@@ -1,15 +1,23 @@
 // The launch file next to each odometry stack, fed a short simulated bag shaped like that stack's output
 // (scan_context_simulate --block --stack NAME, played by rosbag in stack_bag.test): loops must arrive,
 // every one verified and true against the bag's ground truth, in the odometry's frame as tf2 names it
-// (without the leading '/' A-LOAM and LeGO-LOAM write).
+// (without the leading '/' A-LOAM and LeGO-LOAM write). With the reference backend (pose_graph:=true) its
+// corrected path must hold every selected keyframe, in the stack's frame, and lie closer to the truth
+// than the odometry.
+#include <cmath>
+#include <cstdio>
 #include <map>
 #include <mutex>
 #include <string>
 
 #include <gtest/gtest.h>
+#include <nav_msgs/Path.h>
 #include <tf2_eigen/tf2_eigen.h>
+#include <tf2_ros/buffer.h>
+#include <tf2_ros/transform_listener.h>
 
 #include "harness.h"
+#include "topic_watch.h"
 #include "scan_context_sim/stack_shape.h"
 
 namespace scan_context_loop {
@@ -61,6 +69,64 @@ class GroundTruth {
   ros::WallTime last_;
 };
 
+/// The RMS of `path`'s position errors [m] against the truth, each taken relative to its pose at the path's
+/// first keyframe (the backend holds that keyframe where the odometry put it); -1 when the truth lacks a
+/// stamp of the path.
+double errorFromFirstKeyframe(const nav_msgs::Path& path, const GroundTruth& truth) {
+  if (path.poses.empty()) return -1.0;
+  Eigen::Isometry3d first, first_truth;
+  double sum = 0.0;
+  for (std::size_t i = 0; i < path.poses.size(); ++i) {
+    Eigen::Isometry3d pose, true_pose;
+    tf2::fromMsg(path.poses[i].pose, pose);
+    if (!truth.pose(path.poses[i].header.stamp, &true_pose)) return -1.0;
+    if (i == 0) {
+      first = pose;
+      first_truth = true_pose;
+    }
+    sum += ((first.inverse() * pose).translation() - (first_truth.inverse() * true_pose).translation()).squaredNorm();
+  }
+  return std::sqrt(sum / path.poses.size());
+}
+
+/// The backend behind the stack's launch file (pose_graph:=true): once it is done, its corrected path
+/// holds every keyframe the node selected, at its stamp, in `frame` (with the tf `frame` -> `odom_frame`
+/// when `tf` is set), and its error against the truth is under `max_ratio` times the odometry's.
+void expectCorrectedPath(ros::NodeHandle nh, const Latest<nav_msgs::Path>& corrected,
+                         const Latest<nav_msgs::Path>& odometry, const std::vector<nav_msgs::Odometry>& selected,
+                         const GroundTruth& truth, const std::string& stack, const std::string& frame,
+                         const std::string& odom_frame, bool tf, double max_ratio) {
+  ASSERT_GT(selected.size(), 100u) << "too few keyframes selected";
+  const auto complete = [&](const nav_msgs::Path& p) { return p.poses.size() == selected.size(); };
+  nav_msgs::Path path, raw;
+  // Final: no path came for 3 s (the last loop was solved; it solves at most every 0.5 s).
+  ASSERT_TRUE(corrected.waitForFinal(complete, 3.0, 30.0, &path))
+      << "no corrected path with every selected keyframe (" << selected.size() << "); the latest has "
+      << path.poses.size();
+  ASSERT_TRUE(odometry.waitForFinal(complete, 3.0, 30.0, &raw));
+  EXPECT_EQ(path.header.frame_id, frame);
+  for (std::size_t k = 0; k < selected.size(); ++k) {
+    ASSERT_EQ(path.poses[k].header.stamp, selected[k].header.stamp) << "keyframe " << k;
+  }
+  if (tf) {
+    tf2_ros::Buffer buffer;
+    tf2_ros::TransformListener listener(buffer, nh);
+    EXPECT_TRUE(buffer.canTransform(frame, odom_frame, ros::Time(0), ros::Duration(5.0)))
+        << "no tf " << frame << " -> " << odom_frame << " from the backend";
+  }
+  const double before = errorFromFirstKeyframe(raw, truth), after = errorFromFirstKeyframe(path, truth);
+  ASSERT_GE(before, 0.0) << "a keyframe the bag's truth does not have";
+  ASSERT_GE(after, 0.0);
+  const double ratio = after / before;
+  std::printf("%s: position RMSE from the first keyframe: odometry %.3f m, corrected %.3f m, ratio %.3f "
+              "(%zu keyframes)\n", stack.c_str(), before, after, ratio, selected.size());
+  ::testing::Test::RecordProperty("odometry_rmse_m", std::to_string(before));
+  ::testing::Test::RecordProperty("corrected_rmse_m", std::to_string(after));
+  ::testing::Test::RecordProperty("corrected_to_odometry", std::to_string(ratio));
+  EXPECT_GT(before, 0.5) << "the bag's odometry drifts too little to show a correction";
+  EXPECT_LT(ratio, max_ratio) << "odometry " << before << " m, corrected " << after << " m";
+}
+
 /// Waits until `count` loops join a later session to the first; false after `seconds`.
 bool waitForLoopsAcrossSessions(const Harness& harness, std::size_t count, double seconds) {
   const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(seconds);
@@ -79,6 +145,13 @@ TEST(Stacks, TrueVerifiedLoopsFromTheStacksBag) {
   const sim::StackShape* shape = sim::findStackShape(name);
   ASSERT_NE(shape, nullptr) << "unknown stack '" << name << "'";
   Harness harness(nh);
+  const bool backend = pnh.param("pose_graph", false);
+  Collected<nav_msgs::Odometry> selected(nh, "selected_keyframe_odom");
+  Latest<nav_msgs::Path> corrected(nh, "corrected_path"), odometry(nh, "odometry_path");
+  // Connected before the bag plays (it waits for the ground truth's subscriber, made next).
+  if (backend) {
+    ASSERT_TRUE(selected.waitForPublisher(30.0)) << "the loop-closure node never advertised";
+  }
   GroundTruth truth(nh, *shape);
   const bool replayed = pnh.param("replayed", false);
   if (replayed) {
@@ -106,6 +179,11 @@ TEST(Stacks, TrueVerifiedLoopsFromTheStacksBag) {
     const auto lio = harness.lioLoops();
     ASSERT_FALSE(lio.empty());
     EXPECT_LT(lio.size(), loops.size());
+  }
+  if (backend) {
+    expectCorrectedPath(nh, corrected, odometry, selected.messages(), truth, name,
+                        pnh.param("graph_frame", std::string()), frame, pnh.param("graph_tf", false),
+                        pnh.param("max_ratio", 0.7));
   }
 }
 

@@ -10,6 +10,8 @@
 #include <string>
 
 #include <Eigen/Geometry>
+#include <pcl/point_cloud.h>
+#include <pcl/point_types.h>
 
 #include "scan_context_loop/core/config.h"
 #include "scan_context_loop/core/detector.h"
@@ -22,6 +24,10 @@ namespace scan_context_loop {
 /// sector)^2 for yaw.
 Eigen::Matrix<double, 6, 6> loopCovariance(const Loop& loop, const Config& config);
 
+/// The points of `points` a keyframe's cloud keeps for a map: the finite ones whose horizontal range lies
+/// within [Config::min_range, Config::max_radius], the band the descriptor reads, in their order.
+pcl::PointCloud<pcl::PointXYZ> keyframeCloud(const PointView& points, const Config& config);
+
 /// Selects, prepares and processes keyframes (Config::keyframe_min_distance / keyframe_min_angle,
 /// cloud_in_world_frame, accumulate_seconds / accumulate_distance, voxel_leaf), then runs the
 /// LoopDetector. Not thread-safe (one owner).
@@ -32,7 +38,10 @@ class KeyframePipeline {
 
   /// Processes one keyframe cloud with its info (a registered cloud needs info.pose). A keyframe that
   /// keyframe selection passes over comes back with `selected` false and nothing else changed.
-  Detection process(const PointView& cloud, const KeyframeInfo& info);
+  /// `described`, when given, receives the points of a keyframe that entered the database as they were
+  /// described (keyframeCloud): in the sensor frame, voxel-filtered, before gravity alignment.
+  Detection process(const PointView& cloud, const KeyframeInfo& info,
+                    pcl::PointCloud<pcl::PointXYZ>* described = nullptr);
 
   /// Applies `config` from the next keyframe on when it differs from the current one in live settings
   /// only (Setting::live: thresholds, gates, keyframe selection, tolerances) and is valid; the database

@@ -1,6 +1,6 @@
 // One keyframe on the worker: its pose (from tf in tf mode; the sensor extrinsic applied in odom mode),
-// the core's pipeline (selection, description, query, verification, the database), then the counters,
-// the loops, the markers and the keyframe's timing.
+// the core's pipeline (selection, description, query, verification, the database), then the keyframe
+// as selected, the counters, the loops, the markers and the keyframe's timing.
 #pragma once
 
 #include <memory>
@@ -11,6 +11,7 @@
 #include "scan_context_loop/core/config.h"
 #include "scan_context_loop/core/database_file.h"
 #include "scan_context_loop/core/keyframes.h"
+#include "scan_context_loop/ros/keyframe_publisher.h"
 #include "scan_context_loop/ros/keyframe_queue.h"
 #include "scan_context_loop/ros/loop_publisher.h"
 #include "scan_context_loop/ros/marker_publisher.h"
@@ -25,8 +26,9 @@ namespace scan_context_loop {
 class KeyframeProcessor {
  public:
   /// `config` and `options` are the worker's settings; `name` prefixes the logs. All must outlive this.
+  /// `selected` publishes each keyframe that entered the database; null: none is published (relocalize mode).
   KeyframeProcessor(const std::string& name, const Config& config, const RosOptions& options, NodeCounters* counters,
-                    LoopPublisher* loops, MarkerPublisher* markers);
+                    LoopPublisher* loops, MarkerPublisher* markers, SelectedKeyframePublisher* selected);
   ~KeyframeProcessor();
 
   /// Poses from tf (pose_source tf), and the sensor extrinsic when sensor_extrinsic_from_tf asks for it
@@ -61,6 +63,9 @@ class KeyframeProcessor {
   void followCloudStore();
   /// Turns the pose into the sensor's with the extrinsic from tf (child <- sensor), once it is known.
   void applyExtrinsic(QueuedKeyframe* keyframe);
+  /// The sensor's frame: sensor_frame when named; else a registered cloud's sensor is the odometry's
+  /// child, and a sensor-frame cloud's the cloud's own frame.
+  const std::string& sensorFrame(const QueuedKeyframe& keyframe) const;
   /// Warns (throttled) while gravity alignment finds the odometry's world frame tilted from gravity (world_tilt.h).
   void reportWorldTilt(const Detection& detection);
 
@@ -70,6 +75,7 @@ class KeyframeProcessor {
   NodeCounters* counters_;
   LoopPublisher* loops_;
   MarkerPublisher* markers_;
+  SelectedKeyframePublisher* selected_;
   std::shared_ptr<KeyframePipeline> pipeline_;  // shared with the snapshots being written
   const tf2_ros::Buffer* tf_ = nullptr;
   std::unique_ptr<SensorExtrinsic> extrinsic_;  // child <- sensor (odom mode with sensor_extrinsic_from_tf)

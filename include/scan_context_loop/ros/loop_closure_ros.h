@@ -6,6 +6,7 @@
 //   keyframe_worker     the worker thread: jobs in order, keyframes held for the extrinsic, the barrier
 //   keyframe_processor  one keyframe through the pipeline, which owns the database
 //   loop_publisher      loops, rejected candidates, lio_loop, pairs and array, relocalization, timing
+//   keyframe_publisher  the keyframes as selected (selected_keyframe_odom, selected_keyframe_cloud)
 //   marker_publisher    RViz markers
 //   node_counters, node_diagnostics   the counters and the diagnostic task that reports them
 //   database_services.cpp             the save / load / reset / relocalize services, the autosave and the
@@ -120,6 +121,7 @@ class LoopClosureRos {
   std::unique_ptr<KeyframeQueue> queue_;
   std::unique_ptr<MarkerPublisher> markers_;
   std::unique_ptr<LoopPublisher> loops_;
+  std::unique_ptr<SelectedKeyframePublisher> selected_;  // none in relocalize mode
   std::unique_ptr<KeyframeProcessor> processor_;
   std::unique_ptr<KeyframeWorker> worker_;
   std::unique_ptr<KeyframeInput> input_;

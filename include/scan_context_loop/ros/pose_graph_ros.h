@@ -1,4 +1,4 @@
-// The reference backend's ROS adapter: keyframe poses (keyframe_odom) and loop closures
+// The reference backend's ROS adapter: keyframe poses (selected_keyframe_odom) and loop closures
 // (loop_closures) in; the corrected keyframe path, the raw odometry path, the loops as markers, the
 // correction as the tf map_frame -> odometry frame, and a corrected map cloud out; the map as files on
 // ~save_map and at shutdown (map_save). Callbacks queue what arrives; one worker owns the graph and the

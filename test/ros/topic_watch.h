@@ -1,0 +1,101 @@
+// What a test hears on one topic: the latest message (Latest, for latched state such as a path), or every
+// message in arrival order (Collected).
+#pragma once
+
+#include <cstddef>
+#include <functional>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include <ros/ros.h>
+
+namespace scan_context_loop {
+namespace test {
+
+/// The latest message of a topic.
+template <typename M>
+class Latest {
+ public:
+  Latest(ros::NodeHandle nh, const std::string& topic) : sub_(nh.subscribe(topic, 2, &Latest::on, this)) {}
+  /// Unsubscribes first (waiting for a callback in progress): the message it writes is declared after.
+  ~Latest() { sub_.shutdown(); }
+  /// The latest message once `ready` holds for it; false after `seconds` (with the latest in `out`).
+  bool waitFor(const std::function<bool(const M&)>& ready, double seconds, M* out) const {
+    const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(seconds);
+    while (ros::ok() && ros::WallTime::now() < end) {
+      {
+        std::lock_guard<std::mutex> lock(mutex_);
+        if (have_ && ready(latest_)) {
+          *out = latest_;
+          return true;
+        }
+      }
+      ros::WallDuration(0.1).sleep();
+    }
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (have_) *out = latest_;  // for the failure message
+    return false;
+  }
+  /// The same once no message came for `quiet` seconds as well: the publisher's final state.
+  bool waitForFinal(const std::function<bool(const M&)>& ready, double quiet, double seconds, M* out) const {
+    return waitFor([&](const M& m) { return (ros::WallTime::now() - arrived_).toSec() >= quiet && ready(m); },
+                   seconds, out);
+  }
+
+ private:
+  void on(const M& msg) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    latest_ = msg;
+    have_ = true;
+    arrived_ = ros::WallTime::now();
+  }
+  ros::Subscriber sub_;
+  mutable std::mutex mutex_;  // guards latest_, have_ and arrived_ (callback thread vs. test thread)
+  M latest_;
+  bool have_ = false;
+  ros::WallTime arrived_;
+};
+
+/// The first `keep` messages of a topic, in arrival order, and how many came in all.
+template <typename M>
+class Collected {
+ public:
+  Collected(ros::NodeHandle nh, const std::string& topic, std::size_t keep = 100000)
+      : keep_(keep), sub_(nh.subscribe(topic, 1000, &Collected::on, this)) {}
+  /// Unsubscribes first (waiting for a callback in progress), as ~Latest does.
+  ~Collected() { sub_.shutdown(); }
+
+  std::vector<M> messages() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return messages_;
+  }
+  std::size_t count() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return count_;
+  }
+  /// Waits until the topic has a publisher; false after `seconds`.
+  bool waitForPublisher(double seconds) const {
+    const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(seconds);
+    while (ros::ok() && ros::WallTime::now() < end) {
+      if (sub_.getNumPublishers() > 0) return true;
+      ros::WallDuration(0.05).sleep();
+    }
+    return false;
+  }
+
+ private:
+  void on(const M& msg) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (messages_.size() < keep_) messages_.push_back(msg);
+    ++count_;
+  }
+  const std::size_t keep_;
+  ros::Subscriber sub_;
+  mutable std::mutex mutex_;  // guards messages_ and count_ (callback threads vs. test thread)
+  std::vector<M> messages_;
+  std::size_t count_ = 0;
+};
+
+}  // namespace test
+}  // namespace scan_context_loop
