@@ -22,6 +22,10 @@ if(CATKIN_ENABLE_TESTING)
   add_rostest_gtest(test_ros_pose_graph test/ros/pose_graph.test test/ros/test_pose_graph.cpp)
   target_link_libraries(test_ros_pose_graph scan_context_loop_ros_harness scan_context_loop_eval ${PCL_IO_LIBRARIES})
   add_dependencies(test_ros_pose_graph scan_context_loop_nodelet scan_context_loop_pose_graph_nodelet pose_graph_node)
+  add_rostest_gtest(test_ros_corrected_relocalization test/ros/corrected_relocalization.test
+    test/ros/test_corrected_relocalization.cpp)
+  target_link_libraries(test_ros_corrected_relocalization scan_context_loop_ros_harness scan_context_sim)
+  add_dependencies(test_ros_corrected_relocalization scan_context_loop_nodelet scan_context_loop_pose_graph_nodelet)
 endif()
 
 if(CATKIN_ENABLE_TESTING)

@@ -22,6 +22,7 @@ add_library(scan_context_loop_core
   src/core/block_arena.cpp
   src/core/database_file.cpp
   src/core/database_writer.cpp
+  src/core/pose_corrections.cpp
 )
 target_include_directories(scan_context_loop_core PUBLIC
   include ${EIGEN3_INCLUDE_DIRS} ${PCL_INCLUDE_DIRS} ${FLANN_INCLUDE_DIRS})
@@ -65,6 +66,7 @@ if(CATKIN_ENABLE_TESTING)
     test/core/test_odometry_trust.cpp
     test/common/sim_drive.cpp
     test/core/test_database_file.cpp
+    test/core/test_pose_corrections.cpp
     test/core/test_file_io.cpp
     test/core/test_block_arena.cpp
   )

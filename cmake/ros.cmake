@@ -12,6 +12,7 @@ add_library(scan_context_loop_ros
   src/ros/exception_barrier.cpp
   src/ros/heap_statistics.cpp
   src/ros/stored_keyframe.cpp
+  src/ros/corrected_poses.cpp
   src/ros/keyframe_queue.cpp
   src/ros/keyframe_input.cpp
   src/ros/keyframe_processor.cpp
@@ -139,7 +140,7 @@ if(CATKIN_ENABLE_TESTING)
   catkin_add_gtest(test_ros_units test/ros/test_live_settings.cpp test/ros/test_pose_input.cpp
     test/ros/test_cloud_input.cpp test/ros/test_frame_ids.cpp test/ros/test_sensor_extrinsic.cpp
     test/ros/test_exception_barrier.cpp test/ros/test_heap_statistics.cpp test/ros/test_stored_keyframe.cpp
-    test/ros/test_keyframe_worker.cpp)
+    test/ros/test_keyframe_worker.cpp test/ros/test_corrected_poses.cpp)
   target_link_libraries(test_ros_units scan_context_loop_ros ${catkin_LIBRARIES})
 endif()
 

@@ -5,6 +5,7 @@
 #include <climits>
 #include <cmath>
 #include <cstring>
+#include <optional>
 #include <sstream>
 #include <utility>
 
@@ -28,6 +29,8 @@ constexpr std::uint32_t kFlagClouds = 1u;
 constexpr std::size_t kHeaderBytes = 5 + 4 + 4 + 4 + 4 + 8 + 8 + 8 + 1 + 1 + 8 + 8 + 8 + 4 + 8 + 4 + 4;
 /// Pose: rows 0-2 of the 4x4 matrix, row-major (row 3 is 0 0 0 1).
 constexpr int kPoseRows = 3;
+/// A keyframe record's pose flag: no pose, the odometry's, or a backend's corrected pose.
+constexpr std::uint8_t kNoPose = 0, kOdometryPose = 1, kCorrectedPose = 2;
 /// A voxel in the compressed registration data: its mean (3 x f32), then, after all means, its normal
 /// and shape (4 x i8).
 constexpr std::size_t kVoxelBytes = 3 * sizeof(float) + 4;
@@ -173,15 +176,18 @@ std::string decodeHeader(ByteReader* in, Header* h) {
   return "";
 }
 
-void encodeKeyframe(const Keyframe& k, std::uint32_t session, ByteWriter* out) {
+/// `corrected`, when given, is written as the keyframe's pose, marked corrected.
+void encodeKeyframe(const Keyframe& k, std::uint32_t session, const std::optional<Eigen::Isometry3d>& corrected,
+                    ByteWriter* out) {
   out->f64(k.info.stamp);
   out->u32(session);
   out->i64(k.info.tag);
   out->f64(k.path_length);
-  out->u8(k.info.pose ? 1 : 0);
-  if (k.info.pose) {
+  const std::optional<Eigen::Isometry3d>& pose = corrected ? corrected : k.info.pose;
+  out->u8(!pose ? kNoPose : corrected || k.corrected_pose ? kCorrectedPose : kOdometryPose);
+  if (pose) {
     for (int r = 0; r < kPoseRows; ++r) {
-      for (int c = 0; c < 4; ++c) out->f64(k.info.pose->matrix()(r, c));
+      for (int c = 0; c < 4; ++c) out->f64(pose->matrix()(r, c));
     }
   }
   const Descriptor& d = k.descriptor;
@@ -245,8 +251,9 @@ std::string decodeKeyframe(PayloadReader* payload, int rings, int sectors, RingK
   in.i64(&k->info.tag);
   in.f64(&k->path_length);
   in.u8(&has_pose);
-  if (has_pose > 1) return "pose flag " + text(int(has_pose)) + " is neither 0 nor 1";
-  if (has_pose) {
+  if (has_pose > kCorrectedPose) return "pose flag " + text(int(has_pose)) + " is not 0, 1 or 2";
+  k->corrected_pose = has_pose == kCorrectedPose;
+  if (has_pose != kNoPose) {
     if (!payload->take(kPoseBytes, &in)) return kKeyframeOverrun;
     Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
     for (int r = 0; r < kPoseRows; ++r) {
@@ -468,10 +475,15 @@ bool writeDatabase(const DatabaseSnapshot& snapshot, const std::string& path, bo
   const std::vector<std::uint8_t> placeholder(kHeaderBytes, 0);
   if (!file.write(placeholder.data(), placeholder.size(), error)) return false;
   PayloadWriter payload(&file);
+  // Empty without corrections; else a pose or none per keyframe.
+  const std::vector<std::optional<Eigen::Isometry3d>> corrected =
+      snapshot.corrections_ ? correctedSessionPoses(keyframes, *snapshot.corrections_)
+                            : std::vector<std::optional<Eigen::Isometry3d>>();
+  const std::optional<Eigen::Isometry3d> uncorrected;
   // Sessions are numbered 0, 1, ... in the file, whatever their numbers in the database.
   for (std::size_t i = 0; i < keyframes.size(); ++i) {
     if (i == 0 || keyframes[i - 1]->session != keyframes[i]->session) ++header.sessions;
-    encodeKeyframe(*keyframes[i], header.sessions - 1, payload.out());
+    encodeKeyframe(*keyframes[i], header.sessions - 1, corrected.empty() ? uncorrected : corrected[i], payload.out());
     if (!payload.flushIfFull(error)) return false;
   }
   for (std::size_t i = 0; snapshot.include_clouds_ && i < keyframes.size(); ++i) {
@@ -566,7 +578,7 @@ bool readDatabase(ByteSource* source, const std::string& name, const Config& con
   // The descriptors' arrays, most of the memory, in one arena: far fewer page faults in a new process.
   const BlockArena::Handle arena = BlockArena::create(header.keyframes * descriptorMemory(rings, sectors));
   for (std::size_t i = 0; i < header.keyframes; ++i) {
-    Keyframe& k = loaded.keyframes.emplace_back(Keyframe{KeyframeInfo(), Descriptor(arena.get()), 0.0, 0});
+    Keyframe& k = loaded.keyframes.emplace_back(Keyframe{KeyframeInfo(), Descriptor(arena.get()), 0.0, 0, false});
     if (const std::string problem = decodeKeyframe(&payload, rings, sectors, header.settings.ring_key, &k); !problem.empty()) {
       return checked("keyframe " + text(i) + ": " + problem);
     }

@@ -46,11 +46,19 @@ std::string LoopClosureRos::runOnWorker(std::function<void()> task) {
 
 std::string LoopClosureRos::loadFile(const std::string& path) {
   std::string error;
+  const std::size_t before = processor_->database().size();
   if (!loadDatabase(path, &processor_->pipeline(), &error)) return error;
+  corrected_->loaded(processor_->database(), before);
   processor_->followDatabase();
   ROS_INFO_NAMED(name_, "loaded %s: the database now holds %zu keyframes in %u sessions", path.c_str(),
                  processor_->database().size(), processor_->database().session() + 1);
   return "";
+}
+
+DatabaseSnapshot LoopClosureRos::takeSnapshot(bool include_clouds) {
+  DatabaseSnapshot snapshot = processor_->snapshot(include_clouds);
+  snapshot.correctPoses(corrected_->corrections());
+  return snapshot;
 }
 
 std::string LoopClosureRos::saveTarget() {
@@ -84,7 +92,7 @@ void LoopClosureRos::removeAbandonedWrites(const std::string& path) {
 void LoopClosureRos::saveAtShutdown() {
   writer_.wait();  // the autosave in progress lands before the final save
   const std::string path = saveTarget();
-  const DatabaseSnapshot snapshot = processor_->snapshot(options_.database_save_clouds);
+  const DatabaseSnapshot snapshot = takeSnapshot(options_.database_save_clouds);
   const bool replacing = fileExists(path);
   const auto started = std::chrono::steady_clock::now();
   std::string error;
@@ -110,10 +118,10 @@ void LoopClosureRos::requestAutosave() {
 }
 
 void LoopClosureRos::autosave() {
-  const std::size_t size = processor_->database().size();
-  if (size == saved_size_ && resets_ == saved_resets_) return;  // nothing new since the last save
+  const std::size_t size = processor_->database().size(), corrections = corrected_->version();
+  if (size == saved_size_ && resets_ == saved_resets_ && corrections == saved_corrections_) return;  // nothing new
   const std::string path = saveTarget();
-  DatabaseSnapshot snapshot = processor_->snapshot(options_.database_save_clouds);
+  DatabaseSnapshot snapshot = takeSnapshot(options_.database_save_clouds);
   const bool started = writer_.writeInBackground(
       std::move(snapshot), path, true, [this, path, size](const std::string& error, double seconds) {
         if (!error.empty()) {
@@ -130,6 +138,7 @@ void LoopClosureRos::autosave() {
   if (!started) return;  // a write is still in progress: the next autosave takes it up
   saved_size_ = size;
   saved_resets_ = resets_;
+  saved_corrections_ = corrections;
 }
 
 bool LoopClosureRos::onSave(scan_context_loop::SaveDatabase::Request& request,
@@ -142,7 +151,7 @@ bool LoopClosureRos::onSave(scan_context_loop::SaveDatabase::Request& request,
     // The snapshot on the worker (milliseconds), the write here: detection goes on meanwhile.
     DatabaseSnapshot snapshot;
     const std::string failure =
-        runOnWorker([&] { snapshot = processor_->snapshot(request.include_clouds); });
+        runOnWorker([&] { snapshot = takeSnapshot(request.include_clouds); });
     response.keyframes = static_cast<std::uint32_t>(snapshot.size());
     const bool replacing = fileExists(path);
     const auto started = std::chrono::steady_clock::now();
@@ -180,6 +189,7 @@ bool LoopClosureRos::onLoad(scan_context_loop::LoadDatabase::Request& request,
 bool LoopClosureRos::onReset(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& response) {
   const std::string failure = runOnWorker([&] {
     processor_->resetPipeline();
+    corrected_->reset();
     counters_.database_size = 0;
     counters_.sessions = 1;
     counters_.loops_waiting = 0;

@@ -19,6 +19,7 @@ LoopClosureRos::~LoopClosureRos() {
   for (auto* service : {&save_srv_, &load_srv_, &reset_srv_, &relocalize_srv_}) service->shutdown();
   if (service_spinner_) service_spinner_->stop();
   if (input_) input_->stop();
+  corrected_sub_.shutdown();
   if (diagnostics_) diagnostics_->stop();
   if (queue_) {
     const std::size_t discarded = queue_->stop();
@@ -66,6 +67,7 @@ bool LoopClosureRos::start() {
       new KeyframeProcessor(name_, config_, options_, &counters_, loops_.get(), markers_.get(), selected_.get()));
   worker_.reset(new KeyframeWorker(name_, options_, queue_.get(), processor_.get(), markers_.get(), &counters_,
                                    [this] { takeReconfigured(); }));
+  corrected_.reset(new CorrectedPoses(name_, &counters_));
   if (!options_.database_load.empty()) {
     std::string error;
     try {
@@ -113,6 +115,11 @@ bool LoopClosureRos::start() {
   }
   input_.reset(new KeyframeInput(nh_, name_, options_, queue_.get(), &counters_));
   input_->start();
+  if (options_.mode != "relocalize") {
+    corrected_sub_ = nh_.subscribe<nav_msgs::Path>("corrected_path", 1, [this](const nav_msgs::PathConstPtr& path) {
+      if (corrected_->offer(path)) queue_->pushTask([this] { corrected_->applyNewest(processor_->database()); });
+    });
+  }
   diagnostics_.reset(
       new NodeDiagnostics(nh_, pnh_, name_, counters_, processor_->hasExtrinsic(), options_.lio_sam_output));
 

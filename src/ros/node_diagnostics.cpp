@@ -46,6 +46,8 @@ void NodeDiagnostics::diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat
   status.add("database saves failed", c.save_failures.load());
   status.add("last save [keyframes]", c.last_save_keyframes.load());
   status.add("last save written in [s]", c.last_save_seconds.load());
+  status.add("corrected keyframes", c.corrected_keyframes.load());
+  status.add("corrected path poses refused", c.corrections_refused.load());
   status.add("queue length", c.queue_length.load());
   status.add("last query time [ms]", c.last_query_ms.load());
   status.add("last keyframe time [ms]", c.last_keyframe_ms.load());

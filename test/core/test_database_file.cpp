@@ -339,6 +339,74 @@ TEST(DatabaseFile, AnEmptyDatabaseRoundTrips) {
   EXPECT_EQ(loaded.database().session(), 0u);
 }
 
+// Corrected poses (a backend's, DatabaseSnapshot::correctPoses): the session holding them is saved
+// wholly in the corrected frame with pose flag 2, the other session as before; a load keeps them marked,
+// and saving the loaded database again writes the same bytes. Without corrections the bytes are today's.
+TEST(DatabaseFile, CorrectedPosesAreSavedMarkedForTheirWholeSessionAndSurviveALoad) {
+  TempDir dir;
+  LoopDetector original(descriptorConfig());
+  drive(&original);  // session 0: keyframes 0-11; session 1: 12-17, keyframe 14 without a pose
+  std::string error;
+  ASSERT_TRUE(saveDatabase(original, dir.file("plain.scl"), SaveOptions(), &error)) << error;
+  DatabaseSnapshot none(original, false), empty(original, false);
+  empty.correctPoses(std::make_shared<const PoseCorrections>());
+  ASSERT_TRUE(writeDatabase(none, dir.file("none.scl"), false, &error)) << error;
+  ASSERT_TRUE(writeDatabase(empty, dir.file("empty.scl"), false, &error)) << error;
+  EXPECT_EQ(readBytes(dir.file("none.scl")), readBytes(dir.file("plain.scl")));
+  EXPECT_EQ(readBytes(dir.file("empty.scl")), readBytes(dir.file("plain.scl"))) << "no correction, no change";
+
+  const Database& a = original.database();
+  Eigen::Isometry3d first = Eigen::Isometry3d::Identity(), second = Eigen::Isometry3d::Identity();
+  first.linear() = Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  first.translation() = Eigen::Vector3d(5.0, -2.0, 0.5);
+  second.translation() = Eigen::Vector3d(-1.0, 3.0, 0.0);
+  auto corrections = std::make_shared<PoseCorrections>();
+  (*corrections)[13] = first * *a.keyframe(13).info.pose;
+  (*corrections)[16] = second * *a.keyframe(16).info.pose;
+  DatabaseSnapshot corrected(original, false);
+  corrected.correctPoses(corrections);
+  ASSERT_TRUE(writeDatabase(corrected, dir.file("corrected.scl"), false, &error)) << error;
+
+  LoopDetector loaded(descriptorConfig());
+  ASSERT_TRUE(loadDatabase(dir.file("corrected.scl"), &loaded, &error)) << error;
+  const Database& b = loaded.database();
+  ASSERT_EQ(b.size(), a.size());
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    const Keyframe &x = a.keyframe(i), &y = b.keyframe(i);
+    SCOPED_TRACE("keyframe " + std::to_string(i));
+    EXPECT_EQ(x.info.stamp, y.info.stamp);
+    EXPECT_EQ(x.info.tag, y.info.tag);
+    EXPECT_EQ(x.descriptor.unit_columns, y.descriptor.unit_columns);
+    ASSERT_EQ(x.info.pose.has_value(), y.info.pose.has_value());
+    if (i < 12 || i == 14) {  // session 0, and the keyframe without a pose
+      EXPECT_FALSE(y.corrected_pose);
+      if (x.info.pose) {
+        EXPECT_TRUE(x.info.pose->matrix() == y.info.pose->matrix());
+      }
+      continue;
+    }
+    EXPECT_TRUE(y.corrected_pose);
+    const Eigen::Isometry3d expected = (i < 16 ? first : second) * *x.info.pose;
+    EXPECT_LT((y.info.pose->matrix() - expected.matrix()).cwiseAbs().maxCoeff(), 1e-9);
+  }
+  EXPECT_FALSE(original.database().keyframe(13).corrected_pose) << "the stored keyframes are untouched";
+
+  // The loaded database saved again: the same bytes, its corrected poses still marked.
+  ASSERT_TRUE(saveDatabase(loaded, dir.file("again.scl"), SaveOptions(), &error)) << error;
+  EXPECT_EQ(readBytes(dir.file("again.scl")), readBytes(dir.file("corrected.scl")));
+  // Only the pose flags of session 1's keyframes with a pose, and their poses, differ from the plain file.
+  const std::vector<std::uint8_t> plain = readBytes(dir.file("plain.scl")), marked = readBytes(dir.file("corrected.scl"));
+  ASSERT_EQ(plain.size(), marked.size());
+  std::size_t at = kHeaderBytes;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    const std::size_t flag = at + 8 + 4 + 8 + 8;
+    EXPECT_EQ(int(plain[flag]), a.keyframe(i).info.pose ? 1 : 0) << i;
+    EXPECT_EQ(int(marked[flag]), !a.keyframe(i).info.pose ? 0 : i < 12 ? 1 : 2) << i;
+    at = flag + 1 + (plain[flag] ? 96 : 0) + 4 + 4 * 20 * 60 + 60 + 4 * 20 + 4 * 60;
+  }
+  EXPECT_EQ(at, plain.size());
+}
+
 TEST(DatabaseFile, APipelineForgetsItsOdometryOnLoad) {
   TempDir dir;
   LoopDetector saved(descriptorConfig());
@@ -511,6 +579,15 @@ TEST_F(DamagedFile, CountsThatDisagreeWithThePayload) {
   put(&huge, kKeyframesAt, std::numeric_limits<std::uint64_t>::max());
   rewriteChecksums(&huge);
   expectRefused(huge, {"more than"});
+}
+
+TEST_F(DamagedFile, APoseFlagOtherThanNoneOdometryOrCorrected) {
+  // The first keyframe's pose flag follows its stamp, session, tag and path length.
+  std::vector<std::uint8_t> bytes = plain_;
+  ASSERT_EQ(bytes[kHeaderBytes + 8 + 4 + 8 + 8], 1);
+  bytes[kHeaderBytes + 8 + 4 + 8 + 8] = 3;
+  rewriteChecksums(&bytes);
+  expectRefused(bytes, {"keyframe 0", "pose flag 3"});
 }
 
 TEST_F(DamagedFile, ValuesThatAreNotFinite) {

@@ -54,6 +54,9 @@ struct Keyframe {
   /// The session it was recorded in (0, 1, ...): a run of keyframes with one odometry frame and
   /// non-decreasing stamps. Poses, stamps and path lengths compare only within a session.
   std::uint32_t session = 0;
+  /// Its pose is a backend's corrected pose (a database file saved with corrections, pose_corrections.h),
+  /// in the frame of its session's other poses, not the odometry's; a save writes it so again.
+  bool corrected_pose = false;
 };
 
 /// Not thread-safe: one owner thread (the ROS adapter's worker) calls every member.

@@ -12,6 +12,7 @@
 #include "scan_context_loop/core/detector.h"
 #include "scan_context_loop/core/file_io.h"
 #include "scan_context_loop/core/keyframes.h"
+#include "scan_context_loop/core/pose_corrections.h"
 #include "scan_context_loop/core/prior_sessions.h"
 
 namespace scan_context_loop {
@@ -45,6 +46,10 @@ class DatabaseSnapshot {
 
   std::size_t size() const { return keyframes_.size(); }
   bool includesClouds() const { return include_clouds_; }
+  /// The write stores, for every session holding one of `corrections`, the corrected poses
+  /// (correctedSessionPoses, computed by the write, not here) marked as corrected in the file; other
+  /// sessions as they are. Shared, not copied: the caller replaces its table rather than changing it.
+  void correctPoses(std::shared_ptr<const PoseCorrections> corrections) { corrections_ = std::move(corrections); }
 
  private:
   friend bool writeDatabase(const DatabaseSnapshot& snapshot, const std::string& path, bool keep_backup,
@@ -55,6 +60,7 @@ class DatabaseSnapshot {
   std::vector<Eigen::Matrix3f> gravity_alignment_;         // with clouds: per keyframe
   std::vector<std::shared_ptr<const VoxelCloud>> clouds_;  // with clouds: per keyframe, null when none
   std::shared_ptr<const void> owner_;
+  std::shared_ptr<const PoseCorrections> corrections_;  // null: none
 };
 
 /// Writes `snapshot` to `path` atomically, as saveDatabase does; `keep_backup` as SaveOptions::keep_backup.

@@ -12,6 +12,7 @@
 //   database_services.cpp             the save / load / reset / relocalize services, the autosave and the
 //                                     shutdown save
 //   database_paths      where saves may write (the map directory), the file beside a kept map
+//   corrected_poses     a backend's corrected keyframe poses (corrected_path), kept for the saves
 //
 // Threads and locks:
 //   - spinner threads run the input callbacks and timers, dynamic_reconfigure and the marker subscriber
@@ -46,6 +47,7 @@
 #include "scan_context_loop/Relocalize.h"
 #include "scan_context_loop/SaveDatabase.h"
 #include "scan_context_loop/core/database_writer.h"
+#include "scan_context_loop/ros/corrected_poses.h"
 #include "scan_context_loop/ros/keyframe_input.h"
 #include "scan_context_loop/ros/keyframe_processor.h"
 #include "scan_context_loop/ros/keyframe_queue.h"
@@ -93,6 +95,8 @@ class LoopClosureRos {
   void requestAutosave();
   /// Worker: hands a snapshot of the database, if it changed since the last save, to the writer.
   void autosave();
+  /// Worker (or after it ended): what a save writes now, with the corrected poses (corrected_path) in force.
+  DatabaseSnapshot takeSnapshot(bool include_clouds);
   void advertiseSessionServices();
   /// dynamic_reconfigure: checks the live settings and hands them to the worker (applied before its
   /// next keyframe); a refused change is logged and the values in force are reported back.
@@ -110,7 +114,7 @@ class LoopClosureRos {
   // The worker's: the file beside database_save once saveTarget() chose one, and the database as the
   // last save saw it (its size and the ~resets so far), so that an unchanged database is not written again.
   std::string beside_path_;
-  std::size_t resets_ = 0, saved_size_ = 0, saved_resets_ = 0;
+  std::size_t resets_ = 0, saved_size_ = 0, saved_resets_ = 0, saved_corrections_ = 0;
   // Read in start(); then config_ is the worker's, and options_ is read by callbacks too, so the worker
   // changes only its live members, which callbacks never read (takeReconfigured).
   Config config_;
@@ -126,9 +130,11 @@ class LoopClosureRos {
   std::unique_ptr<KeyframeWorker> worker_;
   std::unique_ptr<KeyframeInput> input_;
   std::unique_ptr<NodeDiagnostics> diagnostics_;
+  std::unique_ptr<CorrectedPoses> corrected_;
 
   // Set up in start(), used from callbacks (ROS handles are thread-safe).
   ros::ServiceServer save_srv_, load_srv_, reset_srv_, relocalize_srv_;
+  ros::Subscriber corrected_sub_;  // corrected_path (detect mode): queues a task for the worker
   ros::CallbackQueue service_queue_;                  // the services' (thread-safe)
   std::unique_ptr<ros::AsyncSpinner> service_spinner_;  // its thread
   DatabaseWriter writer_;                             // thread-safe

@@ -1,0 +1,238 @@
+// rostest: a map saved with the backend's corrections relocalizes in the corrected frame. Node a maps two
+// laps whose odometry drifts, the pose_graph backend corrects them with a's loops, and a learns the
+// corrected poses (corrected_path); its saved database holds them. Node b loads that map and relocalizes
+// a second drive of the same world (its odometry from its own origin): each pose must be where the
+// corrected map puts that place, and the same with the uncorrected poses must be clearly off.
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <functional>
+#include <map>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include <geometry_msgs/PoseWithCovarianceStamped.h>
+#include <gtest/gtest.h>
+#include <nav_msgs/Path.h>
+#include <tf2_eigen/tf2_eigen.h>
+
+#include "harness.h"
+#include "topic_watch.h"
+#include "scan_context_loop/LoadDatabase.h"
+#include "scan_context_loop/Relocalize.h"
+#include "scan_context_loop/SaveDatabase.h"
+#include "scan_context_loop/core/database_file.h"
+#include "scan_context_sim/trajectory.h"
+
+namespace scan_context_loop {
+namespace test {
+namespace {
+
+struct PoseError {
+  double metres = 0.0, degrees = 0.0;
+};
+
+PoseError errorOf(const Eigen::Isometry3d& truth, const Eigen::Isometry3d& found) {
+  const Eigen::Isometry3d e = truth.inverse() * found;
+  return {e.translation().norm(), Eigen::AngleAxisd(e.linear()).angle() * 180.0 / M_PI};
+}
+
+/// The keyframes' poses in the saved database at `path` (default settings, as the launch file's), by index;
+/// every one must be there, with a pose, and marked corrected.
+std::vector<Eigen::Isometry3d> savedPoses(const std::string& path, std::size_t n) {
+  PriorSessions sessions;
+  std::string error;
+  EXPECT_TRUE(readDatabaseFile(path, Config(), &sessions, &error)) << error;
+  EXPECT_EQ(sessions.keyframes.size(), n);
+  std::vector<Eigen::Isometry3d> poses;
+  for (const Keyframe& k : sessions.keyframes) {
+    EXPECT_TRUE(k.info.pose.has_value());
+    EXPECT_TRUE(k.corrected_pose) << "keyframe " << poses.size();
+    poses.push_back(k.info.pose.value_or(Eigen::Isometry3d::Identity()));
+  }
+  return poses;
+}
+
+/// Polls a's diagnostics until `key` satisfies `ready`; returns the last value seen (-1: none).
+long waitForValue(const DiagnosticsWatch& diagnostics, const std::string& key, const std::function<bool(long)>& ready) {
+  long value = -1;
+  const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(20.0);
+  while (ros::ok() && ros::WallTime::now() < end) {
+    value = diagnostics.value(key, ros::WallTime::now(), 5.0);
+    if (ready(value)) break;
+  }
+  return value;
+}
+
+TEST(CorrectedRelocalization, AMapSavedWithTheCorrectionsRelocalizesInTheCorrectedFrame) {
+  ros::NodeHandle a_nh("a"), b_nh("b");
+  Harness a(a_nh), b(b_nh);
+  Latest<nav_msgs::Path> corrected(a_nh, "corrected_path");
+  DiagnosticsWatch diagnostics(a_nh, "a/loop_closure");
+  std::vector<geometry_msgs::PoseWithCovarianceStamped> relocalized;
+  std::mutex mutex;
+  ros::Subscriber sub = b_nh.subscribe<geometry_msgs::PoseWithCovarianceStamped>(
+      "relocalization", 1000, [&](const geometry_msgs::PoseWithCovarianceStamped::ConstPtr& m) {
+        std::lock_guard<std::mutex> lock(mutex);
+        relocalized.push_back(*m);
+      });
+  ASSERT_TRUE(a.waitForNode(30.0));
+  ASSERT_TRUE(b.waitForNode(30.0));
+  ASSERT_TRUE(ros::service::waitForService("a/pose_graph/publish_map", 30000));
+
+  // Two laps whose odometry drifts (as in pose_graph.test): it starts at the first true pose, so the
+  // backend, which holds the first keyframe where the odometry put it, corrects into the truth's frame.
+  const Drive drive = blockDrive(false, 5);
+  const std::size_t n = drive.truth.size();
+  sim::DriftOptions drift;
+  drift.translation_per_metre = 0.03;
+  drift.yaw_per_metre = 0.02;
+  drift.seed = 3;
+  const std::vector<Eigen::Isometry3d> odometry = sim::driftedOdometry(drive.truth, drift);
+  a.odometry = &odometry;
+  a.publish(drive, 0, n, 10.0);
+  ASSERT_TRUE(a.waitForKeyframes(n, 60.0));
+  a.settle(3.0, 60.0);
+  nav_msgs::Path path;
+  ASSERT_TRUE(corrected.waitFor([&](const nav_msgs::Path& p) { return p.poses.size() == n; }, 30.0, &path))
+      << "no corrected path with every keyframe (" << n << "); the latest has " << path.poses.size();
+  EXPECT_EQ(path.header.frame_id, "map");
+  EXPECT_EQ(waitForValue(diagnostics, "corrected keyframes", [&](long v) { return v == long(n); }), long(n))
+      << "node a did not learn every corrected pose";
+
+  const std::string map = "/tmp/scan_context_loop_corrected_" + std::to_string(getpid()) + ".scdb";
+  SaveDatabase save;
+  save.request.path = map;
+  save.request.include_clouds = true;
+  ASSERT_TRUE(ros::service::call("a/loop_closure/save_database", save));
+  ASSERT_TRUE(save.response.success) << save.response.message;
+  ASSERT_TRUE(corrected.waitFor([&](const nav_msgs::Path& p) { return p.poses.size() == n; }, 1.0, &path));
+
+  // The file holds the corrected path's poses, marked corrected; the correction moved them by metres.
+  const std::vector<Eigen::Isometry3d> saved = savedPoses(map, n);
+  ASSERT_EQ(saved.size(), n);
+  double moved = 0.0, residual = 0.0, residual_sq = 0.0, drifted = 0.0;
+  for (std::size_t k = 0; k < n; ++k) {
+    ASSERT_EQ(path.poses[k].header.stamp, a.base + ros::Duration(drive.times[k]));
+    Eigen::Isometry3d pose;
+    tf2::fromMsg(path.poses[k].pose, pose);
+    EXPECT_LT((saved[k].matrix() - pose.matrix()).cwiseAbs().maxCoeff(), 1e-9) << "keyframe " << k;
+    moved = std::max(moved, (saved[k].translation() - odometry[k].translation()).norm());
+    const double r = errorOf(drive.truth[k], saved[k]).metres;
+    residual = std::max(residual, r);
+    residual_sq += r * r;
+    drifted = std::max(drifted, errorOf(drive.truth[k], odometry[k]).metres);
+  }
+  std::printf("%zu keyframes: odometry off the truth by up to %.2f m; corrected poses moved up to %.2f m from the "
+              "odometry, off the truth by up to %.2f m (RMS %.2f m)\n",
+              n, drifted, moved, residual, std::sqrt(residual_sq / n));
+  EXPECT_GT(moved, 1.0) << "the correction is too small to show anything";
+
+  // Bad paths reach a's worker, are counted and change nothing (each waits for the last to be counted:
+  // a path waiting replaces an earlier one).
+  ros::Publisher bad_pub = a_nh.advertise<nav_msgs::Path>("corrected_path", 1);
+  const long refused = waitForValue(diagnostics, "corrected path poses refused", [](long v) { return v >= 0; });
+  ros::WallDuration(0.5).sleep();  // a connects to the new publisher
+  nav_msgs::Path empty, other_frame = path;
+  empty.header.frame_id = "map";
+  other_frame.header.frame_id = "odom";
+  bad_pub.publish(empty);
+  EXPECT_EQ(waitForValue(diagnostics, "corrected path poses refused", [&](long v) { return v >= refused + 1; }),
+            refused + 1);
+  bad_pub.publish(other_frame);
+  EXPECT_EQ(waitForValue(diagnostics, "corrected path poses refused", [&](long v) { return v >= refused + 2; }),
+            refused + 2);
+  EXPECT_EQ(diagnostics.value("corrected keyframes", ros::WallTime::now(), 5.0), long(n));
+
+  LoadDatabase load;
+  load.request.path = map;
+  ASSERT_TRUE(ros::service::call("b/loop_closure/load_database", load));
+  ASSERT_TRUE(load.response.success) << load.response.message;
+
+  // Node b: lap 1 again, its odometry from its own origin 300 m and 90 deg away.
+  Eigen::Isometry3d origin = Eigen::Isometry3d::Identity();
+  origin.linear() = Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  origin.translation() = Eigen::Vector3d(300.0, -40.0, 0.0);
+  b.base = a.base + ros::Duration(drive.times.back() + 100.0);
+  ros::WallRate rate(10.0);
+  for (std::size_t k = 0; k < n / 2 && ros::ok(); ++k) {
+    nav_msgs::Odometry odom = b.odom(drive, k);
+    odom.pose.pose = tf2::toMsg(origin * drive.truth[k]);
+    b.cloud_pub.publish(b.cloud(drive, k));
+    b.odom_pub.publish(odom);
+    rate.sleep();
+  }
+  ASSERT_TRUE(b.waitForKeyframes(n + n / 2, 60.0));
+  b.settle(3.0, 20.0);
+
+  // Where the corrected map puts the query: the matched keyframe's saved pose and the true relative pose
+  // match -> query. The same check against the map's uncorrected (odometry) poses must fail clearly: the
+  // answer is in the corrected frame, not the mapping run's odometry frame. The truth itself is reported:
+  // the correction is only as good as the graph.
+  std::map<ros::Time, std::size_t> match_of;
+  for (const auto& loop : b.loops()) {
+    const int m = keyframeAt(drive, a.base, loop.match_stamp);
+    if (loop.verified && m >= 0) match_of[loop.query_stamp] = static_cast<std::size_t>(m);
+  }
+  std::lock_guard<std::mutex> lock(mutex);
+  EXPECT_GE(relocalized.size(), n / 8);
+  PoseError worst, uncorrected, absolute, map_residual;
+  double absolute_sq = 0.0, odometry_sq = 0.0;
+  for (const auto& message : relocalized) {
+    EXPECT_EQ(message.header.frame_id, "map");
+    const int q = keyframeAt(drive, b.base, message.header.stamp);
+    ASSERT_GE(q, 0);
+    ASSERT_EQ(match_of.count(message.header.stamp), 1u) << "no verified loop for the relocalization of " << q;
+    const std::size_t m = match_of[message.header.stamp];
+    const Eigen::Isometry3d relative = drive.truth[m].inverse() * drive.truth[q];
+    Eigen::Isometry3d found;
+    tf2::fromMsg(message.pose.pose, found);
+    const PoseError e = errorOf(saved[m] * relative, found);
+    EXPECT_LT(e.metres, 0.3) << "keyframe " << q << " matched map keyframe " << m;
+    EXPECT_LT(e.degrees, 1.0) << "keyframe " << q << " matched map keyframe " << m;
+    const PoseError u = errorOf(odometry[m] * relative, found), t = errorOf(drive.truth[q], found),
+                    r = errorOf(drive.truth[m], saved[m]);
+    const double o = errorOf(drive.truth[q], odometry[m] * relative).metres;
+    worst = {std::max(worst.metres, e.metres), std::max(worst.degrees, e.degrees)};
+    uncorrected = {std::max(uncorrected.metres, u.metres), std::max(uncorrected.degrees, u.degrees)};
+    absolute = {std::max(absolute.metres, t.metres), std::max(absolute.degrees, t.degrees)};
+    map_residual = {std::max(map_residual.metres, r.metres), std::max(map_residual.degrees, r.degrees)};
+    absolute_sq += t.metres * t.metres;
+    odometry_sq += o * o;
+  }
+  const double count = std::max<std::size_t>(relocalized.size(), 1);
+  std::printf("%zu relocalizations: off where the corrected map puts them by up to %.3f m / %.3f deg, off where the "
+              "uncorrected map would by up to %.3f m / %.3f deg; off the truth by up to %.3f m / %.3f deg (RMS %.3f "
+              "m; the uncorrected map's placement: RMS %.3f m), the matched keyframes' corrected poses off the truth "
+              "by up to %.3f m / %.3f deg\n",
+              relocalized.size(), worst.metres, worst.degrees, uncorrected.metres, uncorrected.degrees,
+              absolute.metres, absolute.degrees, std::sqrt(absolute_sq / count), std::sqrt(odometry_sq / count),
+              map_residual.metres, map_residual.degrees);
+  EXPECT_GT(uncorrected.metres, 1.0) << "the uncorrected map puts the relocalized poses where the corrected one does";
+
+  // On request: the same frame.
+  Relocalize where;
+  where.request.cloud = b.cloud(drive, 40);
+  ASSERT_TRUE(ros::service::call("b/loop_closure/relocalize", where));
+  ASSERT_TRUE(where.response.found) << where.response.message;
+  EXPECT_EQ(where.response.pose.header.frame_id, "map");
+  ASSERT_LT(where.response.match_id, n);
+  Eigen::Isometry3d found;
+  tf2::fromMsg(where.response.pose.pose.pose, found);
+  const std::size_t m = where.response.match_id;
+  const PoseError e = errorOf(saved[m] * drive.truth[m].inverse() * drive.truth[40], found);
+  EXPECT_LT(e.metres, 0.3);
+  EXPECT_LT(e.degrees, 1.0);
+  unlink(map.c_str());
+}
+
+}  // namespace
+}  // namespace test
+}  // namespace scan_context_loop
+
+int main(int argc, char** argv) {
+  return scan_context_loop::test::runRosTests(argc, argv, "test_corrected_relocalization");
+}
