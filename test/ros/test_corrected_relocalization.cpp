@@ -1,7 +1,7 @@
 // rostest: a map saved with the backend's corrections relocalizes in the corrected frame. Node a maps two
 // laps whose odometry drifts, the pose_graph backend corrects them with a's loops, and a learns the
 // corrected poses (corrected_path); its saved database holds them. Node b loads that map and relocalizes
-// a second drive of the same world (its odometry from its own origin): each pose must be where the
+// a second drive of the same world a metre to the side (its odometry from its own origin): each pose must be where the
 // corrected map puts that place, and the same with the uncorrected poses must be clearly off.
 #include <unistd.h>
 
@@ -152,19 +152,21 @@ TEST(CorrectedRelocalization, AMapSavedWithTheCorrectionsRelocalizesInTheCorrect
   ASSERT_TRUE(ros::service::call("b/loop_closure/load_database", load));
   ASSERT_TRUE(load.response.success) << load.response.message;
 
-  // Node b: lap 1 again, its odometry from its own origin 300 m and 90 deg away.
+  // Node b: lap 1 again, a metre to the left, turned 4 deg, so its scans are not the
+  // map's; its odometry from its own origin 300 m and 90 deg away.
+  Drive other = drive;
+  Eigen::Isometry3d lane = Eigen::Isometry3d::Identity();
+  lane.translation() = Eigen::Vector3d(0.0, 1.0, 0.0);
+  lane.linear() = Eigen::AngleAxisd(4.0 * M_PI / 180.0, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  for (auto& pose : other.truth) pose = pose * lane;
   Eigen::Isometry3d origin = Eigen::Isometry3d::Identity();
   origin.linear() = Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitZ()).toRotationMatrix();
   origin.translation() = Eigen::Vector3d(300.0, -40.0, 0.0);
   b.base = a.base + ros::Duration(drive.times.back() + 100.0);
-  ros::WallRate rate(10.0);
-  for (std::size_t k = 0; k < n / 2 && ros::ok(); ++k) {
-    nav_msgs::Odometry odom = b.odom(drive, k);
-    odom.pose.pose = tf2::toMsg(origin * drive.truth[k]);
-    b.cloud_pub.publish(b.cloud(drive, k));
-    b.odom_pub.publish(odom);
-    rate.sleep();
-  }
+  std::vector<Eigen::Isometry3d> b_odometry;
+  for (const auto& pose : other.truth) b_odometry.push_back(origin * pose);
+  b.odometry = &b_odometry;
+  b.publish(other, 0, n / 2, 10.0);
   ASSERT_TRUE(b.waitForKeyframes(n + n / 2, 60.0));
   b.settle(3.0, 20.0);
 
@@ -187,15 +189,15 @@ TEST(CorrectedRelocalization, AMapSavedWithTheCorrectionsRelocalizesInTheCorrect
     ASSERT_GE(q, 0);
     ASSERT_EQ(match_of.count(message.header.stamp), 1u) << "no verified loop for the relocalization of " << q;
     const std::size_t m = match_of[message.header.stamp];
-    const Eigen::Isometry3d relative = drive.truth[m].inverse() * drive.truth[q];
+    const Eigen::Isometry3d relative = drive.truth[m].inverse() * other.truth[q];
     Eigen::Isometry3d found;
     tf2::fromMsg(message.pose.pose, found);
     const PoseError e = errorOf(saved[m] * relative, found);
     EXPECT_LT(e.metres, 0.3) << "keyframe " << q << " matched map keyframe " << m;
     EXPECT_LT(e.degrees, 1.0) << "keyframe " << q << " matched map keyframe " << m;
-    const PoseError u = errorOf(odometry[m] * relative, found), t = errorOf(drive.truth[q], found),
+    const PoseError u = errorOf(odometry[m] * relative, found), t = errorOf(other.truth[q], found),
                     r = errorOf(drive.truth[m], saved[m]);
-    const double o = errorOf(drive.truth[q], odometry[m] * relative).metres;
+    const double o = errorOf(other.truth[q], odometry[m] * relative).metres;
     worst = {std::max(worst.metres, e.metres), std::max(worst.degrees, e.degrees)};
     uncorrected = {std::max(uncorrected.metres, u.metres), std::max(uncorrected.degrees, u.degrees)};
     absolute = {std::max(absolute.metres, t.metres), std::max(absolute.degrees, t.degrees)};
@@ -215,7 +217,7 @@ TEST(CorrectedRelocalization, AMapSavedWithTheCorrectionsRelocalizesInTheCorrect
 
   // On request: the same frame.
   Relocalize where;
-  where.request.cloud = b.cloud(drive, 40);
+  where.request.cloud = b.cloud(other, 40);
   ASSERT_TRUE(ros::service::call("b/loop_closure/relocalize", where));
   ASSERT_TRUE(where.response.found) << where.response.message;
   EXPECT_EQ(where.response.pose.header.frame_id, "map");
@@ -223,7 +225,7 @@ TEST(CorrectedRelocalization, AMapSavedWithTheCorrectionsRelocalizesInTheCorrect
   Eigen::Isometry3d found;
   tf2::fromMsg(where.response.pose.pose.pose, found);
   const std::size_t m = where.response.match_id;
-  const PoseError e = errorOf(saved[m] * drive.truth[m].inverse() * drive.truth[40], found);
+  const PoseError e = errorOf(saved[m] * drive.truth[m].inverse() * other.truth[40], found);
   EXPECT_LT(e.metres, 0.3);
   EXPECT_LT(e.degrees, 1.0);
   unlink(map.c_str());

@@ -32,7 +32,7 @@ struct PoseGraphOptions {
   double map_period = 5.0;
   /// Events (keyframes, clouds, loops) waiting for the worker.
   int queue_size = 10000;
-  /// Keyframe clouds are kept for the map (false: the keyframe_cloud topic is not subscribed).
+  /// Keyframe clouds are kept for the map (false: the selected_keyframe_cloud topic is not subscribed).
   bool build_map = true;
   /// The directory the ~save_map service writes in, and only in (empty: $ROS_HOME/scan_context_loop/maps).
   std::string map_directory;
