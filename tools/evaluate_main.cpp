@@ -61,7 +61,8 @@ int main(int argc, char** argv) {
       .option("--save-map", "DIR",
               "write the corrected map into DIR (created) as the pose_graph node's ~save_map does: map.pcd (the "
               "keyframe scans at the corrected poses, voxel-filtered), corrected_tum.txt, odometry_tum.txt, "
-              "corrected_kitti.txt, times.txt, pose_graph.g2o (doc/pose_graph.md); needs odom_poses.txt",
+              "corrected_kitti.txt, times.txt, pose_graph.g2o (doc/pose_graph.md); without odom_poses.txt "
+              "(or with --truth-odometry) the truth is the odometry the loops correct, as in the correction",
               &save_map);
   if (const int status = cli.parse(argc, argv); status >= 0) return status;
   if (save_clouds && save_database.empty()) return cli.fail("--save-clouds goes with --save-database FILE");

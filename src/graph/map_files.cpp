@@ -10,6 +10,7 @@
 
 #include <Eigen/Cholesky>
 #include <sys/stat.h>
+#include <unistd.h>
 
 namespace scan_context_loop {
 
@@ -225,32 +226,29 @@ std::string MapFilesReport::summary() const {
     }
   }
   out += "; " + std::to_string(keyframes) + " keyframes, " + std::to_string(loops) + " loops";
+  if (!removed_stale_cloud.empty()) out += "; removed the older " + std::string(kCloudFile) + " (no map in this save)";
   return out;
 }
 
-bool writeMapFiles(const std::string& directory, const MapFiles& files, MapFilesReport* report, std::string* error) {
-  const std::string why = inconsistency(files);
-  if (!why.empty()) return refuse(error, "map not saved: " + why);
-  if (!prepareDirectory(directory, error)) return false;
-  MapFilesReport done;
-  done.directory = directory;
-  done.keyframes = files.stamps_ns.size();
-  for (const auto& f : files.factors) done.loops += f.loop ? 1 : 0;
-  done.points = files.has_cloud ? files.cloud.size() : 0;
-  done.voxel = files.voxel;
+namespace {
 
+/// writeMapFiles' work; *done gets what was written (and removed) as it goes.
+bool writeAll(const std::string& directory, const MapFiles& files, MapFilesReport* done, std::string* error) {
   const std::string prefix = directory.back() == '/' ? directory : directory + "/";
+  // The leftovers of every file a save may write, map.pcd's too when this save writes none.
+  for (const std::string& name : mapFileNames(true)) {
+    for (AbandonedFile& file : removeAbandonedTemporaries(prefix + name)) done->abandoned.push_back(std::move(file));
+  }
   std::vector<std::unique_ptr<AtomicFileWriter>> writers;
   for (const std::string& name : mapFileNames(files.has_cloud)) {
     const std::string path = prefix + name;
-    for (AbandonedFile& file : removeAbandonedTemporaries(path)) done.abandoned.push_back(std::move(file));
     writers.emplace_back(new AtomicFileWriter);
     AtomicFileWriter* file = writers.back().get();
     if (!file->open(path, error)) return false;  // the writers made so far remove their temporary files
     std::string text;
     if (name == kCloudFile) {
       if (!writeCloud(file, files.cloud, error)) return false;
-      done.bytes.push_back(pcdHeader(files.cloud.size()).size() + files.cloud.size() * 3 * sizeof(float));
+      done->bytes.push_back(pcdHeader(files.cloud.size()).size() + files.cloud.size() * 3 * sizeof(float));
     } else {
       if (name == "corrected_tum.txt") text = tumText(files.stamps_ns, files.corrected);
       if (name == "odometry_tum.txt") text = tumText(files.stamps_ns, files.odometry);
@@ -258,13 +256,36 @@ bool writeMapFiles(const std::string& directory, const MapFiles& files, MapFiles
       if (name == "times.txt") text = timesText(files.stamps_ns);
       if (name == "pose_graph.g2o") text = g2oText(files);
       if (!file->write(text.data(), text.size(), error)) return false;
-      done.bytes.push_back(text.size());
+      done->bytes.push_back(text.size());
     }
-    done.files.push_back(path);
+    done->files.push_back(path);
   }
   // Everything is in temporary files: now the renames (each flushed first).
   for (auto& file : writers) {
     if (!file->commit(error)) return false;
+  }
+  // An older map.pcd would sit beside a trajectory it does not match.
+  const std::string stale = prefix + kCloudFile;
+  if (!files.has_cloud && ::unlink(stale.c_str()) == 0) done->removed_stale_cloud = stale;
+  return true;
+}
+
+}  // namespace
+
+bool writeMapFiles(const std::string& directory, const MapFiles& files, MapFilesReport* report, std::string* error) {
+  MapFilesReport done;
+  done.directory = directory;
+  if (report) *report = done;
+  const std::string why = inconsistency(files);
+  if (!why.empty()) return refuse(error, "map not saved: " + why);
+  if (!prepareDirectory(directory, error)) return false;
+  done.keyframes = files.stamps_ns.size();
+  for (const auto& f : files.factors) done.loops += f.loop ? 1 : 0;
+  done.points = files.has_cloud ? files.cloud.size() : 0;
+  done.voxel = files.voxel;
+  if (!writeAll(directory, files, &done, error)) {
+    if (report) report->abandoned = std::move(done.abandoned);
+    return false;
   }
   if (report) *report = std::move(done);
   return true;

@@ -1,6 +1,7 @@
 // PoseGraphRos's map files: the ~save_map service and the save at shutdown (map_save). The worker owns
 // the graph and the map: a save takes a copy on the worker (solving first if a solve is due) and
 // writes it off the worker (graph/map_files.h), so that the graph goes on meanwhile.
+#include <atomic>
 #include <chrono>
 #include <future>
 #include <memory>
@@ -32,11 +33,17 @@ void PoseGraphRos::advertiseSaveMap() {
 }
 
 std::string PoseGraphRos::runOnWorker(std::function<void()> task) {
-  // Shared with the task: a call that timed out leaves it nothing dangling to write into.
+  // Shared with the task: a call that timed out leaves it nothing dangling to write into. `state`
+  // decides who has the task: the worker when it starts it (kQueued -> kStarted), or a call that timed
+  // out first (kQueued -> kCancelled), whose task the worker then skips (no solve, no map for nobody).
+  enum State { kQueued, kStarted, kCancelled };
   auto done = std::make_shared<std::promise<std::string>>();
+  auto state = std::make_shared<std::atomic<int>>(kQueued);
   std::future<std::string> finished = done->get_future();
   Event event;
-  event.task = [this, task, done] {
+  event.task = [this, task, done, state] {
+    int queued = kQueued;
+    if (!state->compare_exchange_strong(queued, kStarted)) return;  // its caller gave up on it
     std::string what;
     done->set_value(runCatching(task, &what) ? "" : "it threw: " + what);
   };
@@ -47,7 +54,10 @@ std::string PoseGraphRos::runOnWorker(std::function<void()> task) {
   }
   queue_cv_.notify_one();
   if (finished.wait_for(std::chrono::duration<double>(kWorkerTimeout)) != std::future_status::ready) {
-    return "the worker did not answer within " + std::to_string(static_cast<int>(kWorkerTimeout)) + " s";
+    int queued = kQueued;
+    const bool cancelled = state->compare_exchange_strong(queued, kCancelled);
+    return "the worker did not answer within " + std::to_string(static_cast<int>(kWorkerTimeout)) + " s" +
+           (cancelled ? " (the request is withdrawn)" : " (it is still at it; its result is dropped)");
   }
   return finished.get();
 }

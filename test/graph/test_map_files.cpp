@@ -217,6 +217,38 @@ TEST_F(MapFilesTest, WithoutACloudThereIsNoPcd) {
   EXPECT_EQ(report.files.size(), 5u);
   EXPECT_FALSE(std::ifstream(dir.file("run/map.pcd")).good());
   EXPECT_EQ(report.summary().find("map.pcd"), std::string::npos);
+  EXPECT_TRUE(report.removed_stale_cloud.empty());
+}
+
+TEST_F(MapFilesTest, ASaveWithoutACloudRemovesTheOlderPcd) {
+  test::TempDir dir("scl_map_files");
+  const std::string out = dir.file("run");
+  std::string error;
+  ASSERT_TRUE(writeMapFiles(out, files_, nullptr, &error)) << error;
+  ASSERT_TRUE(std::ifstream(out + "/map.pcd").good());
+  files_.has_cloud = false;
+  MapFilesReport report;
+  ASSERT_TRUE(writeMapFiles(out, files_, &report, &error)) << error;
+  EXPECT_FALSE(std::ifstream(out + "/map.pcd").good()) << "an older map.pcd stays beside the new trajectory";
+  EXPECT_EQ(report.removed_stale_cloud, out + "/map.pcd");
+  EXPECT_NE(report.summary().find("removed the older map.pcd"), std::string::npos) << report.summary();
+  EXPECT_EQ(report.files.size(), 5u);
+}
+
+TEST_F(MapFilesTest, AFailedSaveReportsTheTemporaryFilesItRemoved) {
+  test::TempDir dir("scl_map_files");
+  const std::string out = dir.file("run");
+  ASSERT_EQ(::mkdir(out.c_str(), 0755), 0);
+  std::ofstream(out + "/times.txt.tmp.Ab12Cd") << std::string(100, 'x');  // a killed save's
+  ASSERT_EQ(::mkdir((out + "/pose_graph.g2o").c_str(), 0755), 0);          // this save fails there
+  MapFilesReport report;
+  std::string error;
+  EXPECT_FALSE(writeMapFiles(out, files_, &report, &error));
+  ASSERT_EQ(report.abandoned.size(), 1u);
+  EXPECT_EQ(report.abandoned[0].path, out + "/times.txt.tmp.Ab12Cd");
+  EXPECT_EQ(report.abandoned[0].bytes, 100u);
+  EXPECT_TRUE(report.files.empty());
+  EXPECT_FALSE(std::ifstream(out + "/times.txt.tmp.Ab12Cd").good());
 }
 
 TEST_F(MapFilesTest, ADirectoryThatCannotBeWrittenFailsWithTheReasonAndWritesNothing) {

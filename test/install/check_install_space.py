@@ -7,6 +7,8 @@ only INSTALL/setup.bash is sourced (no devel space, no source tree on any path),
 - loop_closure.launch starts the standalone node, and with manager:=NAME the nodelet in a manager; each
   advertises its outputs and services and subscribes to its inputs;
 - with --backend, pose_graph.launch does the same for the reference backend;
+- the service types (SaveDatabase, LoadDatabase, Relocalize, SaveMap) are installed: their
+  definitions (rossrv) and their Python modules (what rosservice call imports);
 - `rosrun scan_context_loop scan_context_evaluate --help` prints the evaluator's usage.
 
 Each check is one test case of the JUnit file --xunit; exits 1 when one fails. A master of its own runs
@@ -33,8 +35,10 @@ LOOP_CLOSURE = {
 POSE_GRAPH = {
     "publishes": ["/corrected_path", "/odometry_path", "/graph_markers", "/map_cloud"],
     "subscribes": ["/selected_keyframe_odom", "/loop_closures", "/selected_keyframe_cloud"],
-    "services": ["publish_map"],
+    "services": ["publish_map", "save_map"],
 }
+# The service types a user calls the nodes' services with (rosservice call imports their Python modules).
+SERVICE_TYPES = ["SaveDatabase", "LoadDatabase", "Relocalize", "SaveMap"]
 
 
 def install_environment(install):
@@ -152,6 +156,19 @@ def main():
         if os.path.exists(os.path.join(install, "lib", "scan_context_loop", "scan_context_simulate")):
             errors.append("the simulator is installed")
         cases.append(("package_found_in_install_space", errors))
+
+        errors = []
+        for srv in SERVICE_TYPES:
+            shown = subprocess.run(["rossrv", "show", "scan_context_loop/" + srv], env=env, capture_output=True,
+                                   text=True, timeout=60)
+            if shown.returncode != 0 or "---" not in shown.stdout:
+                errors.append("rossrv show scan_context_loop/%s: exit %d, %s"
+                              % (srv, shown.returncode, (shown.stdout + shown.stderr).strip()[:200]))
+        imported = subprocess.run(["python3", "-c", "from scan_context_loop.srv import " + ", ".join(SERVICE_TYPES)],
+                                  env=env, capture_output=True, text=True, timeout=60)
+        if imported.returncode != 0:
+            errors.append("the Python service modules: %s" % imported.stderr.strip()[-300:])
+        cases.append(("service_types_installed", errors))
 
         master = Master(env)
         try:

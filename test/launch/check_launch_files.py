@@ -18,7 +18,8 @@ own loader, without starting anything, and checks what they would start:
   standalone node, or loaded into the node's manager, in its namespace) on the node's selected keyframes
   and loops, with the stack's frames (map_frame, publish_tf: A-LOAM and FAST-LIO send map -> camera_init,
   LeGO-LOAM keeps camera_init under run.launch's map, LIO-SAM under its own map -> odom); map_save:=DIR
-  reaches its map_save, and only then.
+  reaches its map_save, and only then, as a string even when it looks like a number (the backend reads it
+  strictly); loop_closure.launch's map_directory:=DIR reaches its map_directory the same way.
 
 The package under test is --package (default: the tree holding this file); it is put first on
 ROS_PACKAGE_PATH, so the check runs from a plain shell with Debian's python3 and ROS's Python modules:
@@ -195,8 +196,9 @@ def case_defaults(package, stack, path):
     return errors
 
 
-def check_backend(config, node, stack, errors, loops="loop_closures", map_save=None):
-    """One backend beside `node` (its namespace, its manager if it has one) with the stack's frames."""
+def check_backend(config, node, stack, errors, loops="loop_closures", map_params=None):
+    """One backend beside `node` (its namespace, its manager if it has one) with the stack's frames and
+    `map_params` (map_save, map_directory: the given ones set to exactly these strings, the others unset)."""
     backends = [n for n in config.nodes if is_backend(n)]
     if len(backends) != 1:
         errors.append("%d backends with pose_graph:=true, not one" % len(backends))
@@ -215,11 +217,11 @@ def check_backend(config, node, stack, errors, loops="loop_closures", map_save=N
                  errors, "the backend")
     backend_ns = full_name(backend) + "/"
     expected = dict(BACKEND[stack])
-    if map_save is not None:
-        expected["map_save"] = map_save
+    expected.update(map_params or {})
     check_settings(config, backend_ns, expected, errors)
-    if map_save is None and backend_ns + "map_save" in config.params:
-        errors.append("%smap_save is set without map_save:=DIR" % backend_ns)
+    for key in ("map_save", "map_directory"):
+        if key not in expected and backend_ns + key in config.params:
+            errors.append("%s%s is set without %s:=DIR" % (backend_ns, key, key))
 
 
 def case_backend(package, stack, path):
@@ -227,11 +229,15 @@ def case_backend(package, stack, path):
     config, node, errors = load_loop_node(path, ["pose_graph:=true"])
     if node is not None:
         check_backend(config, node, stack, errors)
-    config, node, more = load_loop_node(path, ["pose_graph:=true", "manager:=mgr", "name:=other",
-                                               "loops_topic:=my_loops", "map_save:=run1"], ns="/robot")
+    # Directory names that look like numbers stay strings.
+    map_params = {"map_save": "2024"}
+    if stack == "loop_closure":  # the stack files pass map_save on, not map_directory
+        map_params["map_directory"] = "1.5"
+    config, node, more = load_loop_node(path, ["pose_graph:=true", "manager:=mgr", "name:=other", "loops_topic:=my_loops"]
+                                        + ["%s:=%s" % item for item in sorted(map_params.items())], ns="/robot")
     errors += more
     if node is not None:
-        check_backend(config, node, stack, errors, loops="my_loops", map_save="run1")
+        check_backend(config, node, stack, errors, loops="my_loops", map_params=map_params)
     # The stack's frames can be changed like any argument.
     config, node, more = load_loop_node(path, ["pose_graph:=true", "pose_graph_map_frame:=world",
                                                "pose_graph_publish_tf:=%s" % str(not BACKEND[stack]["publish_tf"]).lower()])

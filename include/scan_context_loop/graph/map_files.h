@@ -49,10 +49,14 @@ struct MapFilesReport {
   std::vector<std::uint64_t> bytes; ///< each file's size
   std::size_t keyframes = 0, loops = 0, points = 0;
   double voxel = 0.0;
-  /// Temporary files of earlier saves that died before their rename, removed before this one.
+  /// Temporary files of earlier saves that died before their rename, removed before this one (also
+  /// reported when this save fails).
   std::vector<AbandonedFile> abandoned;
+  /// A save without a cloud removes the map.pcd an earlier save left in the directory (it would not
+  /// match the new trajectory): its path, or "".
+  std::string removed_stale_cloud;
   /// One line for a log or a service answer: the directory, each file with its size, the points and
-  /// the voxel ("map.pcd 1.2 MB (34567 points, voxel-filtered at 0.50 m)").
+  /// the voxel ("map.pcd 1.2 MB (34567 points, voxel-filtered at 0.50 m)"), the stale map.pcd removed.
   std::string summary() const;
 };
 
@@ -62,8 +66,11 @@ std::vector<std::string> mapFileNames(bool with_cloud);
 /// Writes the files into `directory` (created, one level, mode 0755, when missing; its parent must
 /// exist). Every file goes to a temporary file first; only when all are written are they flushed and
 /// renamed over their targets, one after the other, so a save that fails while writing leaves every
-/// file as it was, and no file is ever seen half written. False with the reason in *error: a directory that cannot be created or written, stamps or poses of
-/// different lengths, stamps not increasing, a factor naming an unknown keyframe.
+/// file as it was, and no file is ever seen half written. Without a cloud, a map.pcd already in the
+/// directory is removed once the other files are in place. False with the reason in *error: a
+/// directory that cannot be created or written, stamps or poses of different lengths, stamps not
+/// increasing, a factor naming an unknown keyframe; *report then holds the directory and the abandoned
+/// temporary files removed, nothing else.
 bool writeMapFiles(const std::string& directory, const MapFiles& files, MapFilesReport* report, std::string* error);
 
 /// The information matrix of an EDGE_SE3:QUAT for a factor measuring Z = T_a<-b with `covariance` in
