@@ -97,6 +97,15 @@ if(CATKIN_ENABLE_TESTING)
   add_executable(test_ros_stacks EXCLUDE_FROM_ALL test/ros/test_stacks.cpp)
   target_link_libraries(test_ros_stacks scan_context_loop_ros_harness ${GTEST_LIBRARIES})
   add_dependencies(tests test_ros_stacks)
+  # A single pass also runs the reference backend where it is built; without it (no Ceres) the tests check
+  # the loops alone (stack_bag.test's `backend`).
+  set(stack_test_deps test_ros_stacks loop_closure_node scan_context_loop_nodelet)
+  if(SCL_WITH_BACKEND)
+    set(backend true)
+    list(APPEND stack_test_deps pose_graph_node scan_context_loop_pose_graph_nodelet)
+  else()
+    set(backend false)
+  endif()
   foreach(stack aloam lego_loam lio_sam fast_lio)
     add_custom_command(OUTPUT ${bags}/${stack}.bag
       COMMAND scan_context_simulate ${bags}/${stack} --block --stack ${stack} --sensor vlp16 --voxel 0.2 --threads 2
@@ -113,11 +122,12 @@ if(CATKIN_ENABLE_TESTING)
   <include file=\"$(find scan_context_loop)/test/ros/stack_bag.test\">
     <arg name=\"stack\" value=\"${stack}\"/>
     <arg name=\"bag\" value=\"${bags}/${stack}.bag\"/>
+    <arg name=\"backend\" value=\"${backend}\"/>
   </include>
 </launch>
 ")
     add_rostest(${PROJECT_BINARY_DIR}/test/ros/${stack}.test
-      DEPENDENCIES test_ros_stacks scan_context_loop_${stack}_bag loop_closure_node scan_context_loop_nodelet)
+      DEPENDENCIES scan_context_loop_${stack}_bag ${stack_test_deps})
   endforeach()
   # One bag played again and again (rosbag play -l): each pass a session that closes loops into the first.
   file(GENERATE OUTPUT ${PROJECT_BINARY_DIR}/test/ros/fast_lio_replayed.test CONTENT

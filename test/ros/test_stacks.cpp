@@ -10,8 +10,10 @@
 #include <mutex>
 #include <string>
 
+#include <XmlRpcValue.h>
 #include <gtest/gtest.h>
 #include <nav_msgs/Path.h>
+#include <ros/master.h>
 #include <tf2_eigen/tf2_eigen.h>
 #include <tf2_ros/buffer.h>
 #include <tf2_ros/transform_listener.h>
@@ -127,6 +129,31 @@ void expectCorrectedPath(ros::NodeHandle nh, const Latest<nav_msgs::Path>& corre
   EXPECT_LT(ratio, max_ratio) << "odometry " << before << " m, corrected " << after << " m";
 }
 
+/// Waits until a node other than this test subscribes to `topic` (as the master lists it); false after
+/// `seconds`. The node publishes its selected keyframes once and unlatched, so a backend in its own process
+/// must be connected before the first one.
+bool waitForOtherSubscriber(const ros::NodeHandle& nh, const std::string& topic, double seconds) {
+  const std::string resolved = nh.resolveName(topic), self = ros::this_node::getName();
+  const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(seconds);
+  while (ros::ok() && ros::WallTime::now() < end) {
+    XmlRpc::XmlRpcValue args, result, payload;
+    args[0] = self;
+    // payload: [publishers, subscribers, services], each a list of [name, [node, ...]].
+    if (ros::master::execute("getSystemState", args, result, payload, false) && payload.size() > 1) {
+      XmlRpc::XmlRpcValue& subscribers = payload[1];
+      for (int i = 0; i < subscribers.size(); ++i) {
+        if (static_cast<std::string>(subscribers[i][0]) != resolved) continue;
+        XmlRpc::XmlRpcValue& nodes = subscribers[i][1];
+        for (int j = 0; j < nodes.size(); ++j) {
+          if (static_cast<std::string>(nodes[j]) != self) return true;
+        }
+      }
+    }
+    ros::WallDuration(0.1).sleep();
+  }
+  return false;
+}
+
 /// Waits until `count` loops join a later session to the first; false after `seconds`.
 bool waitForLoopsAcrossSessions(const Harness& harness, std::size_t count, double seconds) {
   const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(seconds);
@@ -148,9 +175,11 @@ TEST(Stacks, TrueVerifiedLoopsFromTheStacksBag) {
   const bool backend = pnh.param("pose_graph", false);
   Collected<nav_msgs::Odometry> selected(nh, "selected_keyframe_odom");
   Latest<nav_msgs::Path> corrected(nh, "corrected_path"), odometry(nh, "odometry_path");
-  // Connected before the bag plays (it waits for the ground truth's subscriber, made next).
+  // Connected before the bag plays (it waits for the ground truth's subscriber, made next), and so is the
+  // backend: a keyframe published before it subscribed would be missing from its corrected path.
   if (backend) {
     ASSERT_TRUE(selected.waitForPublisher(30.0)) << "the loop-closure node never advertised";
+    ASSERT_TRUE(waitForOtherSubscriber(nh, "selected_keyframe_odom", 30.0)) << "the backend never subscribed";
   }
   GroundTruth truth(nh, *shape);
   const bool replayed = pnh.param("replayed", false);
