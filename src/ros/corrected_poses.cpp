@@ -75,7 +75,8 @@ void CorrectedPoses::index(const Database& database) {
 void CorrectedPoses::unknown(std::size_t count) {
   counters_->corrections_unknown += count;
   ROS_DEBUG_THROTTLE_NAMED(5.0, name_,
-                           "corrected_path: %zu poses skipped: their stamps name no keyframe recorded here (%zu so far)",
+                           "corrected_path: %zu poses skipped: their stamps name no keyframe recorded here "
+                           "(%zu so far)",
                            count, counters_->corrections_unknown.load());
 }
 

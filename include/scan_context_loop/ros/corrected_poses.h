@@ -34,7 +34,8 @@ namespace scan_context_loop {
 /// member is the worker's (start() and the destructor too, before the worker starts and after it ended).
 class CorrectedPoses {
  public:
-  /// `counters` (corrected_keyframes, corrections_refused, corrections_unknown) must outlive this; `name` prefixes the logs.
+  /// `counters` (corrected_keyframes, corrections_refused, corrections_unknown) must outlive this; `name`
+  /// prefixes the logs.
   CorrectedPoses(const std::string& name, NodeCounters* counters) : name_(name), counters_(counters) {}
 
   /// Callback: keeps `path` as the newest (a path replaces the one still waiting). True when the worker has
