@@ -72,6 +72,14 @@ void CorrectedPoses::index(const Database& database) {
   }
 }
 
+void CorrectedPoses::unknown(std::size_t count) {
+  counters_->corrections_unknown += count;
+  ROS_DEBUG_THROTTLE_NAMED(5.0, name_,
+                           "corrected_path: %zu poses skipped: their stamps name no keyframe recorded here "
+                           "(%zu so far)",
+                           count, counters_->corrections_unknown.load());
+}
+
 void CorrectedPoses::refuse(std::size_t count, const std::string& why) {
   counters_->corrections_refused += count;
   ROS_ERROR_THROTTLE_NAMED(5.0, name_, "corrected_path: %s (%zu poses or paths refused so far)", why.c_str(),
@@ -94,26 +102,27 @@ void CorrectedPoses::apply(const nav_msgs::Path& path, const Database& database)
     session = &sessions_.at(database.keyframe(found->second.back()).session);
     break;
   }
-  if (!session) {
-    return refuse(path.poses.size(), "a path of " + std::to_string(path.poses.size()) +
-                                         " poses skipped: none of its stamps names a keyframe this node recorded");
-  }
+  // A path none of whose stamps names a keyframe recorded here is no error: a backend that was not reset
+  // goes on publishing the keyframes a ~reset forgot.
+  if (!session) return unknown(path.poses.size());
   const auto [begin, end] = *session;
   PoseCorrections next;
   if (corrections_) {
     next = *corrections_;
     next.erase(next.lower_bound(begin), next.lower_bound(end));
   }
-  std::size_t unknown = 0, unusable = 0, accepted = 0;
+  std::size_t unnamed = 0, elsewhere = 0, unusable = 0, accepted = 0;
   std::string problem;
   for (const auto& stamped : path.poses) {
     const auto found = by_stamp_.find(stamped.header.stamp.toNSec());
-    std::size_t index = end;
-    if (found != by_stamp_.end()) {
-      for (std::size_t i : found->second) index = i >= begin && i < end ? i : index;
+    if (found == by_stamp_.end()) {
+      ++unnamed;
+      continue;
     }
+    std::size_t index = end;
+    for (std::size_t i : found->second) index = i >= begin && i < end ? i : index;
     if (index == end) {
-      ++unknown;
+      ++elsewhere;
       continue;
     }
     Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
@@ -128,11 +137,12 @@ void CorrectedPoses::apply(const nav_msgs::Path& path, const Database& database)
   if (unusable > 0) {
     refuse(unusable, std::to_string(unusable) + " poses skipped: the last had " + problem);
   }
-  if (unknown > 0) {
-    refuse(unknown, std::to_string(unknown) + " poses skipped: their stamps name no keyframe of the session this "
-                                              "path corrects (recorded here, keyframes " +
-                        std::to_string(begin) + " to " + std::to_string(end - 1) + ")");
+  if (elsewhere > 0) {
+    refuse(elsewhere, std::to_string(elsewhere) + " poses skipped: their stamps name keyframes of another session "
+                                                  "than the one this path corrects (recorded here, keyframes " +
+                          std::to_string(begin) + " to " + std::to_string(end - 1) + ")");
   }
+  if (unnamed > 0) unknown(unnamed);
   if (accepted == 0) return;
   frame_ = frame;
   corrections_ = std::make_shared<const PoseCorrections>(std::move(next));

@@ -48,6 +48,7 @@ void NodeDiagnostics::diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat
   status.add("last save written in [s]", c.last_save_seconds.load());
   status.add("corrected keyframes", c.corrected_keyframes.load());
   status.add("corrected path poses refused", c.corrections_refused.load());
+  status.add("corrected path stamps unknown", c.corrections_unknown.load());
   status.add("queue length", c.queue_length.load());
   status.add("last query time [ms]", c.last_query_ms.load());
   status.add("last keyframe time [ms]", c.last_keyframe_ms.load());

@@ -95,7 +95,8 @@ TEST_F(CorrectedPosesTest, APathCorrectsTheNewestRecordedSessionAtItsStamps) {
   next.poses.back().header.stamp = ros::Time(300.0);  // no keyframe
   apply(next);
   EXPECT_EQ(table(), (std::map<std::size_t, double>{{5, 100}, {6, 101}, {9, 104}}));
-  EXPECT_EQ(counters_.corrections_refused.load(), 3u);
+  EXPECT_EQ(counters_.corrections_refused.load(), 2u);
+  EXPECT_EQ(counters_.corrections_unknown.load(), 1u);
   EXPECT_EQ(counters_.corrected_keyframes.load(), 3u);
 }
 
@@ -115,12 +116,53 @@ TEST_F(CorrectedPosesTest, PathsThatCannotApplyChangeNothing) {
   }
   apply(loaded);
   EXPECT_EQ(table(), before);
-  EXPECT_EQ(counters_.corrections_refused.load(), 1u + 1u + 1u + 3u);
+  EXPECT_EQ(counters_.corrections_refused.load(), 1u + 1u + 1u);
+  EXPECT_EQ(counters_.corrections_unknown.load(), 3u) << "a loaded session's stamps name no recorded keyframe";
   EXPECT_EQ(corrected_.version(), 1u);
   corrected_.reset();
   EXPECT_FALSE(corrected_.corrections());
   EXPECT_EQ(counters_.corrected_keyframes.load(), 0u);
   EXPECT_TRUE(corrected_.frame().empty());
+}
+
+TEST_F(CorrectedPosesTest, AfterAResetTheBackendsOldKeyframesAreUnknownNotRefused) {
+  apply(path({0, 1, 2}));
+  corrected_.reset();
+  // The node's ~reset emptied its database; the backend, not reset, still publishes the old keyframes.
+  const LoopDetector emptied(config());
+  ASSERT_TRUE(corrected_.offer(boost::make_shared<nav_msgs::Path>(path({0, 1, 2}))));
+  corrected_.applyNewest(emptied.database());
+  EXPECT_FALSE(corrected_.corrections());
+  EXPECT_EQ(counters_.corrections_unknown.load(), 3u);
+  EXPECT_EQ(counters_.corrections_refused.load(), 0u);
+  EXPECT_EQ(counters_.corrected_keyframes.load(), 0u);
+}
+
+TEST_F(CorrectedPosesTest, StampsOfAnotherRecordedSessionAreRefused) {
+  // Session 0's stamps are session 1's too (a replay): a path naming keyframe 0 corrects the replay, so
+  // session 0 holds no stamp of its own. Another session recorded here with stamps of its own shows it.
+  LoopDetector detector(config());
+  pcl::PointCloud<pcl::PointXYZ> cloud;
+  for (int i = 0; i < 3600; ++i) {
+    const double a = i * 2.0 * M_PI / 3600.0, r = 10.0 + 5.0 * std::sin(3.0 * a);
+    cloud.push_back(pcl::PointXYZ(r * std::cos(a), r * std::sin(a), (i % 7) * 0.3));
+  }
+  for (int session = 0; session < 2; ++session) {
+    for (int k = 0; k < 3; ++k) {
+      KeyframeInfo info;
+      setKeyframeStamp(stampOf(3 * session + k), &info);
+      info.pose = Eigen::Isometry3d(Eigen::Translation3d(2.0 * k, 0.0, 0.0));
+      ASSERT_TRUE(detector.process(viewOf(cloud), info).accepted);
+    }
+    detector.startSession();
+  }
+  CorrectedPoses corrected("corrected_test", &counters_);
+  ASSERT_TRUE(corrected.offer(boost::make_shared<nav_msgs::Path>(path({0, 1, 3, 9}))));
+  corrected.applyNewest(detector.database());
+  ASSERT_TRUE(corrected.corrections());
+  EXPECT_EQ(corrected.corrections()->size(), 2u) << "keyframes 0 and 1 of the first session";
+  EXPECT_EQ(counters_.corrections_refused.load(), 1u) << "keyframe 3: the second session's";
+  EXPECT_EQ(counters_.corrections_unknown.load(), 1u) << "stamp 9: no keyframe";
 }
 
 TEST_F(CorrectedPosesTest, OnlyTheNewestOfThePathsWaitingIsApplied) {

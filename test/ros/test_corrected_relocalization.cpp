@@ -1,8 +1,11 @@
-// rostest: a map saved with the backend's corrections relocalizes in the corrected frame. Node a maps two
-// laps whose odometry drifts, the pose_graph backend corrects them with a's loops, and a learns the
-// corrected poses (corrected_path); its saved database holds them. Node b loads that map and relocalizes
-// a second drive of the same world a metre to the side (its odometry from its own origin): each pose must be where the
-// corrected map puts that place, and the same with the uncorrected poses must be clearly off.
+// rostest: a map saved with the backend's corrections relocalizes in the corrected frame, within 0.3 m / 1 deg
+// of the truth. Node a maps two laps around a block: lap 1's odometry is nearly right, but the odometry
+// slips at the start of lap 2 (its heading off by a few degrees) and drifts a few percent over it, so the
+// uncorrected lap 2 lies metres off. The pose_graph backend pulls lap 2 onto lap 1 with a's loops and a
+// learns the corrected poses (corrected_path); its saved database holds them. Node b loads that map and
+// relocalizes a second drive along lap 2 a metre to the side (its odometry from its own origin): each pose
+// must be the truth, and where the corrected map puts that place, and clearly not where the uncorrected
+// one would.
 #include <unistd.h>
 
 #include <algorithm>
@@ -83,15 +86,28 @@ TEST(CorrectedRelocalization, AMapSavedWithTheCorrectionsRelocalizesInTheCorrect
   ASSERT_TRUE(b.waitForNode(30.0));
   ASSERT_TRUE(ros::service::waitForService("a/pose_graph/publish_map", 30000));
 
-  // Two laps whose odometry drifts (as in pose_graph.test): it starts at the first true pose, so the
-  // backend, which holds the first keyframe where the odometry put it, corrects into the truth's frame.
+  // Two laps around the block, the second 3 m further out. The odometry starts at the first true pose, so
+  // the backend, which holds the first keyframe where the odometry put it, corrects into the truth's frame.
+  // Lap 1's odometry is right. At the start of lap 2 the odometry slips: its
+  // heading turns 0.5 deg off, and over lap 2 it drifts 0.5% of distance and 0.02 deg/m more, composed onto
+  // lap 1's end, so the uncorrected lap 2 lies metres off; the loops into lap 1 pull it back.
   const Drive drive = blockDrive(false, 5);
   const std::size_t n = drive.truth.size();
-  sim::DriftOptions drift;
-  drift.translation_per_metre = 0.03;
-  drift.yaw_per_metre = 0.02;
-  drift.seed = 3;
-  const std::vector<Eigen::Isometry3d> odometry = sim::driftedOdometry(drive.truth, drift);
+  std::size_t lap2 = 1;  // lap 2's first keyframe: the first on its bottom street, 3 m below lap 1's
+  while (lap2 < n && drive.truth[lap2].translation().y() > -1.5) ++lap2;
+  ASSERT_GT(lap2, n / 3);
+  ASSERT_LT(lap2, 2 * n / 3);
+  std::vector<Eigen::Isometry3d> odometry(drive.truth.begin(), drive.truth.begin() + lap2);
+  sim::DriftOptions lap2_drift;
+  lap2_drift.translation_per_metre = 0.005;
+  lap2_drift.yaw_per_metre = 0.02;
+  lap2_drift.seed = 4;
+  const std::vector<Eigen::Isometry3d> lap2_odometry =
+      sim::driftedOdometry({drive.truth.begin() + lap2 - 1, drive.truth.end()}, lap2_drift);
+  const Eigen::Isometry3d slip(Eigen::AngleAxisd(0.5 * M_PI / 180.0, Eigen::Vector3d::UnitZ()));
+  const Eigen::Isometry3d lap1_end = odometry.back() * slip * lap2_odometry.front().inverse();
+  for (std::size_t j = 1; j < lap2_odometry.size(); ++j) odometry.push_back(lap1_end * lap2_odometry[j]);
+  ASSERT_EQ(odometry.size(), n);
   a.odometry = &odometry;
   a.publish(drive, 0, n, 10.0);
   ASSERT_TRUE(a.waitForKeyframes(n, 60.0));
@@ -114,7 +130,7 @@ TEST(CorrectedRelocalization, AMapSavedWithTheCorrectionsRelocalizesInTheCorrect
   // The file holds the corrected path's poses, marked corrected; the correction moved them by metres.
   const std::vector<Eigen::Isometry3d> saved = savedPoses(map, n);
   ASSERT_EQ(saved.size(), n);
-  double moved = 0.0, residual = 0.0, residual_sq = 0.0, drifted = 0.0;
+  double moved = 0.0, residual = 0.0, residual_sq = 0.0, drifted[2] = {0.0, 0.0};
   for (std::size_t k = 0; k < n; ++k) {
     ASSERT_EQ(path.poses[k].header.stamp, a.base + ros::Duration(drive.times[k]));
     Eigen::Isometry3d pose;
@@ -124,11 +140,12 @@ TEST(CorrectedRelocalization, AMapSavedWithTheCorrectionsRelocalizesInTheCorrect
     const double r = errorOf(drive.truth[k], saved[k]).metres;
     residual = std::max(residual, r);
     residual_sq += r * r;
-    drifted = std::max(drifted, errorOf(drive.truth[k], odometry[k]).metres);
+    double& lap_drift = drifted[k < lap2 ? 0 : 1];
+    lap_drift = std::max(lap_drift, errorOf(drive.truth[k], odometry[k]).metres);
   }
-  std::printf("%zu keyframes: odometry off the truth by up to %.2f m; corrected poses moved up to %.2f m from the "
-              "odometry, off the truth by up to %.2f m (RMS %.2f m)\n",
-              n, drifted, moved, residual, std::sqrt(residual_sq / n));
+  std::printf("%zu keyframes (lap 2 from %zu): odometry off the truth by up to %.2f m on lap 1, %.2f m on lap 2; "
+              "corrected poses moved up to %.2f m from the odometry, off the truth by up to %.3f m (RMS %.3f m)\n",
+              n, lap2, drifted[0], drifted[1], moved, residual, std::sqrt(residual_sq / n));
   EXPECT_GT(moved, 1.0) << "the correction is too small to show anything";
 
   // Bad paths reach a's worker, are counted and change nothing (each waits for the last to be counted:
@@ -152,8 +169,8 @@ TEST(CorrectedRelocalization, AMapSavedWithTheCorrectionsRelocalizesInTheCorrect
   ASSERT_TRUE(ros::service::call("b/loop_closure/load_database", load));
   ASSERT_TRUE(load.response.success) << load.response.message;
 
-  // Node b: lap 1 again, a metre to the left, turned 4 deg, so its scans are not the
-  // map's; its odometry from its own origin 300 m and 90 deg away.
+  // Node b: lap 2 again, a metre to the left (between the laps' lanes), turned 4 deg, so its scans are not
+  // the map's; its odometry from its own origin 300 m and 90 deg away.
   Drive other = drive;
   Eigen::Isometry3d lane = Eigen::Isometry3d::Identity();
   lane.translation() = Eigen::Vector3d(0.0, 1.0, 0.0);
@@ -166,14 +183,14 @@ TEST(CorrectedRelocalization, AMapSavedWithTheCorrectionsRelocalizesInTheCorrect
   std::vector<Eigen::Isometry3d> b_odometry;
   for (const auto& pose : other.truth) b_odometry.push_back(origin * pose);
   b.odometry = &b_odometry;
-  b.publish(other, 0, n / 2, 10.0);
-  ASSERT_TRUE(b.waitForKeyframes(n + n / 2, 60.0));
+  b.publish(other, lap2, n, 10.0);
+  ASSERT_TRUE(b.waitForKeyframes(n + (n - lap2), 60.0));
   b.settle(3.0, 20.0);
 
-  // Where the corrected map puts the query: the matched keyframe's saved pose and the true relative pose
-  // match -> query. The same check against the map's uncorrected (odometry) poses must fail clearly: the
-  // answer is in the corrected frame, not the mapping run's odometry frame. The truth itself is reported:
-  // the correction is only as good as the graph.
+  // Each relocalized pose must be the truth: the corrected frame is the truth's. It must also be where
+  // the corrected map puts the query (the matched keyframe's saved pose and the true relative pose match
+  // -> query), and the same with the map's uncorrected (odometry) poses must be clearly off for some: the
+  // matched lap-2 keyframes' odometry is metres off.
   std::map<ros::Time, std::size_t> match_of;
   for (const auto& loop : b.loops()) {
     const int m = keyframeAt(drive, a.base, loop.match_stamp);
@@ -183,6 +200,7 @@ TEST(CorrectedRelocalization, AMapSavedWithTheCorrectionsRelocalizesInTheCorrect
   EXPECT_GE(relocalized.size(), n / 8);
   PoseError worst, uncorrected, absolute, map_residual;
   double absolute_sq = 0.0, odometry_sq = 0.0;
+  std::size_t into_lap2 = 0;
   for (const auto& message : relocalized) {
     EXPECT_EQ(message.header.frame_id, "map");
     const int q = keyframeAt(drive, b.base, message.header.stamp);
@@ -192,11 +210,12 @@ TEST(CorrectedRelocalization, AMapSavedWithTheCorrectionsRelocalizesInTheCorrect
     const Eigen::Isometry3d relative = drive.truth[m].inverse() * other.truth[q];
     Eigen::Isometry3d found;
     tf2::fromMsg(message.pose.pose, found);
-    const PoseError e = errorOf(saved[m] * relative, found);
+    const PoseError t = errorOf(other.truth[q], found), e = errorOf(saved[m] * relative, found),
+                    u = errorOf(odometry[m] * relative, found), r = errorOf(drive.truth[m], saved[m]);
+    EXPECT_LT(t.metres, 0.3) << "keyframe " << q << " matched map keyframe " << m;
+    EXPECT_LT(t.degrees, 1.0) << "keyframe " << q << " matched map keyframe " << m;
     EXPECT_LT(e.metres, 0.3) << "keyframe " << q << " matched map keyframe " << m;
     EXPECT_LT(e.degrees, 1.0) << "keyframe " << q << " matched map keyframe " << m;
-    const PoseError u = errorOf(odometry[m] * relative, found), t = errorOf(other.truth[q], found),
-                    r = errorOf(drive.truth[m], saved[m]);
     const double o = errorOf(other.truth[q], odometry[m] * relative).metres;
     worst = {std::max(worst.metres, e.metres), std::max(worst.degrees, e.degrees)};
     uncorrected = {std::max(uncorrected.metres, u.metres), std::max(uncorrected.degrees, u.degrees)};
@@ -204,20 +223,22 @@ TEST(CorrectedRelocalization, AMapSavedWithTheCorrectionsRelocalizesInTheCorrect
     map_residual = {std::max(map_residual.metres, r.metres), std::max(map_residual.degrees, r.degrees)};
     absolute_sq += t.metres * t.metres;
     odometry_sq += o * o;
+    if (m >= lap2) ++into_lap2;
   }
   const double count = std::max<std::size_t>(relocalized.size(), 1);
-  std::printf("%zu relocalizations: off where the corrected map puts them by up to %.3f m / %.3f deg, off where the "
-              "uncorrected map would by up to %.3f m / %.3f deg; off the truth by up to %.3f m / %.3f deg (RMS %.3f "
-              "m; the uncorrected map's placement: RMS %.3f m), the matched keyframes' corrected poses off the truth "
-              "by up to %.3f m / %.3f deg\n",
-              relocalized.size(), worst.metres, worst.degrees, uncorrected.metres, uncorrected.degrees,
-              absolute.metres, absolute.degrees, std::sqrt(absolute_sq / count), std::sqrt(odometry_sq / count),
+  std::printf("%zu relocalizations (%zu into lap 2): off the truth by up to %.3f m / %.3f deg (RMS %.3f m; the "
+              "uncorrected map's placement: RMS %.3f m); off where the corrected map puts them by up to %.3f m / "
+              "%.3f deg, off where the uncorrected map would by up to %.3f m / %.3f deg; the matched keyframes' "
+              "corrected poses off the truth by up to %.3f m / %.3f deg\n",
+              relocalized.size(), into_lap2, absolute.metres, absolute.degrees, std::sqrt(absolute_sq / count),
+              std::sqrt(odometry_sq / count), worst.metres, worst.degrees, uncorrected.metres, uncorrected.degrees,
               map_residual.metres, map_residual.degrees);
   EXPECT_GT(uncorrected.metres, 1.0) << "the uncorrected map puts the relocalized poses where the corrected one does";
 
-  // On request: the same frame.
+  // On request: the same frame, on lap 2.
+  const std::size_t asked = lap2 + (n - lap2) / 3;
   Relocalize where;
-  where.request.cloud = b.cloud(other, 40);
+  where.request.cloud = b.cloud(other, asked);
   ASSERT_TRUE(ros::service::call("b/loop_closure/relocalize", where));
   ASSERT_TRUE(where.response.found) << where.response.message;
   EXPECT_EQ(where.response.pose.header.frame_id, "map");
@@ -225,9 +246,14 @@ TEST(CorrectedRelocalization, AMapSavedWithTheCorrectionsRelocalizesInTheCorrect
   Eigen::Isometry3d found;
   tf2::fromMsg(where.response.pose.pose.pose, found);
   const std::size_t m = where.response.match_id;
-  const PoseError e = errorOf(saved[m] * drive.truth[m].inverse() * other.truth[40], found);
+  const PoseError e = errorOf(saved[m] * drive.truth[m].inverse() * other.truth[asked], found),
+                  t = errorOf(other.truth[asked], found);
   EXPECT_LT(e.metres, 0.3);
   EXPECT_LT(e.degrees, 1.0);
+  EXPECT_LT(t.metres, 0.3);
+  EXPECT_LT(t.degrees, 1.0);
+  std::printf("~relocalize of keyframe %zu (matched %zu): off the truth by %.3f m / %.3f deg\n", asked, m, t.metres,
+              t.degrees);
   unlink(map.c_str());
 }
 

@@ -6,8 +6,9 @@
 // A path applies to one recorded session: the newest session that holds a keyframe at the first of the
 // path's stamps naming a keyframe recorded here (a bag replayed makes a new session with the same stamps:
 // the replay's, the one the backend is fed now, wins). Its poses replace that session's earlier
-// corrections; poses at stamps that name no keyframe of that session are skipped and counted. Sessions
-// loaded from a file are never corrected by a path (their poses are as the file gave them).
+// corrections; poses at stamps that name a keyframe of another session, or no keyframe recorded here (as
+// after a ~reset, which the backend does not see), are skipped and counted apart. Sessions loaded from a
+// file are never corrected by a path (their poses are as the file gave them).
 #pragma once
 
 #include <cstddef>
@@ -33,7 +34,8 @@ namespace scan_context_loop {
 /// member is the worker's (start() and the destructor too, before the worker starts and after it ended).
 class CorrectedPoses {
  public:
-  /// `counters` (corrected_keyframes, corrections_refused) must outlive this; `name` prefixes the logs.
+  /// `counters` (corrected_keyframes, corrections_refused, corrections_unknown) must outlive this; `name`
+  /// prefixes the logs.
   CorrectedPoses(const std::string& name, NodeCounters* counters) : name_(name), counters_(counters) {}
 
   /// Callback: keeps `path` as the newest (a path replaces the one still waiting). True when the worker has
@@ -60,6 +62,8 @@ class CorrectedPoses {
   void apply(const nav_msgs::Path& path, const Database& database);
   /// Counts `count` refused poses (or one refused path), with a throttled error naming `why`.
   void refuse(std::size_t count, const std::string& why);
+  /// Counts `count` poses at stamps that name no keyframe recorded here, with a throttled debug message.
+  void unknown(std::size_t count);
 
   std::string name_;
   NodeCounters* counters_;

@@ -28,9 +28,9 @@ struct NodeCounters {
   // keyframes and wall time [s] (written by the threads that write them).
   std::atomic<std::size_t> saves{0}, save_failures{0}, last_save_keyframes{0};
   std::atomic<double> last_save_seconds{0.0};
-  // Keyframes with a corrected pose from corrected_path (a save writes their session corrected), and the
-  // poses (or whole paths) of corrected_path refused.
-  std::atomic<std::size_t> corrected_keyframes{0}, corrections_refused{0};
+  // Keyframes with a corrected pose from corrected_path (a save writes their session corrected), the
+  // poses (or whole paths) of corrected_path refused, and its poses at stamps of no keyframe recorded here.
+  std::atomic<std::size_t> corrected_keyframes{0}, corrections_refused{0}, corrections_unknown{0};
   std::atomic<long long> heap_allocated{-1}, heap_free{-1};  ///< malloc's statistics at the worker's last read
   std::atomic<double> heap_statistics_ms{0.0};
   std::atomic<double> last_query_ms{0.0}, last_keyframe_ms{0.0}, max_keyframe_ms{0.0};
