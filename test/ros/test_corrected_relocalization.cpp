@@ -1,11 +1,10 @@
 // rostest: a map saved with the backend's corrections relocalizes in the corrected frame, within 0.3 m / 1 deg
-// of the truth. Node a maps two laps around a block: lap 1's odometry is nearly right, but the odometry
-// slips at the start of lap 2 (its heading off by a few degrees) and drifts a few percent over it, so the
-// uncorrected lap 2 lies metres off. The pose_graph backend pulls lap 2 onto lap 1 with a's loops and a
-// learns the corrected poses (corrected_path); its saved database holds them. Node b loads that map and
-// relocalizes a second drive along lap 2 a metre to the side (its odometry from its own origin): each pose
-// must be the truth, and where the corrected map puts that place, and clearly not where the uncorrected
-// one would.
+// of the truth. Node a maps two laps around a block: lap 1's odometry is right, lap 2's drifts (0.5% of
+// distance and 0.02 deg/m) from lap 1's end, so the uncorrected lap 2 lies metres off. The pose_graph
+// backend pulls lap 2 onto lap 1 with a's loops and a learns the corrected poses (corrected_path); its saved
+// database holds them. Node b loads that map and relocalizes a second drive along lap 2 a metre to the side
+// (its odometry from its own origin): each pose must be the truth, and where the corrected map puts that
+// place, and clearly not where the uncorrected one would.
 #include <unistd.h>
 
 #include <algorithm>
@@ -88,9 +87,9 @@ TEST(CorrectedRelocalization, AMapSavedWithTheCorrectionsRelocalizesInTheCorrect
 
   // Two laps around the block, the second 3 m further out. The odometry starts at the first true pose, so
   // the backend, which holds the first keyframe where the odometry put it, corrects into the truth's frame.
-  // Lap 1's odometry is right. At the start of lap 2 the odometry slips: its
-  // heading turns 0.5 deg off, and over lap 2 it drifts 0.5% of distance and 0.02 deg/m more, composed onto
-  // lap 1's end, so the uncorrected lap 2 lies metres off; the loops into lap 1 pull it back.
+  // Lap 1's odometry is right. Over lap 2 it drifts 0.5% of distance and 0.02 deg/m, composed onto lap 1's
+  // end (no slip: a single step that is wrong would be spread over lap 1 too), so the uncorrected lap 2 lies
+  // metres off; the loops into lap 1 pull each lap-2 keyframe back.
   const Drive drive = blockDrive(false, 5);
   const std::size_t n = drive.truth.size();
   std::size_t lap2 = 1;  // lap 2's first keyframe: the first on its bottom street, 3 m below lap 1's
@@ -104,8 +103,7 @@ TEST(CorrectedRelocalization, AMapSavedWithTheCorrectionsRelocalizesInTheCorrect
   lap2_drift.seed = 4;
   const std::vector<Eigen::Isometry3d> lap2_odometry =
       sim::driftedOdometry({drive.truth.begin() + lap2 - 1, drive.truth.end()}, lap2_drift);
-  const Eigen::Isometry3d slip(Eigen::AngleAxisd(0.5 * M_PI / 180.0, Eigen::Vector3d::UnitZ()));
-  const Eigen::Isometry3d lap1_end = odometry.back() * slip * lap2_odometry.front().inverse();
+  const Eigen::Isometry3d lap1_end = odometry.back() * lap2_odometry.front().inverse();
   for (std::size_t j = 1; j < lap2_odometry.size(); ++j) odometry.push_back(lap1_end * lap2_odometry[j]);
   ASSERT_EQ(odometry.size(), n);
   a.odometry = &odometry;
