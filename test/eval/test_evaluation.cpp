@@ -215,6 +215,14 @@ const Sequence& simulatedLoop() {
   return sequence;
 }
 
+/// The settings the simulated loop's verified tests use: 30 recent keyframes excluded, verification on.
+Config verifiedLoopConfig() {
+  Config config;
+  config.exclude_recent_frames = 30;
+  config.verification.enabled = true;
+  return config;
+}
+
 TEST(Evaluation, SimulatedLoopEndToEnd) {
   const Sequence& sequence = simulatedLoop();
   ASSERT_FALSE(sequence.frames.empty());
@@ -276,9 +284,7 @@ TEST(Evaluation, VerifiedLoopsCorrectTheDriftedTrajectoryAndHoldOffAFalseOne) {
   // The reference pose graph over the simulated loop's drifting odometry and its verified loops.
   const Sequence& sequence = simulatedLoop();
   ASSERT_FALSE(sequence.frames.empty());
-  Config config;
-  config.exclude_recent_frames = 30;
-  config.verification.enabled = true;
+  const Config config = verifiedLoopConfig();
   const Evaluation e = evaluate(sequence, config, 5.0);
   const TrajectoryCorrection c = correctTrajectory(sequence, e, config);
   ASSERT_TRUE(c.computed) << c.note;
@@ -335,9 +341,7 @@ TEST(Evaluation, WithoutOdometryTheLoopsCorrectThePerfectTrajectoryOnlyByTheirEr
   std::string error;
   ASSERT_TRUE(loadSequence(simulatedLoop().dir, options, &sequence, &error)) << error;
   ASSERT_FALSE(sequence.odometry_from_file);
-  Config config;
-  config.exclude_recent_frames = 30;
-  config.verification.enabled = true;
+  const Config config = verifiedLoopConfig();
   const Evaluation e = evaluate(sequence, config, 5.0);
   const TrajectoryCorrection c = correctTrajectory(sequence, e, config);
   ASSERT_TRUE(c.computed) << c.note;

@@ -74,13 +74,7 @@ TEST(CorrectedRelocalization, AMapSavedWithTheCorrectionsRelocalizesInTheCorrect
   Harness a(a_nh), b(b_nh);
   Latest<nav_msgs::Path> corrected(a_nh, "corrected_path");
   DiagnosticsWatch diagnostics(a_nh, "a/loop_closure");
-  std::vector<geometry_msgs::PoseWithCovarianceStamped> relocalized;
-  std::mutex mutex;
-  ros::Subscriber sub = b_nh.subscribe<geometry_msgs::PoseWithCovarianceStamped>(
-      "relocalization", 1000, [&](const geometry_msgs::PoseWithCovarianceStamped::ConstPtr& m) {
-        std::lock_guard<std::mutex> lock(mutex);
-        relocalized.push_back(*m);
-      });
+  Collected<geometry_msgs::PoseWithCovarianceStamped> relocalizations(b_nh, "relocalization");
   ASSERT_TRUE(a.waitForNode(30.0));
   ASSERT_TRUE(b.waitForNode(30.0));
   ASSERT_TRUE(ros::service::waitForService("a/pose_graph/publish_map", 30000));
@@ -194,7 +188,7 @@ TEST(CorrectedRelocalization, AMapSavedWithTheCorrectionsRelocalizesInTheCorrect
     const int m = keyframeAt(drive, a.base, loop.match_stamp);
     if (loop.verified && m >= 0) match_of[loop.query_stamp] = static_cast<std::size_t>(m);
   }
-  std::lock_guard<std::mutex> lock(mutex);
+  const auto relocalized = relocalizations.messages();
   EXPECT_GE(relocalized.size(), n / 8);
   PoseError worst, uncorrected, absolute, map_residual;
   double absolute_sq = 0.0, odometry_sq = 0.0;

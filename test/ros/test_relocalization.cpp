@@ -19,6 +19,7 @@
 #include <tf2_eigen/tf2_eigen.h>
 
 #include "harness.h"
+#include "topic_watch.h"
 #include "scan_context_loop/LoadDatabase.h"
 #include "scan_context_loop/Relocalize.h"
 #include "scan_context_loop/SaveDatabase.h"
@@ -43,13 +44,7 @@ TEST(Relocalization, SaveResetLoadThenRelocalizeASecondRunInTheSavedMap) {
   Harness a(a_nh), b(b_nh);
   ASSERT_TRUE(a.waitForNode(30.0));
   ASSERT_TRUE(b.waitForNode(30.0));
-  std::vector<geometry_msgs::PoseWithCovarianceStamped> relocalized;
-  std::mutex mutex;
-  ros::Subscriber sub = b_nh.subscribe<geometry_msgs::PoseWithCovarianceStamped>(
-      "relocalization", 1000, [&](const geometry_msgs::PoseWithCovarianceStamped::ConstPtr& m) {
-        std::lock_guard<std::mutex> lock(mutex);
-        relocalized.push_back(*m);
-      });
+  Collected<geometry_msgs::PoseWithCovarianceStamped> relocalizations(b_nh, "relocalization");
 
   const Drive drive = blockDrive(true, 7);
   const std::size_t n = drive.truth.size();
@@ -124,7 +119,7 @@ TEST(Relocalization, SaveResetLoadThenRelocalizeASecondRunInTheSavedMap) {
   ASSERT_TRUE(b.waitForKeyframes(n + n / 2, 60.0));
   b.settle(3.0, 20.0);
   {
-    std::lock_guard<std::mutex> lock(mutex);
+    const auto relocalized = relocalizations.messages();
     EXPECT_GE(relocalized.size(), n / 8);
     for (const auto& pose : relocalized) {
       EXPECT_EQ(pose.header.frame_id, "map");
