@@ -9,6 +9,7 @@
 #include <memory>
 
 #include <Eigen/Cholesky>
+#include <pcl/io/pcd_io.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -104,17 +105,14 @@ std::string g2oText(const MapFiles& files) {
   return out;
 }
 
-std::string pcdHeader(std::size_t points) {
-  std::string out =
-      "# .PCD v0.7 - Point Cloud Data file format\nVERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\n"
-      "COUNT 1 1 1\n";
-  appendf(&out, "WIDTH %zu\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS %zu\nDATA binary\n", points, points);
-  return out;
+/// PCL's own PCD header for `cloud`, for binary data.
+std::string pcdHeader(const pcl::PointCloud<pcl::PointXYZ>& cloud) {
+  return pcl::PCDWriter::generateHeader(cloud) + "DATA binary\n";
 }
 
 /// Writes the cloud's x y z as float32 (the host's byte order, as PCL writes binary PCD).
 bool writeCloud(AtomicFileWriter* file, const pcl::PointCloud<pcl::PointXYZ>& cloud, std::string* error) {
-  const std::string header = pcdHeader(cloud.size());
+  const std::string header = pcdHeader(cloud);
   if (!file->write(header.data(), header.size(), error)) return false;
   std::vector<float> block;
   constexpr std::size_t kPointsPerBlock = 1 << 16;
@@ -248,7 +246,7 @@ bool writeAll(const std::string& directory, const MapFiles& files, MapFilesRepor
     std::string text;
     if (name == kCloudFile) {
       if (!writeCloud(file, files.cloud, error)) return false;
-      done->bytes.push_back(pcdHeader(files.cloud.size()).size() + files.cloud.size() * 3 * sizeof(float));
+      done->bytes.push_back(pcdHeader(files.cloud).size() + files.cloud.size() * 3 * sizeof(float));
     } else {
       if (name == "corrected_tum.txt") text = tumText(files.stamps_ns, files.corrected);
       if (name == "odometry_tum.txt") text = tumText(files.stamps_ns, files.odometry);
