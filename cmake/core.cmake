@@ -23,6 +23,7 @@ add_library(scan_context_loop_core
   src/core/database_file.cpp
   src/core/database_writer.cpp
   src/core/pose_corrections.cpp
+  src/core/team_matcher.cpp
 )
 target_include_directories(scan_context_loop_core PUBLIC
   include ${EIGEN3_INCLUDE_DIRS} ${PCL_INCLUDE_DIRS} ${FLANN_INCLUDE_DIRS})
@@ -69,6 +70,7 @@ if(CATKIN_ENABLE_TESTING)
     test/core/test_pose_corrections.cpp
     test/core/test_file_io.cpp
     test/core/test_block_arena.cpp
+    test/core/test_team_matcher.cpp
   )
   # The real-data tests read KITTI scans (eval/kitti_io.h); the simulated-data tests cast scans with the
   # simulator.

@@ -100,9 +100,8 @@ std::string text(const T& value) {
   return out.str();
 }
 
-/// The first setting in which the file differs from the configuration, named by its configuration key
-/// with both values; empty when they agree.
-std::string settingsMismatch(const FileSettings& file, const FileSettings& ours) {
+/// The pairs settingsMismatch compares, in its order: name, the file's value, the configuration's.
+std::vector<std::array<std::string, 3>> settingRows(const FileSettings& file, const FileSettings& ours) {
   std::vector<std::array<std::string, 3>> rows = {
       {"num_rings", text(file.num_rings), text(ours.num_rings)},
       {"num_sectors", text(file.num_sectors), text(ours.num_sectors)},
@@ -117,6 +116,13 @@ std::string settingsMismatch(const FileSettings& file, const FileSettings& ours)
     rows.push_back({"verify_voxel_leaf", text(file.voxel_leaf), text(ours.voxel_leaf)});
     rows.push_back({"verify_max_range", text(file.voxel_max_range), text(ours.voxel_max_range)});
   }
+  return rows;
+}
+
+/// The first setting in which the file differs from the configuration, named by its configuration key
+/// with both values; empty when they agree.
+std::string settingsMismatch(const FileSettings& file, const FileSettings& ours) {
+  const std::vector<std::array<std::string, 3>> rows = settingRows(file, ours);
   for (const auto& [name, saved, current] : rows) {
     if (saved != current) {
       return "saved with " + name + " " + saved + ", but the configuration has " + current +
@@ -401,10 +407,11 @@ std::string decodeCloud(PayloadReader* payload, const FileSettings& settings, Ei
   return "";
 }
 
-/// Streams the payload to the file in pieces, keeping its size and checksum.
+/// Streams the payload to a sink (AtomicFileWriter, MemorySink) in pieces, keeping its size and checksum.
+template <typename Sink>
 class PayloadWriter {
  public:
-  explicit PayloadWriter(AtomicFileWriter* file) : file_(file) {}
+  explicit PayloadWriter(Sink* file) : file_(file) {}
   ByteWriter* out() { return &buffer_; }
   bool flushIfFull(std::string* error) { return buffer_.size() < kChunkBytes || flush(error); }
   bool flush(std::string* error) {
@@ -418,10 +425,28 @@ class PayloadWriter {
   std::uint32_t crc() const { return crc_; }
 
  private:
-  AtomicFileWriter* file_;
+  Sink* file_;
   ByteWriter buffer_;
   std::uint64_t bytes_ = 0;
   std::uint32_t crc_ = 0;
+};
+
+/// A database image in memory, written as AtomicFileWriter writes a file.
+class MemorySink {
+ public:
+  bool write(const void* data, std::size_t size, std::string*) {
+    const auto* p = static_cast<const std::uint8_t*>(data);
+    bytes_.insert(bytes_.end(), p, p + size);
+    return true;
+  }
+  bool writeAt(std::size_t offset, const void* data, std::size_t size, std::string*) {
+    std::memcpy(bytes_.data() + offset, data, size);  // within what was written (the header's placeholder)
+    return true;
+  }
+  std::vector<std::uint8_t> take() { return std::move(bytes_); }
+
+ private:
+  std::vector<std::uint8_t> bytes_;
 };
 
 template <typename Target>
@@ -450,31 +475,34 @@ bool mayReplace(const std::string& path, std::string* error) {
 
 DatabaseSnapshot::DatabaseSnapshot(const LoopDetector& detector, bool include_clouds,
                                    std::shared_ptr<const void> owner)
+    : DatabaseSnapshot(detector, include_clouds, std::move(owner), 0, detector.database().size()) {}
+
+DatabaseSnapshot::DatabaseSnapshot(const LoopDetector& detector, bool include_clouds, std::shared_ptr<const void> owner,
+                                   std::size_t first, std::size_t count)
     : config_(detector.config()), include_clouds_(include_clouds), owner_(std::move(owner)) {
   const Database& database = detector.database();
-  keyframes_.reserve(database.size());
-  for (std::size_t i = 0; i < database.size(); ++i) keyframes_.push_back(&database.keyframe(i));
+  const std::size_t begin = std::min(first, database.size());
+  const std::size_t end = begin + std::min(count, database.size() - begin);
+  keyframes_.reserve(end - begin);
+  for (std::size_t i = begin; i < end; ++i) keyframes_.push_back(&database.keyframe(i));
   if (!include_clouds) return;
-  gravity_alignment_.reserve(database.size());
-  clouds_.reserve(database.size());
-  for (std::size_t i = 0; i < database.size(); ++i) {
+  gravity_alignment_.reserve(end - begin);
+  clouds_.reserve(end - begin);
+  for (std::size_t i = begin; i < end; ++i) {
     gravity_alignment_.push_back(detector.gravityAlignment(i));
     clouds_.push_back(detector.cloudStore().share(i));
   }
 }
 
-bool writeDatabase(const DatabaseSnapshot& snapshot, const std::string& path, bool keep_backup, std::string* error) {
+template <typename Sink>
+bool writeImage(const DatabaseSnapshot& snapshot, Sink* file, std::string* error) {
   const std::vector<const Keyframe*>& keyframes = snapshot.keyframes_;
   Header header;
   header.settings = settingsOf(snapshot.config_, snapshot.include_clouds_);
   header.keyframes = keyframes.size();
-  if (!mayReplace(path, error)) return false;
-  AtomicFileWriter file;
-  if (!file.open(path, error)) return false;
-  if (keep_backup) file.keepBackup(path + ".bak");
   const std::vector<std::uint8_t> placeholder(kHeaderBytes, 0);
-  if (!file.write(placeholder.data(), placeholder.size(), error)) return false;
-  PayloadWriter payload(&file);
+  if (!file->write(placeholder.data(), placeholder.size(), error)) return false;
+  PayloadWriter<Sink> payload(file);
   // Empty without corrections; else a pose or none per keyframe.
   const std::vector<std::optional<Eigen::Isometry3d>> corrected =
       snapshot.corrections_ ? correctedSessionPoses(keyframes, *snapshot.corrections_)
@@ -494,7 +522,28 @@ bool writeDatabase(const DatabaseSnapshot& snapshot, const std::string& path, bo
   header.payload_bytes = payload.bytes();
   header.payload_crc = payload.crc();
   const std::vector<std::uint8_t> head = encodeHeader(header);
-  return file.writeAt(0, head.data(), head.size(), error) && file.commit(error);
+  return file->writeAt(0, head.data(), head.size(), error);
+}
+
+bool writeDatabase(const DatabaseSnapshot& snapshot, const std::string& path, bool keep_backup, std::string* error) {
+  if (!mayReplace(path, error)) return false;
+  AtomicFileWriter file;
+  if (!file.open(path, error)) return false;
+  if (keep_backup) file.keepBackup(path + ".bak");
+  return writeImage(snapshot, &file, error) && file.commit(error);
+}
+
+std::vector<std::uint8_t> encodeDatabase(const DatabaseSnapshot& snapshot) {
+  MemorySink sink;
+  writeImage(snapshot, &sink, nullptr);
+  return sink.take();
+}
+
+std::string compatibilityText(const Config& config, bool include_clouds) {
+  const FileSettings ours = settingsOf(config, include_clouds);
+  std::string out;
+  for (const auto& row : settingRows(ours, ours)) out += (out.empty() ? "" : ", ") + row[0] + " " + row[1];
+  return out;
 }
 
 bool saveDatabase(const LoopDetector& detector, const std::string& path, const SaveOptions& options,

@@ -58,17 +58,10 @@ bool LoopDetector::appendSessions(PriorSessions sessions, std::string* error) {
   if (!sessions.clouds.empty() && sessions.clouds.size() != n) {
     return fail(std::to_string(sessions.clouds.size()) + " registration clouds for " + std::to_string(n) + " keyframes");
   }
-  const VoxelOptions voxels = voxelOptions(verification_);
   for (std::size_t i = 0; i < sessions.clouds.size(); ++i) {
     const VoxelCloud* cloud = sessions.clouds[i].get();
-    if (cloud && cloud->normals.size() != cloud->means.size()) {
-      return fail("keyframe " + std::to_string(i) + ": registration data with " + std::to_string(cloud->means.size()) +
-                  " voxel means but " + std::to_string(cloud->normals.size()) + " normals");
-    }
-    if (cloud && (cloud->resolution != voxels.resolution || cloud->max_range != voxels.max_range)) {
-      return fail("keyframe " + std::to_string(i) + ": registration data of " + std::to_string(cloud->resolution) +
-                  " m voxels within " + std::to_string(cloud->max_range) + " m, but verification uses " +
-                  std::to_string(voxels.resolution) + " m within " + std::to_string(voxels.max_range) + " m");
+    if (const std::string problem = cloud ? cloudMismatch(*cloud) : ""; !problem.empty()) {
+      return fail("keyframe " + std::to_string(i) + ": " + problem);
     }
   }
   const std::size_t first = database_.size();
@@ -154,6 +147,33 @@ void LoopDetector::describeAndQuery(const PointView& raw, const KeyframeInfo& in
   detection->query = database_.query(out->descriptor, info);
   detection->query_seconds = secondsSince(t1);
   if (!out->descriptor.empty()) queryViewpoints(out->points, info, detection);
+}
+
+std::string LoopDetector::cloudMismatch(const VoxelCloud& cloud) const {
+  const VoxelOptions voxels = voxelOptions(verification_);
+  if (cloud.normals.size() != cloud.means.size()) {
+    return "registration data with " + std::to_string(cloud.means.size()) + " voxel means but " +
+           std::to_string(cloud.normals.size()) + " normals";
+  }
+  if (cloud.resolution != voxels.resolution || cloud.max_range != voxels.max_range) {
+    return "registration data of " + std::to_string(cloud.resolution) + " m voxels within " +
+           std::to_string(cloud.max_range) + " m, but verification uses " + std::to_string(voxels.resolution) +
+           " m within " + std::to_string(voxels.max_range) + " m";
+  }
+  return "";
+}
+
+bool LoopDetector::attachCloud(std::size_t index, const Eigen::Matrix3f& gravity_alignment, const VoxelCloud& cloud,
+                               std::string* error) {
+  std::string problem = index < database_.size() ? cloudMismatch(cloud)
+                                                 : "keyframe " + std::to_string(index) + " is not in the database";
+  if (!problem.empty()) {
+    if (error) *error = problem;
+    return false;
+  }
+  gravity_alignment_.at(index) = gravity_alignment;
+  store_.add(index, cloud);
+  return true;
 }
 
 Detection LoopDetector::locate(const PointView& raw) {

@@ -392,7 +392,11 @@ void CloudStore::add(std::size_t index, const VoxelCloud& cloud) {
   if (levels_.size() <= level) levels_.resize(level + 1);
   if (!levels_[level]) levels_[level] = BlockArena::create(kLevelBlockBytes, BlockArena::Pages::kOrdinary);
   // The copy's arrays are exactly as long as the voxels, so the budget counts what they take.
-  if (!clouds_[index]) ++stored_;
+  if (clouds_[index]) {
+    bytes_ -= clouds_[index]->bytes();  // stored again: the new data replace the old
+  } else {
+    ++stored_;
+  }
   clouds_[index] = std::make_shared<const VoxelCloud>(cloud, levels_[level].get());
   bytes_ += size;
 }

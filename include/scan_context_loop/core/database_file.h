@@ -43,6 +43,10 @@ class DatabaseSnapshot {
  public:
   DatabaseSnapshot() = default;
   DatabaseSnapshot(const LoopDetector& detector, bool include_clouds, std::shared_ptr<const void> owner = nullptr);
+  /// Of the `count` keyframes from `first` only (clamped to the database), numbered afresh in the image as a
+  /// file would number them (sessions from 0): one keyframe as a robot of a team shares it (team_matcher.h).
+  DatabaseSnapshot(const LoopDetector& detector, bool include_clouds, std::shared_ptr<const void> owner,
+                   std::size_t first, std::size_t count);
 
   std::size_t size() const { return keyframes_.size(); }
   bool includesClouds() const { return include_clouds_; }
@@ -52,8 +56,8 @@ class DatabaseSnapshot {
   void correctPoses(std::shared_ptr<const PoseCorrections> corrections) { corrections_ = std::move(corrections); }
 
  private:
-  friend bool writeDatabase(const DatabaseSnapshot& snapshot, const std::string& path, bool keep_backup,
-                            std::string* error);
+  template <typename Sink>
+  friend bool writeImage(const DatabaseSnapshot& snapshot, Sink* sink, std::string* error);
   Config config_;
   bool include_clouds_ = false;
   std::vector<const Keyframe*> keyframes_;
@@ -66,6 +70,14 @@ class DatabaseSnapshot {
 /// Writes `snapshot` to `path` atomically, as saveDatabase does; `keep_backup` as SaveOptions::keep_backup.
 /// Two writes to one path must not run at once (DatabaseWriter serialises them).
 bool writeDatabase(const DatabaseSnapshot& snapshot, const std::string& path, bool keep_backup, std::string* error);
+
+/// The bytes writeDatabase would write for `snapshot`, in memory (a small snapshot: a keyframe or a few).
+std::vector<std::uint8_t> encodeDatabase(const DatabaseSnapshot& snapshot);
+
+/// The settings a database (or a keyframe a robot shares) must agree on with the configuration that reads
+/// it, as `key value` pairs separated by ", " in a fixed order (with `include_clouds`, the registration
+/// data's voxel settings too): two configurations whose texts differ cannot compare keyframes.
+std::string compatibilityText(const Config& config, bool include_clouds);
 
 /// Writes every keyframe of `detector` to `path` atomically (AtomicFileWriter): a temporary file in
 /// the same directory, flushed to disk, renamed over `path`; a file replaced keeps its mode. A file at

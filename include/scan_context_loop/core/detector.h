@@ -105,6 +105,13 @@ class LoopDetector {
   /// keyframes', or registration data made with other voxel settings. `error` then says which.
   bool appendSessions(PriorSessions sessions, std::string* error = nullptr);
 
+  /// Gives keyframe `index`, appended without them (appendSessions), its gravity alignment L_R_sensor and its
+  /// registration data, as they arrive later (a team's keyframes: team_matcher.h). False, changing nothing,
+  /// for an index past the database or data made with other voxel settings than verification's (`error`
+  /// says which).
+  bool attachCloud(std::size_t index, const Eigen::Matrix3f& gravity_alignment, const VoxelCloud& cloud,
+                   std::string* error = nullptr);
+
   /// Takes new values of the live settings for the next keyframe; the caller checks that only live
   /// ones changed (KeyframePipeline::reconfigure).
   void reconfigure(const Config& config);
@@ -142,6 +149,9 @@ class LoopDetector {
   /// Registration guesses for a candidate (T_query<-match): its alignment, then other yaw hypotheses.
   std::vector<Eigen::Isometry3d> hypotheses(const Candidate& candidate, const Descriptor& query) const;
   static constexpr int kYawHypotheses = 3;
+  /// What keeps registration data from joining this detector (voxel settings other than verification's,
+  /// inconsistent arrays), or "".
+  std::string cloudMismatch(const VoxelCloud& cloud) const;
   /// L_R_sensor of a new keyframe (Config::gravity alignment), identity when it is not gravity-aligned.
   Eigen::Matrix3f gravityAlignmentOf(const PointView& points, const KeyframeInfo& info, Detection* detection) const;
   /// For a keyframe with a pose (gravity alignment auto or pose): fits the ground of `points` (every keyframe until

@@ -102,7 +102,8 @@ VoxelOptions voxelOptions(const VerificationConfig& config);
 class CloudStore {
  public:
   explicit CloudStore(std::size_t max_bytes) : max_bytes_(max_bytes) {}
-  /// Stores keyframe `index` (indices arrive in increasing order) if the current density keeps it.
+  /// Stores keyframe `index` if the current density keeps it (in any order: a team's fetched clouds come
+  /// as they are asked for; a keyframe stored again replaces its data).
   void add(std::size_t index, const VoxelCloud& cloud);
   /// The data of keyframe `index`, or nullptr when it was never stored or was dropped.
   const VoxelCloud* get(std::size_t index) const;
