@@ -24,6 +24,7 @@ add_library(scan_context_loop_core
   src/core/database_writer.cpp
   src/core/pose_corrections.cpp
   src/core/team_matcher.cpp
+  src/core/task_thread.cpp
 )
 target_include_directories(scan_context_loop_core PUBLIC
   include ${EIGEN3_INCLUDE_DIRS} ${PCL_INCLUDE_DIRS} ${FLANN_INCLUDE_DIRS})

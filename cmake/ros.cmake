@@ -13,6 +13,8 @@ add_library(scan_context_loop_ros
   src/ros/heap_statistics.cpp
   src/ros/stored_keyframe.cpp
   src/ros/corrected_poses.cpp
+  src/ros/team_exchange.cpp
+  src/ros/team_worker.cpp
   src/ros/keyframe_queue.cpp
   src/ros/keyframe_input.cpp
   src/ros/keyframe_processor.cpp

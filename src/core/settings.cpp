@@ -160,6 +160,12 @@ std::vector<Setting<NodeOptions>> makeNodeSettings() {
       stringSetting<O>("database_directory", N(database_directory), {},
                        "~save_database writes only here (empty: the directory of database_save, else of "
                        "database_load, else $ROS_HOME/scan_context_loop)"),
+      stringSetting<O>("robot_id", N(robot_id), {}, "this robot's id in a team, [A-Za-z0-9_]+ (empty: no team)"),
+      stringSetting<O>("team_namespace", N(team_namespace), {}, "the namespace a team's nodes share"),
+      doubleSetting<O>("team_max_bytes_per_second", N(team_max_bytes_per_second), positive(),
+                       "what the node sends to its team, on average at most [B/s]"),
+      doubleSetting<O>("team_request_timeout", N(team_request_timeout), positive(),
+                       "a request to another robot's node fails after this long [s]"),
       doubleSetting<O>("unsynchronised_warning", N(unsynchronised_warning), positive(),
                        "warn when clouds come without poses this long [s]"),
       doubleSetting<O>("no_input_warning", N(no_input_warning), positive(),

@@ -108,7 +108,7 @@ TeamMatch TeamMatcher::match(const PointView& points, std::size_t max_fetch) {
   for (const Candidate& c : out.detection.query.candidates) {
     if (!(c.alignment.distance < verification.threshold)) break;
     Data& data = data_[c.index];
-    if (data == Data::kAsked) ++out.waiting;
+    if (data == Data::kAsked) out.waiting.push_back(ids_[c.index]);
     if (data != Data::kNone || out.to_fetch.size() >= max_fetch) continue;
     data = Data::kAsked;
     out.to_fetch.push_back(ids_[c.index]);

@@ -72,6 +72,7 @@ void KeyframeProcessor::resetPipeline() {
 }
 
 void KeyframeProcessor::followDatabase() {
+  if (team_) team_->share(pipeline_->detector(), pipeline_, team_frame_);
   counters_->database_size = database().size();
   counters_->sessions = database().session() + 1;
   followCloudStore();
@@ -157,7 +158,8 @@ void KeyframeProcessor::process(QueuedKeyframe keyframe) {
   // Keyframe selection, registered clouds back to the sensor frame, the voxel filter: in the core. The
   // points as described are wanted only while someone subscribes to them.
   pcl::PointCloud<pcl::PointXYZ> described;
-  const bool want_cloud = selected_ && selected_->cloudListened();
+  const bool cloud_listened = selected_ && selected_->cloudListened();
+  const bool want_cloud = cloud_listened || team_ != nullptr;
   const Detection detection = pipeline_->process(view, info, want_cloud ? &described : nullptr);
   if (!detection.selected) return;
   if (!detection.accepted) {
@@ -175,9 +177,10 @@ void KeyframeProcessor::process(QueuedKeyframe keyframe) {
   // Stored: the keyframe goes out before its loops, so a backend knows it when they come.
   if (selected_) {
     selected_->publish(msg.header.stamp, keyframe.pose_frame, sensorFrame(keyframe), keyframe.pose,
-                       want_cloud ? &described : nullptr);
+                       cloud_listened ? &described : nullptr);
   }
   const Database& database = pipeline_->detector().database();
+  if (team_) shareWithTeam(detection.index, keyframe, std::move(described));
   if (detection.new_session) {
     const double previous = keyframeStamp(database.keyframe(detection.index - 1).info).toSec();
     ROS_WARN_NAMED(name_,
@@ -221,6 +224,21 @@ void KeyframeProcessor::process(QueuedKeyframe keyframe) {
   timing.preemptions = static_cast<std::uint32_t>(std::max(0L, usage.preemptions - usage_at_start.preemptions));
   timing.page_faults = static_cast<std::uint32_t>(std::max(0L, usage.page_faults - usage_at_start.page_faults));
   loops_->publishTiming(timing);
+}
+
+void KeyframeProcessor::shareWithTeam(std::size_t index, const QueuedKeyframe& queued,
+                                      pcl::PointCloud<pcl::PointXYZ> described) {
+  team_frame_ = queued.pose_frame;
+  team_->share(pipeline_->detector(), pipeline_, team_frame_);
+  const Keyframe& stored = database().keyframe(index);
+  auto own = std::make_shared<OwnKeyframe>();
+  own->index = static_cast<std::uint32_t>(index);
+  own->session = stored.session;
+  own->stamp = keyframeStamp(stored.info);
+  own->frame = queued.pose_frame;
+  own->pose = queued.pose;
+  own->described = std::move(described);
+  team_->match(std::move(own));
 }
 
 void KeyframeProcessor::reportWorldTilt(const Detection& detection) {

@@ -30,6 +30,7 @@ LoopClosureRos::~LoopClosureRos() {
     }
   }
   if (worker_) worker_->join();
+  if (team_) team_->stop();  // after the worker: nothing shares or matches any more
   // Callbacks that reach the queue or settings_mutex_ (a new marker subscriber, a live reconfigure) end
   // here, while both live.
   if (markers_) markers_->shutdown();
@@ -121,8 +122,15 @@ bool LoopClosureRos::start() {
     });
   }
   diagnostics_.reset(
-      new NodeDiagnostics(nh_, pnh_, name_, counters_, processor_->hasExtrinsic(), options_.lio_sam_output));
+      new NodeDiagnostics(nh_, pnh_, name_, counters_, processor_->hasExtrinsic(), options_.lio_sam_output,
+                          !options_.robot_id.empty()));
 
+  if (!options_.robot_id.empty()) {
+    team_.reset(new TeamExchange(pnh_, name_, config_, options_, &counters_, loops_.get()));
+    processor_->useTeam(team_.get());
+    processor_->followDatabase();  // a loaded map is shared too
+    team_->start();
+  }
   worker_->start();
   if (!options_.database_save.empty() && options_.mode != "relocalize" && options_.database_autosave_seconds > 0) {
     autosave_timer_ = nh_.createWallTimer(ros::WallDuration(options_.database_autosave_seconds),

@@ -33,8 +33,24 @@ void LoopPublisher::advertise(const ros::NodeHandle& nh) {
 
 scan_context_loop::LoopClosure LoopPublisher::makeLoop(const Loop& found, const std::string& frame,
                                                        const Database& database) const {
-  const Keyframe& query = database.keyframe(found.query);
-  const Keyframe& match = database.keyframe(found.match);
+  scan_context_loop::LoopClosure loop =
+      loopMessage(found, frame, database.keyframe(found.query), database.keyframe(found.match), config_);
+  loop.query_robot = loop.match_robot = options_.robot_id;
+  return loop;
+}
+
+void LoopPublisher::publishTeamLoop(const scan_context_loop::LoopClosure& loop) {
+  ++counters_->loops_found;
+  ++counters_->team_loops;
+  loop_pub_.publish(loop);
+  if (array_pub_.getNumSubscribers() > 0) array_pub_.publish(loopArray(loop));
+  ROS_INFO_THROTTLE_NAMED(1.0, name_, "loop %u -> %s's %u: yaw %.1f deg, distance %.3f, verified (fitness %.4f m^2)",
+                          loop.query_id, loop.match_robot.c_str(), loop.match_id, loop.yaw * 180.0 / M_PI,
+                          loop.distance, loop.fitness);
+}
+
+scan_context_loop::LoopClosure loopMessage(const Loop& found, const std::string& frame, const Keyframe& query,
+                                           const Keyframe& match, const Config& config) {
   scan_context_loop::LoopClosure loop;
   loop.header.stamp = keyframeStamp(query.info);
   loop.header.frame_id = frame;
@@ -49,7 +65,7 @@ scan_context_loop::LoopClosure LoopPublisher::makeLoop(const Loop& found, const 
   loop.shift = found.alignment.shift;
   loop.relative_pose = tf2::toMsg(found.relative());
   loop.support = static_cast<std::uint32_t>(found.support);
-  const Eigen::Matrix<double, 6, 6> covariance = loopCovariance(found, config_);
+  const Eigen::Matrix<double, 6, 6> covariance = loopCovariance(found, config);
   for (int i = 0; i < 36; ++i) loop.covariance[i] = covariance(i / 6, i % 6);
   if (found.verified || !found.verification.reason.empty()) {
     // The registration's T_query<-match and covariance (row-major, x y z roll pitch yaw); for a

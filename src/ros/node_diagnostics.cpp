@@ -3,8 +3,8 @@
 namespace scan_context_loop {
 
 NodeDiagnostics::NodeDiagnostics(const ros::NodeHandle& nh, const ros::NodeHandle& pnh, const std::string& name,
-                                 const NodeCounters& counters, bool extrinsic, bool lio_sam)
-    : counters_(counters), extrinsic_(extrinsic), lio_sam_(lio_sam) {
+                                 const NodeCounters& counters, bool extrinsic, bool lio_sam, bool team)
+    : counters_(counters), extrinsic_(extrinsic), lio_sam_(lio_sam), team_(team) {
   updater_.reset(new diagnostic_updater::Updater(nh, pnh, name));
   updater_->setHardwareID("none");
   updater_->add("loop closure", this, &NodeDiagnostics::diagnose);
@@ -61,6 +61,21 @@ void NodeDiagnostics::diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat
   if (extrinsic_) status.add("keyframes held for the tf extrinsic", c.held.load());
   status.add("keyframes rejected", c.rejected.load());
   status.add("keyframes and service calls failed (exception)", failures);
+  if (team_) {
+    status.add("team records sent", c.team_records_sent.load());
+    status.add("team records not published (rate cap)", c.team_records_deferred.load());
+    status.add("team records received", c.team_records_received.load());
+    status.add("team records already held", c.team_records_duplicate.load());
+    status.add("team records refused", c.team_records_refused.load());
+    status.add("team keyframes held", c.team_keyframes.load());
+    status.add("team registration data served", c.team_clouds_served.load());
+    status.add("team registration data fetched", c.team_clouds_fetched.load());
+    status.add("team requests failed", c.team_fetch_failures.load());
+    status.add("team requests answered busy", c.team_busy.load());
+    status.add("team loops", c.team_loops.load());
+    status.add("team bytes sent", c.team_bytes_sent.load());
+    status.add("team bytes received", c.team_bytes_received.load());
+  }
   if (lio_sam_) status.add("loops not sent to LIO-SAM (not verified, repeated or too soon)", c.lio_skipped.load());
 }
 

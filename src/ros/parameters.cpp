@@ -1,5 +1,9 @@
 #include "scan_context_loop/ros/parameters.h"
 
+#include <ros/names.h>
+
+#include "scan_context_loop/core/team_matcher.h"
+
 #include <cmath>
 #include <sstream>
 
@@ -51,6 +55,11 @@ std::vector<std::string> readParameters(const ros::NodeHandle& pnh, Config* c, R
   };
   check(!o->fixed_frame.empty() || o->pose_source != "tf", "fixed_frame must be set when pose_source is tf");
   check(o->mode != "relocalize" || c->verification.enabled, "mode relocalize needs verify: true");
+  check(o->robot_id.empty() || validRobotId(o->robot_id), "robot_id must be 1-64 characters of [A-Za-z0-9_]");
+  check(o->robot_id.empty() || o->mode == "detect", "robot_id (a team) needs mode detect");
+  std::string why;
+  check(ros::names::validate(o->team_namespace, why) && !o->team_namespace.empty(),
+        "team_namespace must be a valid ROS name: " + why);
   check(!(o->pose_source == "tf" && c->cloud_in_world_frame && o->sensor_frame.empty()),
         "sensor_frame must name the sensor's tf frame when pose_source is tf and cloud_in_world_frame is true");
   return problems;

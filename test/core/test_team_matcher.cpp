@@ -54,7 +54,7 @@ TEST(TeamMatcher, FindsALoopIntoAnotherRobotsKeyframeOnceItsDataAreFetched) {
   // Asked for once: the next match waits for them instead of asking again.
   const TeamMatch again = team.match(viewOf(scan), 2);
   EXPECT_TRUE(again.to_fetch.empty());
-  EXPECT_EQ(again.waiting, first.to_fetch.size());
+  EXPECT_EQ(again.waiting, first.to_fetch);
 
   const std::vector<std::uint8_t> data = keyframeCloud(a, 1);
   std::string error;

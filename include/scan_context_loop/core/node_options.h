@@ -40,6 +40,17 @@ struct NodeOptions {
   /// The map directory ~save_database writes in ("": that of database_save, else of database_load, else
   /// $ROS_HOME/scan_context_loop).
   std::string database_directory;
+  /// Several robots (doc/multi_robot.md): this robot's id, [A-Za-z0-9_]+ ("": no team). With one, the node
+  /// shares its keyframes with the other robots' nodes and finds loops into theirs.
+  std::string robot_id;
+  /// The namespace the team's nodes share: its keyframe_records and members topics.
+  std::string team_namespace = "/team";
+  /// What the node sends to the team (records, and the records and registration data it serves), at most
+  /// this many bytes a second on average [B/s]; records over it are not published live (the others fetch
+  /// them later) and requests over it are answered busy.
+  double team_max_bytes_per_second = 1e6;
+  /// How long a request to another robot's node may take before it counts as failed [s].
+  double team_request_timeout = 2.0;
 };
 
 }  // namespace scan_context_loop

@@ -62,8 +62,8 @@ struct TeamMatch {
   /// Candidates worth registering whose registration data are not here and were not asked for yet:
   /// fetch them (each is now marked as asked for), then match the keyframe again.
   std::vector<TeamKeyframeId> to_fetch;
-  /// Candidates whose data were asked for and have not arrived (nor failed) yet.
-  std::size_t waiting = 0;
+  /// Candidates whose data were asked for before and have not arrived (nor failed) yet.
+  std::vector<TeamKeyframeId> waiting;
 };
 
 /// Not thread-safe: one owner thread.

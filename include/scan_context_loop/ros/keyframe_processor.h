@@ -18,6 +18,7 @@
 #include "scan_context_loop/ros/node_counters.h"
 #include "scan_context_loop/ros/parameters.h"
 #include "scan_context_loop/ros/sensor_extrinsic.h"
+#include "scan_context_loop/ros/team_exchange.h"
 
 namespace scan_context_loop {
 
@@ -34,6 +35,9 @@ class KeyframeProcessor {
   /// Poses from tf (pose_source tf), and the sensor extrinsic when sensor_extrinsic_from_tf asks for it
   /// in odom mode. `tf` must outlive this.
   void useTf(const tf2_ros::Buffer& tf);
+  /// Several robots: every keyframe stored is shared with the team and matched against its keyframes.
+  /// `team` must outlive this.
+  void useTeam(TeamExchange* team) { team_ = team; }
   /// Whether keyframes may wait for the extrinsic from tf.
   bool hasExtrinsic() const { return extrinsic_ != nullptr; }
 
@@ -66,6 +70,8 @@ class KeyframeProcessor {
   /// The sensor's frame: sensor_frame when named; else a registered cloud's sensor is the odometry's
   /// child, and a sensor-frame cloud's the cloud's own frame.
   const std::string& sensorFrame(const QueuedKeyframe& keyframe) const;
+  /// Shares the keyframe stored as `index` (and any loaded before it) and hands it to the team's matching.
+  void shareWithTeam(std::size_t index, const QueuedKeyframe& queued, pcl::PointCloud<pcl::PointXYZ> described);
   /// Warns (throttled) while gravity alignment finds the odometry's world frame tilted from gravity (world_tilt.h).
   void reportWorldTilt(const Detection& detection);
 
@@ -79,6 +85,8 @@ class KeyframeProcessor {
   std::shared_ptr<KeyframePipeline> pipeline_;  // shared with the snapshots being written
   const tf2_ros::Buffer* tf_ = nullptr;
   std::unique_ptr<SensorExtrinsic> extrinsic_;  // child <- sensor (odom mode with sensor_extrinsic_from_tf)
+  TeamExchange* team_ = nullptr;
+  std::string team_frame_;  // the pose frame of the keyframes shared last
 };
 
 }  // namespace scan_context_loop

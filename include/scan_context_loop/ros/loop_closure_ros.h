@@ -13,6 +13,7 @@
 //                                     shutdown save
 //   database_paths      where saves may write (the map directory), the file beside a kept map
 //   corrected_poses     a backend's corrected keyframe poses (corrected_path), kept for the saves
+//   team_exchange, team_worker   several robots: keyframes shared with the team, loops into theirs
 //
 // Threads and locks:
 //   - spinner threads run the input callbacks and timers, dynamic_reconfigure and the marker subscriber
@@ -57,6 +58,7 @@
 #include "scan_context_loop/ros/node_counters.h"
 #include "scan_context_loop/ros/node_diagnostics.h"
 #include "scan_context_loop/ros/parameters.h"
+#include "scan_context_loop/ros/team_exchange.h"
 
 namespace scan_context_loop {
 
@@ -131,6 +133,7 @@ class LoopClosureRos {
   std::unique_ptr<KeyframeInput> input_;
   std::unique_ptr<NodeDiagnostics> diagnostics_;
   std::unique_ptr<CorrectedPoses> corrected_;
+  std::unique_ptr<TeamExchange> team_;  // with robot_id: the exchange with the other robots' nodes
 
   // Set up in start(), used from callbacks (ROS handles are thread-safe).
   ros::ServiceServer save_srv_, load_srv_, reset_srv_, relocalize_srv_;

@@ -19,7 +19,12 @@
 
 namespace scan_context_loop {
 
-/// Worker-only but advertise(): its state (the publishers, lio_loop's last message) has no lock.
+/// Loop `loop` between keyframes `query` and `match` as a message in `frame` (their stamps and sessions;
+/// no robots), its covariance under `config`.
+scan_context_loop::LoopClosure loopMessage(const Loop& loop, const std::string& frame, const Keyframe& query,
+                                           const Keyframe& match, const Config& config);
+
+/// Worker-only but advertise() and publishTeamLoop(): its state (the publishers, lio_loop's last message) has no lock.
 class LoopPublisher {
  public:
   /// `config` and `options` are the worker's settings; `name` prefixes the logs. All must outlive this.
@@ -34,6 +39,10 @@ class LoopPublisher {
   void publishLoops(const Detection& detection, const std::string& frame, const Database& database);
   /// A loop as a message; its stamps and sessions are those `database` holds.
   scan_context_loop::LoopClosure makeLoop(const Loop& loop, const std::string& frame, const Database& database) const;
+
+  /// A loop into another robot's keyframe (team_worker.h), from the team's thread: published on
+  /// loop_closures and loop_closure_array and counted (publishers and counters are thread-safe).
+  void publishTeamLoop(const scan_context_loop::LoopClosure& loop);
 
   bool timingListened() const { return timing_pub_.getNumSubscribers() > 0; }
   void publishTiming(const scan_context_loop::KeyframeTiming& timing) { timing_pub_.publish(timing); }

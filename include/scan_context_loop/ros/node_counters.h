@@ -31,6 +31,14 @@ struct NodeCounters {
   // Keyframes with a corrected pose from corrected_path (a save writes their session corrected), the
   // poses (or whole paths) of corrected_path refused, and its poses at stamps of no keyframe recorded here.
   std::atomic<std::size_t> corrected_keyframes{0}, corrections_refused{0}, corrections_unknown{0};
+  // Several robots (team_exchange.h): records of this robot's keyframes sent (published, or served on
+  // request) and not published for the rate cap; the others' records taken, already held, refused; their
+  // keyframes held; registration data served and fetched, fetches failed, requests answered busy, loops
+  // into the others' keyframes, and the bytes sent and received (serialised messages and responses).
+  std::atomic<std::size_t> team_records_sent{0}, team_records_deferred{0}, team_records_received{0};
+  std::atomic<std::size_t> team_records_duplicate{0}, team_records_refused{0}, team_keyframes{0};
+  std::atomic<std::size_t> team_clouds_served{0}, team_clouds_fetched{0}, team_fetch_failures{0}, team_busy{0};
+  std::atomic<std::size_t> team_loops{0}, team_bytes_sent{0}, team_bytes_received{0};
   std::atomic<long long> heap_allocated{-1}, heap_free{-1};  ///< malloc's statistics at the worker's last read
   std::atomic<double> heap_statistics_ms{0.0};
   std::atomic<double> last_query_ms{0.0}, last_keyframe_ms{0.0}, max_keyframe_ms{0.0};

@@ -15,9 +15,9 @@ namespace scan_context_loop {
 class NodeDiagnostics {
  public:
   /// Starts the updates. `extrinsic`: report the keyframes held for the tf extrinsic; `lio_sam`: the
-  /// loops not sent on lio_loop. `counters` must outlive this.
+  /// loops not sent on lio_loop; `team`: the exchange with the other robots. `counters` must outlive this.
   NodeDiagnostics(const ros::NodeHandle& nh, const ros::NodeHandle& pnh, const std::string& name,
-                  const NodeCounters& counters, bool extrinsic, bool lio_sam);
+                  const NodeCounters& counters, bool extrinsic, bool lio_sam, bool team);
   /// Stops the updates (a running one completes).
   void stop() { timer_.stop(); }
 
@@ -25,7 +25,7 @@ class NodeDiagnostics {
   void diagnose(diagnostic_updater::DiagnosticStatusWrapper& status);
 
   const NodeCounters& counters_;
-  bool extrinsic_, lio_sam_;
+  bool extrinsic_, lio_sam_, team_;
   std::unique_ptr<diagnostic_updater::Updater> updater_;
   ros::Timer timer_;
 };

@@ -1,0 +1,104 @@
+// Several robots: the thread that owns the team's keyframes (TeamMatcher) and matches this robot's new
+// keyframes against them, and the thread that asks the other robots' nodes for what is missing (records
+// after a gap, a candidate's registration data). Nothing else touches the matcher; service calls, which
+// may wait for a slow link, never hold up the matching or the keyframe worker.
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <set>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <Eigen/Geometry>
+#include <pcl/point_cloud.h>
+#include <pcl/point_types.h>
+#include <ros/ros.h>
+
+#include "scan_context_loop/KeyframeRecord.h"
+#include "scan_context_loop/TeamMember.h"
+#include "scan_context_loop/core/task_thread.h"
+#include "scan_context_loop/core/team_matcher.h"
+#include "scan_context_loop/ros/loop_publisher.h"
+#include "scan_context_loop/ros/node_counters.h"
+#include "scan_context_loop/ros/parameters.h"
+
+namespace scan_context_loop {
+
+/// The settings a team's keyframes must share, as TeamMember.settings_text says them, and their CRC-32.
+std::pair<std::string, std::uint32_t> teamSettings(const Config& config);
+
+/// One of this robot's keyframes, as it was stored, for matching against the team's.
+struct OwnKeyframe {
+  std::uint32_t index = 0;  ///< its number in this node's database
+  std::uint32_t session = 0;
+  ros::Time stamp;
+  std::string frame;        ///< the odometry frame of its pose
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  pcl::PointCloud<pcl::PointXYZ> described;  ///< its points as described (sensor frame)
+};
+
+/// Thread-safe: every public member posts to the matcher's thread (the matcher, the pending keyframes,
+/// the members seen and the refusals are that thread's alone); the service calls run on the client's.
+class TeamWorker {
+ public:
+  /// `config`, `options` are copied; `counters` and `loops` must outlive this (their members used here
+  /// are thread-safe).
+  TeamWorker(const std::string& name, const Config& config, const RosOptions& options, NodeCounters* counters,
+             LoopPublisher* loops);
+  /// Stops both threads (the task in hand finishes).
+  ~TeamWorker();
+  void stop();
+
+  /// Another robot's record (from the topic or a records request) and its size as sent [bytes].
+  void onRecord(const scan_context_loop::KeyframeRecordConstPtr& record, std::size_t bytes);
+  /// Another robot's announcement: its settings are checked and missing records asked for.
+  void onMember(const scan_context_loop::TeamMemberConstPtr& member, std::size_t bytes);
+  /// This robot's keyframe, to match.
+  void onOwnKeyframe(std::shared_ptr<const OwnKeyframe> keyframe);
+
+ private:
+  /// A keyframe of this robot waiting for candidates' registration data.
+  struct Pending {
+    std::shared_ptr<const OwnKeyframe> keyframe;
+    std::set<TeamKeyframeId> waiting_for;
+    int rounds = 0;
+  };
+  using Run = std::pair<std::string, std::uint64_t>;  // robot, run
+
+  // On the matcher's thread.
+  void addRecord(const scan_context_loop::KeyframeRecord& record);
+  void takeMember(const scan_context_loop::TeamMember& member);
+  void match(std::shared_ptr<const OwnKeyframe> keyframe, int rounds);
+  void publishLoop(const OwnKeyframe& keyframe, const TeamMatch& match);
+  void fetch(const TeamKeyframeId& id);
+  void onCloud(const TeamKeyframeId& id, const std::vector<std::uint8_t>& data, const std::string& failure);
+  // On the client's thread: the service calls; results are posted back to the matcher's thread.
+  void requestRecords(const std::string& node, const Run& run, std::uint32_t first, std::uint32_t count);
+  void requestCloud(const std::string& node, const TeamKeyframeId& id);
+
+  std::string name_;
+  Config config_;
+  RosOptions options_;
+  NodeCounters* counters_;
+  LoopPublisher* loops_;
+  std::string settings_text_;  // the settings keyframes must share (teamSettings)
+  std::uint32_t settings_crc_ = 0;
+
+  // The matcher's thread's alone.
+  TeamMatcher matcher_;
+  std::vector<Pending> pending_;
+  std::map<Run, std::string> nodes_;        // each run's node (its services)
+  std::set<Run> refused_;                   // runs whose settings differ
+  std::set<Run> asking_;                    // runs with a records request under way
+  static constexpr std::size_t kMaxPending = 32;
+  static constexpr int kMaxRounds = 3;      // matches of one keyframe as data arrive
+  static constexpr std::uint32_t kRecordsPerRequest = 100;
+
+  TaskThread client_;   // service calls
+  TaskThread matcher_thread_;  // last: its tasks use everything above
+};
+
+}  // namespace scan_context_loop

@@ -1,0 +1,265 @@
+#include "scan_context_loop/ros/team_worker.h"
+
+#include <chrono>
+#include <thread>
+
+#include "scan_context_loop/GetKeyframeCloud.h"
+#include "scan_context_loop/GetKeyframeRecords.h"
+#include "scan_context_loop/core/crc32.h"
+#include "scan_context_loop/core/database_file.h"
+#include "scan_context_loop/core/pcl_adapters.h"
+#include "scan_context_loop/ros/stored_keyframe.h"
+
+namespace scan_context_loop {
+
+std::pair<std::string, std::uint32_t> teamSettings(const Config& config) {
+  // The registration data's voxel settings too: a candidate's data made otherwise cannot be verified here.
+  const std::string text = compatibilityText(config, true);
+  return {text, crc32(reinterpret_cast<const std::uint8_t*>(text.data()), text.size())};
+}
+
+namespace {
+
+/// The settings of `theirs` that differ from `ours` ("key value, ..." texts), as "key theirs (ours here)".
+std::string differences(const std::string& theirs, const std::string& ours) {
+  const auto split = [](const std::string& text) {
+    std::map<std::string, std::string> pairs;
+    std::size_t start = 0;
+    while (start < text.size()) {
+      std::size_t end = text.find(", ", start);
+      if (end == std::string::npos) end = text.size();
+      const std::string item = text.substr(start, end - start);
+      const std::size_t space = item.find(' ');
+      pairs[item.substr(0, space)] = space == std::string::npos ? "" : item.substr(space + 1);
+      start = end + 2;
+    }
+    return pairs;
+  };
+  const auto a = split(theirs), b = split(ours);
+  std::string out;
+  for (const auto& [key, value] : b) {
+    const auto it = a.find(key);
+    const std::string other = it == a.end() ? "(none)" : it->second;
+    if (other != value) out += (out.empty() ? "" : ", ") + key + " " + other + " (" + value + " here)";
+  }
+  return out.empty() ? "their settings text differs from ours" : out;
+}
+
+}  // namespace
+
+TeamWorker::TeamWorker(const std::string& name, const Config& config, const RosOptions& options,
+                       NodeCounters* counters, LoopPublisher* loops)
+    : name_(name), config_(config), options_(options), counters_(counters), loops_(loops), matcher_(config) {
+  std::tie(settings_text_, settings_crc_) = teamSettings(config);
+}
+
+TeamWorker::~TeamWorker() { stop(); }
+
+void TeamWorker::stop() {
+  client_.stop();
+  matcher_thread_.stop();
+}
+
+void TeamWorker::onRecord(const scan_context_loop::KeyframeRecordConstPtr& record, std::size_t bytes) {
+  counters_->team_bytes_received += bytes;
+  matcher_thread_.post([this, record] { addRecord(*record); });
+}
+
+void TeamWorker::onMember(const scan_context_loop::TeamMemberConstPtr& member, std::size_t bytes) {
+  counters_->team_bytes_received += bytes;
+  matcher_thread_.post([this, member] { takeMember(*member); });
+}
+
+void TeamWorker::onOwnKeyframe(std::shared_ptr<const OwnKeyframe> keyframe) {
+  if (!matcher_thread_.post([this, keyframe] { match(keyframe, 0); })) {
+    ROS_WARN_THROTTLE_NAMED(5.0, name_, "team: keyframe %u not matched against the other robots' (queue full)",
+                            keyframe->index);
+  }
+}
+
+void TeamWorker::addRecord(const scan_context_loop::KeyframeRecord& record) {
+  const Run run{record.robot, record.run};
+  if (record.robot == options_.robot_id) return;  // this robot's own, echoed
+  ++counters_->team_records_received;
+  if (refused_.count(run) || record.settings != settings_crc_) {
+    ++counters_->team_records_refused;
+    ROS_ERROR_THROTTLE_NAMED(10.0, name_,
+                             "team: keyframes of robot %s refused: its descriptor settings differ from ours (see "
+                             "its announcement on %s/members)",
+                             record.robot.substr(0, 64).c_str(), options_.team_namespace.c_str());
+    return;
+  }
+  std::string error;
+  const TeamKeyframeId id{record.robot, record.run, record.keyframe};
+  switch (matcher_.add(id, record.session, record.data.data(), record.data.size(), &error)) {
+    case TeamMatcher::Added::kAdded:
+      counters_->team_keyframes = matcher_.size();
+      if (nodes_.count(run) == 0 && !record.node.empty()) nodes_[run] = record.node;
+      break;
+    case TeamMatcher::Added::kDuplicate:
+      ++counters_->team_records_duplicate;
+      break;
+    case TeamMatcher::Added::kRefused:
+      ++counters_->team_records_refused;
+      ROS_ERROR_THROTTLE_NAMED(5.0, name_, "team: a record of robot %s refused: %s", record.robot.substr(0, 64).c_str(),
+                               error.c_str());
+      break;
+  }
+}
+
+void TeamWorker::takeMember(const scan_context_loop::TeamMember& member) {
+  // This node's own announcement, or another run of this robot's node (before a restart): not ours to take.
+  if (member.robot == options_.robot_id) return;
+  const Run run{member.robot, member.run};
+  if (!validRobotId(member.robot)) {
+    ROS_ERROR_THROTTLE_NAMED(10.0, name_, "team: an announcement with an invalid robot id ignored");
+    return;
+  }
+  if (member.settings != settings_crc_ || member.settings_text != settings_text_) {
+    if (refused_.insert(run).second) {
+      ROS_ERROR_NAMED(name_,
+                      "team: robot %s (node %s) is refused: its keyframes cannot be compared with ours: %s. Give "
+                      "every robot of a team the same descriptor and verification voxel settings",
+                      member.robot.c_str(), member.node.c_str(),
+                      differences(member.settings_text, settings_text_).c_str());
+    }
+    return;
+  }
+  nodes_[run] = member.node;
+  const std::uint32_t first = matcher_.firstMissing(member.robot, member.run, member.keyframes);
+  if (first >= member.keyframes || asking_.count(run)) return;
+  asking_.insert(run);
+  const std::uint32_t count = std::min(kRecordsPerRequest, member.keyframes - first);
+  const std::string node = member.node;
+  if (!client_.post([this, node, run, first, count] { requestRecords(node, run, first, count); })) asking_.erase(run);
+}
+
+void TeamWorker::match(std::shared_ptr<const OwnKeyframe> keyframe, int rounds) {
+  const PointView view = viewOf(keyframe->described);
+  const TeamMatch found = matcher_.match(view, static_cast<std::size_t>(config_.verification.max_candidates));
+  if (found.detection.verified) {
+    publishLoop(*keyframe, found);
+    return;
+  }
+  for (const TeamKeyframeId& id : found.to_fetch) fetch(id);
+  if (rounds >= kMaxRounds || (found.to_fetch.empty() && found.waiting.empty())) return;
+  Pending pending{keyframe, {}, rounds + 1};
+  pending.waiting_for.insert(found.to_fetch.begin(), found.to_fetch.end());
+  pending.waiting_for.insert(found.waiting.begin(), found.waiting.end());
+  if (pending_.size() >= kMaxPending) pending_.erase(pending_.begin());  // the oldest gives way
+  pending_.push_back(std::move(pending));
+}
+
+void TeamWorker::publishLoop(const OwnKeyframe& keyframe, const TeamMatch& found) {
+  const VerifiedCandidate& v = found.detection.verifications.back();
+  const Loop loop = v.toLoop(keyframe.index);
+  Keyframe query;
+  setKeyframeStamp(keyframe.stamp, &query.info);
+  query.info.pose = keyframe.pose;
+  query.session = keyframe.session;
+  Keyframe match;
+  match.info = matcher_.keyframe(found.match).info;
+  match.session = matcher_.session(found.match);
+  scan_context_loop::LoopClosure message = loopMessage(loop, keyframe.frame, query, match, config_);
+  const TeamKeyframeId& id = matcher_.id(found.match);
+  message.query_id = keyframe.index;
+  message.match_id = id.keyframe;
+  message.query_robot = options_.robot_id;
+  message.match_robot = id.robot;
+  loops_->publishTeamLoop(message);
+}
+
+void TeamWorker::fetch(const TeamKeyframeId& id) {
+  const auto node = nodes_.find({id.robot, id.run});
+  if (node == nodes_.end()) {
+    matcher_.fetchFailed(id);
+    ++counters_->team_fetch_failures;
+    return;
+  }
+  const std::string name = node->second;
+  if (!client_.post([this, name, id] { requestCloud(name, id); })) onCloud(id, {}, "the request queue is full");
+}
+
+void TeamWorker::onCloud(const TeamKeyframeId& id, const std::vector<std::uint8_t>& data, const std::string& failure) {
+  std::string error = failure;
+  if (error.empty() && !matcher_.attachCloud(id, data.data(), data.size(), &error)) {
+    error = "refused: " + error;
+  }
+  if (error.empty()) {
+    ++counters_->team_clouds_fetched;
+  } else {
+    matcher_.fetchFailed(id);
+    ++counters_->team_fetch_failures;
+    ROS_WARN_THROTTLE_NAMED(5.0, name_, "team: registration data of %s not fetched: %s", id.text().c_str(),
+                            error.c_str());
+  }
+  // The keyframes that waited for nothing else are matched again.
+  std::vector<Pending> ready;
+  for (auto it = pending_.begin(); it != pending_.end();) {
+    it->waiting_for.erase(id);
+    if (it->waiting_for.empty()) {
+      ready.push_back(std::move(*it));
+      it = pending_.erase(it);
+    } else {
+      ++it;
+    }
+  }
+  for (Pending& p : ready) match(p.keyframe, p.rounds);
+}
+
+void TeamWorker::requestRecords(const std::string& node, const Run& run, std::uint32_t first, std::uint32_t count) {
+  scan_context_loop::GetKeyframeRecords call;
+  call.request.run = run.second;
+  call.request.first = first;
+  call.request.count = count;
+  const std::string service = node + "/team_records";
+  const ros::Duration timeout(options_.team_request_timeout);
+  bool ok = ros::service::waitForService(service, timeout) && ros::service::call(service, call);
+  if (ok) counters_->team_bytes_received += ros::serialization::serializationLength(call.response);
+  if (ok && !call.response.ok) {
+    if (call.response.message.find("busy") != std::string::npos) ++counters_->team_busy;
+    ok = false;
+  }
+  if (!ok) {
+    ++counters_->team_fetch_failures;
+    ROS_WARN_THROTTLE_NAMED(10.0, name_, "team: records of %s from %s not fetched%s%s", run.first.c_str(),
+                            service.c_str(), call.response.message.empty() ? "" : ": ",
+                            call.response.message.c_str());
+  }
+  auto records = std::make_shared<std::vector<scan_context_loop::KeyframeRecord>>(std::move(call.response.records));
+  matcher_thread_.post([this, records, run] {
+    for (const auto& record : *records) {
+      if (record.robot == run.first && record.run == run.second) addRecord(record);
+    }
+    asking_.erase(run);
+  });
+}
+
+void TeamWorker::requestCloud(const std::string& node, const TeamKeyframeId& id) {
+  const std::string service = node + "/team_cloud";
+  const ros::Duration timeout(options_.team_request_timeout);
+  std::string failure;
+  scan_context_loop::GetKeyframeCloud call;
+  // A busy node (over its rate) is asked again a little later, a few times.
+  for (int attempt = 0; attempt < 4; ++attempt) {
+    call.request.run = id.run;
+    call.request.keyframe = id.keyframe;
+    if (!ros::service::waitForService(service, timeout) || !ros::service::call(service, call)) {
+      failure = service + " did not answer";
+      break;
+    }
+    counters_->team_bytes_received += ros::serialization::serializationLength(call.response);
+    if (call.response.ok) {
+      failure.clear();
+      break;
+    }
+    failure = call.response.message.empty() ? "refused" : call.response.message;
+    if (call.response.message.find("busy") == std::string::npos) break;
+    ++counters_->team_busy;
+    std::this_thread::sleep_for(std::chrono::milliseconds(500));
+  }
+  auto data = std::make_shared<std::vector<std::uint8_t>>(std::move(call.response.data));
+  matcher_thread_.post([this, id, data, failure] { onCloud(id, *data, failure); });
+}
+
+}  // namespace scan_context_loop
