@@ -1,5 +1,5 @@
 # The ROS adapter (a library the two nodelets share, with no plugin in it), the loop-closure nodelet (the
-# plugin library, its class alone) and its standalone node.
+# plugin library, its classes alone: the loop-closure nodelet and the base station's) and their standalone nodes.
 add_library(scan_context_loop_ros
   src/ros/parameters.cpp
   src/ros/frame_ids.cpp
@@ -26,20 +26,26 @@ add_library(scan_context_loop_ros
   src/ros/database_paths.cpp
   src/ros/database_services.cpp
   src/ros/loop_closure_ros.cpp
+  src/ros/team_base_ros.cpp
 )
 target_include_directories(scan_context_loop_ros PUBLIC include ${catkin_INCLUDE_DIRS})
 target_link_libraries(scan_context_loop_ros PUBLIC scan_context_loop_core ${catkin_LIBRARIES}
   ${PCL_FILTERS_LIBRARIES} ${PCL_COMMON_LIBRARIES})
 add_dependencies(scan_context_loop_ros ${PROJECT_NAME}_generate_messages_cpp ${PROJECT_NAME}_gencfg)
 
-add_library(scan_context_loop_nodelet src/ros/loop_closure_nodelet.cpp)
+add_library(scan_context_loop_nodelet src/ros/loop_closure_nodelet.cpp src/ros/team_base_nodelet.cpp)
 target_link_libraries(scan_context_loop_nodelet scan_context_loop_ros)
 
 add_executable(loop_closure_node src/ros/loop_closure_node.cpp)
 target_include_directories(loop_closure_node PRIVATE include ${catkin_INCLUDE_DIRS})
 target_link_libraries(loop_closure_node ${catkin_LIBRARIES})
 
-install(TARGETS scan_context_loop_ros scan_context_loop_nodelet loop_closure_node
+# The base station: one process, one loop-closure adapter per robot of a team.
+add_executable(team_base_node src/ros/team_base_node.cpp)
+target_include_directories(team_base_node PRIVATE include ${catkin_INCLUDE_DIRS})
+target_link_libraries(team_base_node ${catkin_LIBRARIES})
+
+install(TARGETS scan_context_loop_ros scan_context_loop_nodelet loop_closure_node team_base_node
   ARCHIVE DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
   LIBRARY DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
   RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
