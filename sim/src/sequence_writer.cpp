@@ -44,7 +44,7 @@ double writeSequence(const std::string& dir, const World& world, const SensorMod
       for (std::size_t k = next++; k < data.truth.size(); k = next++) {
         const double time = data.world_clock + data.times[k];
         const auto cloud =
-            downsample(scan(world, sensor, data.truth[k], time, (static_cast<std::uint64_t>(seed) << 32) ^ k), voxel);
+            downsample(scan(world, sensor, data.origin * data.truth[k], time, (static_cast<std::uint64_t>(seed) << 32) ^ k), voxel);
         points += cloud.size();
         if (!kitti::writeScan(kitti::scanPath(dir, static_cast<int>(k)), cloud, &local)) {
           std::lock_guard<std::mutex> lock(error_mutex);
