@@ -26,7 +26,9 @@ bool simulateTeam(const TeamRun& run, std::string* error) {
   const std::vector<RobotDrive> drives = teamDrives(run.team);
   WorldOptions world_options = run.world;
   world_options.duration = 0.0;
-  for (const RobotDrive& r : drives) world_options.duration = std::max(world_options.duration, r.start + r.drive.times.back());
+  for (const RobotDrive& r : drives) {
+    world_options.duration = std::max(world_options.duration, r.start + r.drive.times.back());
+  }
   world_options.times.clear();
   const World world = generateWorld(teamStreets(drives), world_options);
 
