@@ -73,7 +73,8 @@ bool readTeamFile(const std::string& path, std::vector<TeamMember>* team, std::s
     if (fields >> extra) return bad("more than 14 fields");
     if (!matrix.allFinite()) return bad("T_world<-robot_start is not finite");
     const Eigen::Matrix3d rotation = matrix.topLeftCorner<3, 3>();
-    if (!(rotation.transpose() * rotation).isApprox(Eigen::Matrix3d::Identity(), 1e-6) || rotation.determinant() < 0.0) {
+    const bool orthonormal = (rotation.transpose() * rotation).isApprox(Eigen::Matrix3d::Identity(), 1e-6);
+    if (!orthonormal || rotation.determinant() < 0.0) {
       return bad("T_world<-robot_start's rotation is not a rotation");
     }
     m.world_from_start.matrix() = matrix;

@@ -81,7 +81,9 @@ TEST(Team, RoutesOverlapTheWaysRealTeamsMeet) {
       bool seen = false;
       for (std::size_t e = 0; e < team.size() && !seen; ++e) {
         if (e == r) continue;
-        for (const PathPoint& q : team[e].drive.path) seen = seen || std::hypot(path[k].x - q.x, path[k].y - q.y) < 15.0;
+        for (const PathPoint& q : team[e].drive.path) {
+          seen = seen || std::hypot(path[k].x - q.x, path[k].y - q.y) < 15.0;
+        }
       }
       if (!seen) alone += std::hypot(path[k].x - path[k - 1].x, path[k].y - path[k - 1].y);
     }
@@ -155,7 +157,8 @@ TEST(Team, TeamFileRoundTripsAndRejectsBadLines) {
   team[0] = {"robot1", 0.0, Eigen::Isometry3d::Identity()};
   team[1].id = "robot_2";
   team[1].start_seconds = 60.25;
-  team[1].world_from_start = Eigen::Translation3d(211.75, -5.25, 1.9) * Eigen::AngleAxisd(2.1, Eigen::Vector3d(0.01, -0.02, 1.0).normalized());
+  team[1].world_from_start =
+      Eigen::Translation3d(211.75, -5.25, 1.9) * Eigen::AngleAxisd(2.1, Eigen::Vector3d(0.01, -0.02, 1.0).normalized());
   const std::string path = temp("team.txt");
   std::string error;
   ASSERT_TRUE(writeTeamFile(path, team, &error)) << error;

@@ -232,7 +232,8 @@ void addOptions(scl::cli::Parser* cli, Options* o) {
           "scripts/simulate only:\n"
           "  --render                   also render OUT_DIR/render_map.png (whole map), render_detail.png (120 m\n"
           "                             around keyframe 20) and render_scan.png (keyframe 20: top-down, side view,\n"
-          "                             range image) with scripts/render_sequence.py");
+          "                             range image) with scripts/render_sequence.py; with --team, each robot's\n"
+          "                             in OUT_DIR/<robot>/");
 }
 
 /// Checks the values together; empty when they are fine.

@@ -26,7 +26,9 @@ bool simulateTeam(const TeamRun& run, std::string* error) {
   const std::vector<RobotDrive> drives = teamDrives(run.team);
   WorldOptions world_options = run.world;
   world_options.duration = 0.0;
-  for (const RobotDrive& r : drives) world_options.duration = std::max(world_options.duration, r.start + r.drive.times.back());
+  for (const RobotDrive& r : drives) {
+    world_options.duration = std::max(world_options.duration, r.start + r.drive.times.back());
+  }
   world_options.times.clear();
   const World world = generateWorld(teamStreets(drives), world_options);
 
@@ -52,6 +54,12 @@ bool simulateTeam(const TeamRun& run, std::string* error) {
     for (double t : data.times) clock.push_back(robot.start + t);
     bag_sequences.push_back({dir, data.truth, data.odometry, clock, robot.id});
     const double length = lengthOf(data.truth);
+    std::ofstream robot_info(dir + "/sequence.txt");
+    robot_info << "trajectory: team\nrobot: " << robot.id << "\nkeyframes: " << data.truth.size()
+               << "\nkeyframe_spacing_m: " << run.spacing << "\nlength_m: " << length
+               << "\nstart_seconds: " << robot.start << "\nsensor: " << run.sensor.name
+               << "\nmount_height_m: " << run.sensor.mount_height << "\nvoxel_m: " << run.voxel
+               << "\nseed: " << drift.seed << "\n";
     info << robot.id << ": keyframes " << data.truth.size() << ", length_m " << length << ", start_seconds "
          << robot.start << ", duration_s " << data.times.back() << ", seed " << drift.seed << ", mean_points "
          << mean_points << "\n";

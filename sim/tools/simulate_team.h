@@ -28,8 +28,8 @@ struct TeamRun {
 
 /// Builds the world along all the robots' drives, ray-casts each robot's keyframes and writes
 /// OUT/team.txt, OUT/<robot>/ (writeSequence: truth and drifted odometry relative to the robot's first
-/// keyframe, times from it), OUT/sequence.txt (what was simulated, with the routes' overlaps) and the
-/// bag. Prints a summary; false with a reason.
+/// keyframe, times from it, and its own sequence.txt), OUT/sequence.txt (what was simulated, with the
+/// routes' overlaps) and the bag. Prints a summary; false with a reason.
 bool simulateTeam(const TeamRun& run, std::string* error);
 
 }  // namespace sim

@@ -21,7 +21,9 @@ struct TeamOptions {
   /// all at once.
   std::vector<double> start_offsets;
   double speed = 10.0;  ///< [m/s]
-  double lane = 3.5;    ///< lane width [m]: robots drive in the right-hand lanes, lane/2 and 1.5 lane right of the centre line
+  /// Lane width [m]: robots drive in the right-hand lane, lane/2 right of the street's centre line, or
+  /// in the one beside it, 1.5 lane right of it.
+  double lane = 3.5;
 };
 
 constexpr int kMaxTeam = 6;
