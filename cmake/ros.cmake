@@ -137,6 +137,33 @@ if(CATKIN_ENABLE_TESTING)
     add_rostest(${PROJECT_BINARY_DIR}/test/ros/${stack}.test
       DEPENDENCIES scan_context_loop_${stack}_bag ${stack_test_deps})
   endforeach()
+  # Several robots: a simulated team's bag (three robots, the third a minute late) and the rostest that runs
+  # their nodes on it (test/ros/team.test).
+  add_custom_command(OUTPUT ${bags}/team/team.bag
+    COMMAND scan_context_simulate ${bags}/team --team 3 --team-start 0,0,60 --sensor vlp16 --voxel 0.2 --threads 2
+      --bag ${bags}/team/team.bag
+    COMMAND ${CMAKE_COMMAND} -E remove_directory ${bags}/team/robot1/velodyne
+    COMMAND ${CMAKE_COMMAND} -E remove_directory ${bags}/team/robot2/velodyne
+    COMMAND ${CMAKE_COMMAND} -E remove_directory ${bags}/team/robot3/velodyne
+    DEPENDS scan_context_simulate
+    COMMENT "Simulating a team of three robots"
+    VERBATIM)
+  add_custom_target(scan_context_loop_team_bag DEPENDS ${bags}/team/team.bag)
+  add_dependencies(tests scan_context_loop_team_bag)
+  add_executable(test_ros_team EXCLUDE_FROM_ALL test/ros/test_team.cpp)
+  target_link_libraries(test_ros_team scan_context_loop_ros_harness scan_context_sim ${GTEST_LIBRARIES})
+  add_dependencies(tests test_ros_team)
+  file(GENERATE OUTPUT ${PROJECT_BINARY_DIR}/test/ros/team.test CONTENT
+"<launch>
+  <include file=\"$(find scan_context_loop)/test/ros/team.test\">
+    <arg name=\"bag\" value=\"${bags}/team/team.bag\"/>
+    <arg name=\"team_file\" value=\"${bags}/team/team.txt\"/>
+  </include>
+</launch>
+")
+  add_rostest(${PROJECT_BINARY_DIR}/test/ros/team.test
+    DEPENDENCIES scan_context_loop_team_bag test_ros_team loop_closure_node scan_context_loop_nodelet)
+
   # One bag played again and again (rosbag play -l): each pass a session that closes loops into the first.
   file(GENERATE OUTPUT ${PROJECT_BINARY_DIR}/test/ros/fast_lio_replayed.test CONTENT
 "<launch>
