@@ -164,6 +164,11 @@ if(CATKIN_ENABLE_TESTING)
   add_rostest(${PROJECT_BINARY_DIR}/test/ros/team.test
     DEPENDENCIES scan_context_loop_team_bag test_ros_team loop_closure_node scan_context_loop_nodelet)
 
+  add_executable(test_ros_team_input EXCLUDE_FROM_ALL test/ros/test_team_input.cpp)
+  target_link_libraries(test_ros_team_input scan_context_loop_ros_harness ${GTEST_LIBRARIES})
+  add_dependencies(tests test_ros_team_input)
+  add_rostest(test/ros/team_input.test DEPENDENCIES test_ros_team_input loop_closure_node scan_context_loop_nodelet)
+
   # One bag played again and again (rosbag play -l): each pass a session that closes loops into the first.
   file(GENERATE OUTPUT ${PROJECT_BINARY_DIR}/test/ros/fast_lio_replayed.test CONTENT
 "<launch>
