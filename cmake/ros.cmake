@@ -95,6 +95,8 @@ if(CATKIN_ENABLE_TESTING)
   target_link_libraries(test_ros_markers scan_context_loop_ros)
   catkin_add_gtest(test_ros_database_paths test/test_main.cpp test/ros/test_database_paths.cpp)
   target_link_libraries(test_ros_database_paths scan_context_loop_ros)
+  catkin_add_gtest(test_ros_team_base test/test_main.cpp test/ros/test_team_base.cpp)
+  target_link_libraries(test_ros_team_base scan_context_loop_ros)
 endif()
 
 if(CATKIN_ENABLE_TESTING)
