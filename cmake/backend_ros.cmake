@@ -8,6 +8,7 @@ add_library(scan_context_loop_pose_graph_nodelet
   src/ros/pose_graph_ros.cpp
   src/ros/pose_graph_worker.cpp
   src/ros/pose_graph_saving.cpp
+  src/ros/pose_graph_robots.cpp
   src/ros/pose_graph_nodelet.cpp)
 target_link_libraries(scan_context_loop_pose_graph_nodelet scan_context_loop_ros scan_context_loop_graph)
 add_executable(pose_graph_node src/ros/pose_graph_node.cpp)
