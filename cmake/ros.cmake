@@ -160,11 +160,15 @@ if(CATKIN_ENABLE_TESTING)
   <include file=\"$(find scan_context_loop)/test/ros/team.test\">
     <arg name=\"bag\" value=\"${bags}/team/team.bag\"/>
     <arg name=\"team_file\" value=\"${bags}/team/team.txt\"/>
+    <arg name=\"backend\" value=\"${backend}\"/>
   </include>
 </launch>
 ")
-  add_rostest(${PROJECT_BINARY_DIR}/test/ros/team.test
-    DEPENDENCIES scan_context_loop_team_bag test_ros_team loop_closure_node scan_context_loop_nodelet)
+  set(team_test_deps scan_context_loop_team_bag test_ros_team loop_closure_node scan_context_loop_nodelet)
+  if(SCL_WITH_BACKEND)
+    list(APPEND team_test_deps pose_graph_node scan_context_loop_pose_graph_nodelet)
+  endif()
+  add_rostest(${PROJECT_BINARY_DIR}/test/ros/team.test DEPENDENCIES ${team_test_deps})
 
   add_executable(test_ros_team_input EXCLUDE_FROM_ALL test/ros/test_team_input.cpp)
   target_link_libraries(test_ros_team_input scan_context_loop_ros_harness ${GTEST_LIBRARIES})

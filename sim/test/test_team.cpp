@@ -64,8 +64,9 @@ TEST(Team, RoutesOverlapTheWaysRealTeamsMeet) {
   const Overlap o12 = overlapOf(team[0].drive.path, team[1].drive.path);
   const Overlap o13 = overlapOf(team[0].drive.path, team[2].drive.path);
   const Overlap o23 = overlapOf(team[1].drive.path, team[2].drive.path);
-  // robot2 follows robot1 (same street, way and lane), then drives a street beside it a lane over.
-  EXPECT_GE(o12.same_lane, 90.0);
+  // robot2 drives beside robot1 a lane over from where both start, then follows robot1's street (same way
+  // and lane).
+  EXPECT_GE(o12.same_lane, 60.0);
   EXPECT_GE(o12.other_lane, 100.0);
   // robot3 drives robot1's streets the other way.
   EXPECT_GE(o13.reverse, 150.0);
@@ -113,7 +114,7 @@ TEST(Team, WorldStreetsCoverEveryRouteOnce) {
   for (const RobotDrive& r : team) driven += distanceAlong(r.drive.path).back();
   for (const auto& s : streets) furnished += distanceAlong(s).back();
   // The lanes two robots drive are walked once: less than all the drives together.
-  EXPECT_LT(furnished, driven - 200.0);
+  EXPECT_LT(furnished, driven - 150.0);
   // Every point of every drive is on a street the world is built along.
   for (const RobotDrive& r : team) {
     for (const PathPoint& p : r.drive.path) {
@@ -244,8 +245,10 @@ TEST(Team, EachRobotsSequenceComposesWithItsStartToTheWorldTruth) {
       EXPECT_GT((drift_at_end[a].translation() - drift_at_end[b].translation()).norm(), 0.1) << a << ", " << b;
     }
   }
-  // Robots start in different places: their frames differ.
-  EXPECT_GT((team[0].world_from_start.translation() - team[1].world_from_start.translation()).norm(), 50.0);
+  // Robots start from one junction (a depot) but each in its own place and heading: their frames differ.
+  EXPECT_GT((team[0].world_from_start.translation() - team[1].world_from_start.translation()).norm(), 2.0);
+  EXPECT_GT(Eigen::AngleAxisd(team[0].world_from_start.linear().transpose() * team[2].world_from_start.linear()).angle(),
+            M_PI / 4);
 }
 
 TEST(Team, EachRobotsTopicsAndFramesInItsNamespace) {

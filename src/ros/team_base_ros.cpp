@@ -1,23 +1,33 @@
 #include "scan_context_loop/ros/team_base_ros.h"
 
 #include <set>
+#include <sstream>
 
 #include "scan_context_loop/core/team_matcher.h"
 
 namespace scan_context_loop {
 
 bool parseRobotList(XmlRpc::XmlRpcValue& value, std::vector<std::string>* robots, std::string* error) {
-  if (value.getType() != XmlRpc::XmlRpcValue::TypeArray || value.size() == 0) {
-    *error = "robots must be a non-empty list of robot ids (the robots' namespaces)";
+  std::vector<std::string> items;
+  if (value.getType() == XmlRpc::XmlRpcValue::TypeString) {
+    std::istringstream words(static_cast<std::string>(value));
+    for (std::string word; words >> word;) items.push_back(word);
+  } else if (value.getType() == XmlRpc::XmlRpcValue::TypeArray) {
+    for (int i = 0; i < value.size(); ++i) {
+      items.push_back(value[i].getType() == XmlRpc::XmlRpcValue::TypeString ? static_cast<std::string>(value[i]) : "");
+    }
+  }
+  if (items.empty()) {
+    *error = "robots must list the robot ids (the robots' namespaces): [robot1, robot2] or \"robot1 robot2\"";
     return false;
   }
   std::set<std::string> seen;
-  for (int i = 0; i < value.size(); ++i) {
-    if (value[i].getType() != XmlRpc::XmlRpcValue::TypeString || !validRobotId(static_cast<std::string>(value[i]))) {
+  for (std::size_t i = 0; i < items.size(); ++i) {
+    if (!validRobotId(items[i])) {
       *error = "robots[" + std::to_string(i) + "] is not a robot id (1-64 characters of [A-Za-z0-9_])";
       return false;
     }
-    const std::string robot = value[i];
+    const std::string robot = items[i];
     if (!seen.insert(robot).second) {
       *error = "robots lists " + robot + " twice";
       return false;

@@ -27,8 +27,12 @@ TEST(TeamBase, RobotListMustBeDistinctValidIds) {
     EXPECT_FALSE(parseRobotList(value, &robots, &error)) << (bad.empty() ? "empty list" : bad.front());
     EXPECT_FALSE(error.empty());
   }
-  XmlRpc::XmlRpcValue text("robot1");
-  EXPECT_FALSE(parseRobotList(text, &robots, &error));
+  XmlRpc::XmlRpcValue text(" robot1  robot2 ");
+  robots.clear();
+  ASSERT_TRUE(parseRobotList(text, &robots, &error)) << error;
+  EXPECT_EQ(robots, (std::vector<std::string>{"robot1", "robot2"}));
+  XmlRpc::XmlRpcValue blank("  ");
+  EXPECT_FALSE(parseRobotList(blank, &robots, &error));
   XmlRpc::XmlRpcValue numbers;
   numbers[0] = 1;
   EXPECT_FALSE(parseRobotList(numbers, &robots, &error));

@@ -30,8 +30,8 @@ class TeamBaseRos {
   std::vector<std::unique_ptr<LoopClosureRos>> robots_;
 };
 
-/// The robot ids of a `robots` parameter value; false with the reason when it is not a non-empty list of
-/// distinct valid ids.
+/// The robot ids of a `robots` parameter value (a list, or one string of ids separated by spaces, as the
+/// pose_graph node takes it); false with the reason when it is not a non-empty list of distinct valid ids.
 bool parseRobotList(XmlRpc::XmlRpcValue& value, std::vector<std::string>* robots, std::string* error);
 
 }  // namespace scan_context_loop
