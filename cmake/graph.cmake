@@ -18,7 +18,8 @@ install(TARGETS scan_context_loop_graph
   LIBRARY DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION})
 
 if(CATKIN_ENABLE_TESTING)
-  catkin_add_gtest(test_graph test/test_main.cpp test/graph/test_pose_graph.cpp test/graph/test_keyframe_map.cpp
+  catkin_add_gtest(test_graph test/test_main.cpp test/graph/test_pose_graph.cpp test/graph/test_pose_graph_chains.cpp
+    test/graph/test_keyframe_map.cpp
     test/graph/test_map_files.cpp)
   # The map files are read back with PCL's own PCD reader.
   target_link_libraries(test_graph scan_context_loop_graph scan_context_loop_eval ${PCL_IO_LIBRARIES})

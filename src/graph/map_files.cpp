@@ -6,6 +6,7 @@
 #include <cinttypes>
 #include <cstdio>
 #include <cstring>
+#include <map>
 #include <memory>
 
 #include <Eigen/Cholesky>
@@ -85,6 +86,28 @@ std::string timesText(const std::vector<std::int64_t>& stamps) {
   return out;
 }
 
+/// frames.txt: per robot `id joined` and T_map<-odom's rows 0-2.
+std::string framesText(const std::vector<MapRobot>& robots) {
+  std::string out = "# robot joined T_map<-odom (rows 0-2 of the 4x4, row-major); joined 0: in its own group's frame\n";
+  for (const MapRobot& robot : robots) {
+    out += robot.id + (robot.joined ? " 1" : " 0");
+    const Eigen::Matrix4d m = robot.frame.matrix();
+    for (int r = 0; r < 3; ++r) {
+      for (int c = 0; c < 4; ++c) appendNumber(&out, m(r, c));
+    }
+    out += '\n';
+  }
+  return out;
+}
+
+template <typename T>
+std::vector<T> pick(const std::vector<T>& all, const std::vector<std::size_t>& indices) {
+  std::vector<T> out;
+  out.reserve(indices.size());
+  for (const std::size_t i : indices) out.push_back(all[i]);
+  return out;
+}
+
 std::string g2oText(const MapFiles& files) {
   std::string out;
   for (std::size_t i = 0; i < files.corrected.size(); ++i) {
@@ -92,7 +115,12 @@ std::string g2oText(const MapFiles& files) {
     appendPose(&out, files.corrected[i]);
     out += '\n';
   }
-  if (!files.corrected.empty()) out += "FIX 0\n";  // the graph's gauge: its first keyframe is held
+  if (!files.corrected.empty()) {  // the graph's gauges
+    out += "FIX";
+    if (files.held.empty()) out += " 0";
+    for (const std::size_t i : files.held) appendf(&out, " %zu", i);
+    out += '\n';
+  }
   for (const PoseGraphFactor& f : files.factors) {
     appendf(&out, "EDGE_SE3:QUAT %zu %zu", f.a, f.b);
     appendPose(&out, f.measurement);
@@ -141,10 +169,31 @@ std::string inconsistency(const MapFiles& files) {
     return "the stamps (" + std::to_string(n) + "), corrected poses (" + std::to_string(files.corrected.size()) +
            ") and odometry poses (" + std::to_string(files.odometry.size()) + ") differ in number";
   }
-  for (std::size_t i = 1; i < n; ++i) {
-    if (files.stamps_ns[i] <= files.stamps_ns[i - 1]) {
-      return "keyframe stamps do not increase at keyframe " + std::to_string(i);
+  const auto increasing = [&](const std::vector<std::size_t>& keyframes, const std::string& whose) -> std::string {
+    for (std::size_t k = 0; k < keyframes.size(); ++k) {
+      if (keyframes[k] >= n) return whose + "keyframe " + std::to_string(keyframes[k]) + " is beyond the " +
+                                    std::to_string(n) + " there are";
+      if (k > 0 && files.stamps_ns[keyframes[k]] <= files.stamps_ns[keyframes[k - 1]]) {
+        return whose + "keyframe stamps do not increase at keyframe " + std::to_string(keyframes[k]);
+      }
     }
+    return "";
+  };
+  if (files.robots.empty()) {
+    std::vector<std::size_t> all(n);
+    for (std::size_t i = 0; i < n; ++i) all[i] = i;
+    const std::string why = increasing(all, "");
+    if (!why.empty()) return why;
+  }
+  for (const MapRobot& robot : files.robots) {
+    const bool named = !robot.id.empty() && robot.id.find_first_not_of(
+        "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789_") == std::string::npos;
+    if (!named) return "the robot id \"" + robot.id + "\" is not [A-Za-z0-9_]+";
+    const std::string why = increasing(robot.keyframes, "robot " + robot.id + ": ");
+    if (!why.empty()) return why;
+  }
+  for (const std::size_t i : files.held) {
+    if (i >= n) return "a held keyframe " + std::to_string(i) + " is beyond the " + std::to_string(n) + " there are";
   }
   for (const PoseGraphFactor& f : files.factors) {
     if (f.a >= n || f.b >= n) {
@@ -192,22 +241,38 @@ Matrix6d g2oInformation(const Eigen::Isometry3d& measurement, const Matrix6d& co
   return 0.5 * (converted + converted.transpose());
 }
 
-MapFiles mapFilesOf(const PoseGraph& graph, const std::vector<std::int64_t>& stamps_ns) {
+MapFiles mapFilesOf(const PoseGraph& graph, const std::vector<std::int64_t>& stamps_ns,
+                    const std::vector<std::string>& robots) {
   MapFiles files;
   files.stamps_ns = stamps_ns;
   files.corrected = graph.poses();
   files.odometry.reserve(graph.size());
   for (std::size_t i = 0; i < graph.size(); ++i) files.odometry.push_back(graph.odometryPose(i));
   files.factors = graph.factors();
+  files.held = graph.held();
+  for (std::size_t c = 0; c < robots.size(); ++c) {
+    MapRobot robot;
+    robot.id = robots[c];
+    robot.keyframes = graph.chainKeyframes(c);
+    robot.frame = graph.frame(c);
+    robot.joined = graph.joined(c);
+    files.robots.push_back(std::move(robot));
+  }
   return files;
 }
 
-std::vector<std::string> mapFileNames(bool with_cloud) {
+std::vector<std::string> mapFileNames(bool with_cloud, const std::vector<std::string>& robots) {
   std::vector<std::string> names;
   if (with_cloud) names.push_back(kCloudFile);
-  for (const char* name : {"corrected_tum.txt", "odometry_tum.txt", "corrected_kitti.txt", "times.txt", "pose_graph.g2o"}) {
-    names.push_back(name);
+  const std::vector<std::string> trajectories = {"corrected_tum", "odometry_tum", "corrected_kitti", "times"};
+  if (robots.empty()) {
+    for (const std::string& name : trajectories) names.push_back(name + ".txt");
   }
+  for (const std::string& robot : robots) {
+    for (const std::string& name : trajectories) names.push_back(name + "_" + robot + ".txt");
+  }
+  if (!robots.empty()) names.push_back("frames.txt");
+  names.push_back("pose_graph.g2o");
   return names;
 }
 
@@ -234,25 +299,36 @@ namespace {
 bool writeAll(const std::string& directory, const MapFiles& files, MapFilesReport* done, std::string* error) {
   const std::string prefix = directory.back() == '/' ? directory : directory + "/";
   // The leftovers of every file a save may write, map.pcd's too when this save writes none.
-  for (const std::string& name : mapFileNames(true)) {
+  std::vector<std::string> robot_ids;
+  for (const MapRobot& robot : files.robots) robot_ids.push_back(robot.id);
+  for (const std::string& name : mapFileNames(true, robot_ids)) {
     for (AbandonedFile& file : removeAbandonedTemporaries(prefix + name)) done->abandoned.push_back(std::move(file));
   }
+  // Each trajectory file's text: the whole graph's for one robot, each robot's own with robots.
+  std::map<std::string, std::string> texts;
+  const auto trajectories = [&](const std::string& suffix, const std::vector<std::size_t>* keyframes) {
+    const auto stamps = keyframes ? pick(files.stamps_ns, *keyframes) : files.stamps_ns;
+    const auto corrected = keyframes ? pick(files.corrected, *keyframes) : files.corrected;
+    texts["corrected_tum" + suffix] = tumText(stamps, corrected);
+    texts["odometry_tum" + suffix] = tumText(stamps, keyframes ? pick(files.odometry, *keyframes) : files.odometry);
+    texts["corrected_kitti" + suffix] = kittiText(corrected);
+    texts["times" + suffix] = timesText(stamps);
+  };
+  if (files.robots.empty()) trajectories(".txt", nullptr);
+  for (const MapRobot& robot : files.robots) trajectories("_" + robot.id + ".txt", &robot.keyframes);
+  if (!files.robots.empty()) texts["frames.txt"] = framesText(files.robots);
+  texts["pose_graph.g2o"] = g2oText(files);
   std::vector<std::unique_ptr<AtomicFileWriter>> writers;
-  for (const std::string& name : mapFileNames(files.has_cloud)) {
+  for (const std::string& name : mapFileNames(files.has_cloud, robot_ids)) {
     const std::string path = prefix + name;
     writers.emplace_back(new AtomicFileWriter);
     AtomicFileWriter* file = writers.back().get();
     if (!file->open(path, error)) return false;  // the writers made so far remove their temporary files
-    std::string text;
     if (name == kCloudFile) {
       if (!writeCloud(file, files.cloud, error)) return false;
       done->bytes.push_back(pcdHeader(files.cloud).size() + files.cloud.size() * 3 * sizeof(float));
     } else {
-      if (name == "corrected_tum.txt") text = tumText(files.stamps_ns, files.corrected);
-      if (name == "odometry_tum.txt") text = tumText(files.stamps_ns, files.odometry);
-      if (name == "corrected_kitti.txt") text = kittiText(files.corrected);
-      if (name == "times.txt") text = timesText(files.stamps_ns);
-      if (name == "pose_graph.g2o") text = g2oText(files);
+      const std::string& text = texts[name];
       if (!file->write(text.data(), text.size(), error)) return false;
       done->bytes.push_back(text.size());
     }

@@ -1,5 +1,6 @@
 #include "scan_context_loop/graph/pose_graph.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <deque>
@@ -74,6 +75,14 @@ Matrix6d odometryCovariance(const Eigen::Isometry3d& step, const PoseGraphConfig
 }
 
 struct PoseGraph::Impl {
+  /// The group of the fixed keyframes (chains' groups are numbered by their lowest chain).
+  static constexpr std::size_t kFixedGroup = static_cast<std::size_t>(-1);
+  struct Chain {
+    long first = -1;        ///< its first keyframe, -1: none yet
+    long last = -1;         ///< its newest keyframe, which the chain's next keyframe is tied to
+    std::size_t group = 0;  ///< the lowest chain of its group, or kFixedGroup
+  };
+
   Impl() {
     ceres::Problem::Options options;
     ceres_compat::keepQuaternionOwnership(&options);
@@ -84,10 +93,11 @@ struct PoseGraph::Impl {
   std::deque<Eigen::Vector3d> positions;
   std::deque<Eigen::Quaterniond> rotations;
   std::vector<ceres::ResidualBlockId> loop_blocks;
-  std::vector<bool> fixed;       ///< per keyframe: added with addFixedKeyframe
-  long chain_first = -1;         ///< the odometry chain's first keyframe (the gauge until anchored), -1: none yet
-  long chain_last = -1;          ///< its newest keyframe, which the next addKeyframe chains to
-  bool anchored = false;         ///< a loop ties the chain to a fixed keyframe
+  std::vector<long> chain_of;    ///< per keyframe: its chain, -1 for a fixed one (addFixedKeyframe)
+  std::vector<Chain> chains;     ///< by chain number
+  /// By group (its lowest chain): the keyframe held as its gauge, -1 once the group joined the fixed
+  /// keyframes (they hold it then).
+  std::vector<long> gauge;
   ceres_compat::EigenQuaternion quaternion_parameterization;
   /// The loops' loss: switched between none (least squares) and the Cauchy loss by optimize().
   std::unique_ptr<ceres::LossFunctionWrapper> loop_loss =
@@ -95,16 +105,53 @@ struct PoseGraph::Impl {
   std::unique_ptr<ceres::Problem> problem;
 
   /// A keyframe's parameter blocks (position, rotation) starting at `estimate`.
-  void addBlocks(const Eigen::Isometry3d& estimate, bool is_fixed) {
+  void addBlocks(const Eigen::Isometry3d& estimate, long chain) {
     positions.push_back(estimate.translation());
     rotations.push_back(Eigen::Quaterniond(estimate.linear()).normalized());
     problem->AddParameterBlock(positions.back().data(), 3);
     problem->AddParameterBlock(rotations.back().coeffs().data(), 4, &quaternion_parameterization);
-    fixed.push_back(is_fixed);
+    chain_of.push_back(chain);
   }
-  void holdConstant(std::size_t i) {
-    problem->SetParameterBlockConstant(positions[i].data());
-    problem->SetParameterBlockConstant(rotations[i].coeffs().data());
+  void setHeld(std::size_t i, bool held) {
+    if (held) {
+      problem->SetParameterBlockConstant(positions[i].data());
+      problem->SetParameterBlockConstant(rotations[i].coeffs().data());
+    } else {
+      problem->SetParameterBlockVariable(positions[i].data());
+      problem->SetParameterBlockVariable(rotations[i].coeffs().data());
+    }
+  }
+  std::size_t groupOf(std::size_t i) const {
+    return chain_of[i] < 0 ? kFixedGroup : chains[static_cast<std::size_t>(chain_of[i])].group;
+  }
+  Eigen::Isometry3d pose(std::size_t i) const {
+    Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
+    t.linear() = rotations[i].normalized().toRotationMatrix();
+    t.translation() = positions[i];
+    return t;
+  }
+  /// Before the first loop between the groups of `query` and `match`: moves one group rigidly so that
+  /// T_query<-match holds, frees its gauge and merges it into the other (see the header).
+  void join(std::size_t query, std::size_t match, const Eigen::Isometry3d& query_from_match) {
+    const std::size_t gq = groupOf(query), gm = groupOf(match);
+    // kFixedGroup is the largest number: the fixed keyframes' group stays, else the lower chain's.
+    const bool query_stays = gq == kFixedGroup || (gm != kFixedGroup && gq < gm);
+    const std::size_t stays = query_stays ? gq : gm, moves = query_stays ? gm : gq;
+    const std::size_t moved = query_stays ? match : query;
+    const Eigen::Isometry3d target = query_stays ? pose(query) * query_from_match
+                                                 : pose(match) * query_from_match.inverse();
+    const Eigen::Isometry3d move = target * pose(moved).inverse();
+    for (std::size_t i = 0; i < positions.size(); ++i) {
+      if (groupOf(i) != moves) continue;
+      const Eigen::Isometry3d now = move * pose(i);
+      positions[i] = now.translation();
+      rotations[i] = Eigen::Quaterniond(now.linear()).normalized();
+    }
+    if (gauge[moves] >= 0) setHeld(static_cast<std::size_t>(gauge[moves]), false);
+    gauge[moves] = -1;
+    for (Chain& c : chains) {
+      if (c.group == moves) c.group = stays;
+    }
   }
 };
 
@@ -112,21 +159,30 @@ PoseGraph::PoseGraph(const PoseGraphConfig& config) : config_(config), impl_(std
 
 PoseGraph::~PoseGraph() = default;
 
-long PoseGraph::addKeyframe(const Eigen::Isometry3d& odometry_pose) {
+long PoseGraph::addKeyframe(const Eigen::Isometry3d& odometry_pose, std::size_t chain) {
   if (!odometry_pose.translation().allFinite() || !isRotation(odometry_pose.linear())) return -1;
+  if (chain >= kMaxChains) return -1;
   Impl& g = *impl_;
+  while (g.chains.size() <= chain) {
+    Impl::Chain c;
+    c.group = g.chains.size();
+    g.chains.push_back(c);
+    g.gauge.push_back(-1);
+  }
+  Impl::Chain& c = g.chains[chain];
   Eigen::Isometry3d estimate = odometry_pose, step = Eigen::Isometry3d::Identity();
-  if (g.chain_last >= 0) {
-    step = odometry_[g.chain_last].inverse() * odometry_pose;
-    estimate = pose(g.chain_last) * step;
+  if (c.last >= 0) {
+    step = odometry_[c.last].inverse() * odometry_pose;
+    estimate = pose(c.last) * step;
   }
   const long index = static_cast<long>(odometry_.size());
-  g.addBlocks(estimate, false);
-  if (g.chain_last < 0) {
-    g.holdConstant(index);  // the gauge
-    g.chain_first = index;
+  g.addBlocks(estimate, static_cast<long>(chain));
+  if (c.last < 0) {
+    g.setHeld(index, true);  // the gauge of its own group (no loop can have joined it yet)
+    c.first = index;
+    g.gauge[chain] = index;
   } else {
-    const std::size_t a = static_cast<std::size_t>(g.chain_last);
+    const std::size_t a = static_cast<std::size_t>(c.last);
     const Matrix6d covariance = odometryCovariance(step, config_);
     Matrix6d sqrt_information;
     sqrtInformation(covariance, &sqrt_information);  // diagonal, positive: always
@@ -135,7 +191,7 @@ long PoseGraph::addKeyframe(const Eigen::Isometry3d& odometry_pose) {
                                 g.rotations.back().coeffs().data());
     factors_.push_back({a, static_cast<std::size_t>(index), step, covariance, false});
   }
-  g.chain_last = index;
+  c.last = index;
   odometry_.push_back(odometry_pose);
   return index;
 }
@@ -143,13 +199,13 @@ long PoseGraph::addKeyframe(const Eigen::Isometry3d& odometry_pose) {
 long PoseGraph::addFixedKeyframe(const Eigen::Isometry3d& stored_pose) {
   if (!stored_pose.translation().allFinite() || !isRotation(stored_pose.linear())) return -1;
   const long index = static_cast<long>(odometry_.size());
-  impl_->addBlocks(stored_pose, true);
-  impl_->holdConstant(index);
+  impl_->addBlocks(stored_pose, -1);
+  impl_->setHeld(index, true);
   odometry_.push_back(stored_pose);
   return index;
 }
 
-bool PoseGraph::fixed(std::size_t i) const { return i < impl_->fixed.size() && impl_->fixed[i]; }
+bool PoseGraph::fixed(std::size_t i) const { return i < impl_->chain_of.size() && impl_->chain_of[i] < 0; }
 
 bool PoseGraph::addLoop(std::size_t query, std::size_t match, const Eigen::Isometry3d& query_from_match,
                         const Matrix6d& covariance, std::string* error) {
@@ -168,23 +224,7 @@ bool PoseGraph::addLoop(std::size_t query, std::size_t match, const Eigen::Isome
     return fail("the covariance is not symmetric positive definite");
   }
   Impl& g = *impl_;
-  if (!g.anchored && (fixed(query) || fixed(match))) {
-    // The chain's first loop into a fixed keyframe: move the chain rigidly so that it holds, and let the
-    // fixed keyframes hold the chain from now on.
-    const std::size_t chained = fixed(query) ? match : query;
-    const Eigen::Isometry3d target = fixed(query) ? pose(query) * query_from_match
-                                                  : pose(match) * query_from_match.inverse();
-    const Eigen::Isometry3d move = target * pose(chained).inverse();
-    for (std::size_t i = 0; i < size(); ++i) {
-      if (fixed(i)) continue;
-      const Eigen::Isometry3d moved = move * pose(i);
-      g.positions[i] = moved.translation();
-      g.rotations[i] = Eigen::Quaterniond(moved.linear()).normalized();
-    }
-    g.problem->SetParameterBlockVariable(g.positions[g.chain_first].data());
-    g.problem->SetParameterBlockVariable(g.rotations[g.chain_first].coeffs().data());
-    g.anchored = true;
-  }
+  if (g.groupOf(query) != g.groupOf(match)) g.join(query, match, query_from_match);
   const ceres::ResidualBlockId id = g.problem->AddResidualBlock(
       RelativePoseError::create(query_from_match, sqrt_information), g.loop_loss.get(), g.positions[query].data(),
       g.rotations[query].coeffs().data(), g.positions[match].data(), g.rotations[match].coeffs().data());
@@ -196,7 +236,7 @@ bool PoseGraph::addLoop(std::size_t query, std::size_t match, const Eigen::Isome
 
 PoseGraphResult PoseGraph::optimize() {
   PoseGraphResult result;
-  if (size() < 2 || impl_->chain_last < 0) {
+  if (size() < 2 || factors_.empty()) {
     result.solved = true;
     result.message = "nothing to solve";
     return result;
@@ -231,12 +271,7 @@ PoseGraphResult PoseGraph::optimize() {
   return result;
 }
 
-Eigen::Isometry3d PoseGraph::pose(std::size_t i) const {
-  Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
-  t.linear() = impl_->rotations[i].normalized().toRotationMatrix();
-  t.translation() = impl_->positions[i];
-  return t;
-}
+Eigen::Isometry3d PoseGraph::pose(std::size_t i) const { return impl_->pose(i); }
 
 std::vector<Eigen::Isometry3d> PoseGraph::poses() const {
   std::vector<Eigen::Isometry3d> out;
@@ -245,10 +280,46 @@ std::vector<Eigen::Isometry3d> PoseGraph::poses() const {
   return out;
 }
 
-Eigen::Isometry3d PoseGraph::correction() const {
-  const long last = impl_->chain_last;
+Eigen::Isometry3d PoseGraph::correction(std::size_t chain) const {
+  const long last = chain < impl_->chains.size() ? impl_->chains[chain].last : -1;
   if (last < 0) return Eigen::Isometry3d::Identity();
   return pose(last) * odometry_[last].inverse();
+}
+
+std::size_t PoseGraph::chains() const { return impl_->chains.size(); }
+
+long PoseGraph::chainOf(std::size_t i) const { return i < impl_->chain_of.size() ? impl_->chain_of[i] : -1; }
+
+std::vector<std::size_t> PoseGraph::chainKeyframes(std::size_t chain) const {
+  std::vector<std::size_t> out;
+  for (std::size_t i = 0; i < size(); ++i) {
+    if (impl_->chain_of[i] == static_cast<long>(chain)) out.push_back(i);
+  }
+  return out;
+}
+
+Eigen::Isometry3d PoseGraph::frame(std::size_t chain) const {
+  const long first = chain < impl_->chains.size() ? impl_->chains[chain].first : -1;
+  if (first < 0) return Eigen::Isometry3d::Identity();
+  return pose(first) * odometry_[first].inverse();
+}
+
+bool PoseGraph::joined(std::size_t chain) const {
+  const auto& chains = impl_->chains;
+  if (chain >= chains.size() || chains[chain].first < 0) return false;
+  return chains[chain].group == chains[0].group;
+}
+
+std::vector<std::size_t> PoseGraph::held() const {
+  std::vector<std::size_t> out;
+  for (std::size_t i = 0; i < size(); ++i) {
+    if (fixed(i)) out.push_back(i);
+  }
+  for (const long g : impl_->gauge) {
+    if (g >= 0) out.push_back(static_cast<std::size_t>(g));
+  }
+  std::sort(out.begin(), out.end());
+  return out;
 }
 
 }  // namespace scan_context_loop

@@ -311,3 +311,83 @@ TEST_F(MapFilesTest, AFailedSaveKeepsTheFilesItWouldHaveReplacedWhole) {
 
 }  // namespace
 }  // namespace scan_context_loop
+
+namespace scan_context_loop {
+namespace {
+
+TEST(TeamMapFiles, EachRobotsTrajectoryAndFrameInItsOwnFilesTheGraphInOne) {
+  // Two robots whose keyframes interleave (stamps increase per robot, not overall), and a third with no
+  // loop to the others: its frame is its own (not joined).
+  PoseGraph graph;
+  std::vector<std::int64_t> stamps;
+  for (int k = 0; k < 6; ++k) {
+    graph.addKeyframe(pose(2.0 * k, 0, 0, 0, 0, 0), 0);
+    stamps.push_back(1000000000LL * k);
+    graph.addKeyframe(pose(2.0 * k, 0, 0, 0, 0, 0), 1);
+    stamps.push_back(1000000000LL * k + 5);
+    graph.addKeyframe(pose(1.0 * k, 0, 0, 0, 0, 0), 2);
+    stamps.push_back(1000000000LL * k + 7);
+  }
+  // b's first keyframe (index 1) lies on a's keyframe 3 (index 9, at a's x = 6 m), turned 90 deg.
+  Matrix6d covariance = 0.01 * Matrix6d::Identity();
+  const Eigen::Isometry3d b_to_a = pose(0, 0, 0, M_PI / 2, 0, 0);  // T_b0<-a3: a3 sits on b0, turned
+  ASSERT_TRUE(graph.addLoop(1, 9, b_to_a, covariance));
+  ASSERT_TRUE(graph.optimize().solved);
+  MapFiles files = mapFilesOf(graph, stamps, {"a", "b", "c_2"});
+  ASSERT_EQ(files.robots.size(), 3u);
+  EXPECT_TRUE(files.robots[0].joined && files.robots[1].joined);
+  EXPECT_FALSE(files.robots[2].joined);
+  EXPECT_EQ(files.held, (std::vector<std::size_t>{0, 2}));
+
+  test::TempDir dir("scl_team_map_files");
+  MapFilesReport report;
+  std::string error;
+  ASSERT_TRUE(writeMapFiles(dir.file("team"), files, &report, &error)) << error;
+  const std::vector<std::string> names = mapFileNames(false, {"a", "b", "c_2"});
+  ASSERT_EQ(names.size(), 14u);
+  ASSERT_EQ(report.files.size(), names.size());
+  EXPECT_EQ(names[4], "corrected_tum_b.txt");
+  EXPECT_EQ(names[12], "frames.txt");
+  for (const std::string& robot : {"a", "b", "c_2"}) {
+    const std::size_t c = robot[0] - 'a';
+    const Tum corrected = readTum(dir.file("team/corrected_tum_" + robot + ".txt"));
+    const Tum odometry = readTum(dir.file("team/odometry_tum_" + robot + ".txt"));
+    ASSERT_EQ(corrected.poses.size(), 6u) << robot;
+    ASSERT_EQ(readKitti(dir.file("team/corrected_kitti_" + robot + ".txt")).size(), 6u);
+    ASSERT_EQ(rows(dir.file("team/times_" + robot + ".txt")).size(), 6u);
+    for (std::size_t k = 0; k < 6; ++k) {
+      EXPECT_LT(poseDifference(corrected.poses[k], graph.pose(3 * k + c)), 1e-12) << robot << k;
+      EXPECT_LT(poseDifference(odometry.poses[k], graph.odometryPose(3 * k + c)), 1e-12) << robot << k;
+    }
+  }
+  // frames.txt: robot, joined, T_map<-odom; b's is where the loop put it (its first keyframe on a's 3rd).
+  const auto frames = rows(dir.file("team/frames.txt"));
+  ASSERT_EQ(frames.size(), 3u);
+  for (std::size_t c = 0; c < 3; ++c) {
+    ASSERT_EQ(frames[c].size(), 14u);
+    EXPECT_EQ(frames[c][0], files.robots[c].id);
+    EXPECT_EQ(frames[c][1], c < 2 ? "1" : "0");
+    Eigen::Matrix4d m = Eigen::Matrix4d::Identity();
+    for (int i = 0; i < 12; ++i) m(i / 4, i % 4) = std::stod(frames[c][2 + i]);
+    EXPECT_LT((m - graph.frame(c).matrix()).cwiseAbs().maxCoeff(), 1e-12);
+  }
+  EXPECT_LT((graph.frame(1).translation() - Eigen::Vector3d(6, 0, 0)).norm(), 0.05);
+  // The g2o file: every robot's keyframes and factors, the unjoined robot's gauge held with the anchor's.
+  const G2o g2o = readG2o(dir.file("team/pose_graph.g2o"));
+  EXPECT_EQ(g2o.vertices.size(), 18u);
+  EXPECT_EQ(g2o.edges.size(), 3u * 5u + 1u);
+  EXPECT_EQ(g2o.fixed, (std::vector<long>{0, 2}));
+
+  // A robot whose stamps go back, or a robot id that would leave the directory, is refused.
+  MapFiles back = files;
+  std::swap(back.robots[1].keyframes[2], back.robots[1].keyframes[3]);
+  EXPECT_FALSE(writeMapFiles(dir.file("back"), back, &report, &error));
+  EXPECT_NE(error.find("robot b: keyframe stamps do not increase"), std::string::npos) << error;
+  MapFiles named = files;
+  named.robots[0].id = "../a";
+  EXPECT_FALSE(writeMapFiles(dir.file("named"), named, &report, &error));
+  EXPECT_NE(error.find("is not [A-Za-z0-9_]+"), std::string::npos) << error;
+}
+
+}  // namespace
+}  // namespace scan_context_loop

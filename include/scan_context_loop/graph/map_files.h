@@ -6,9 +6,15 @@
 // - map.pcd: PCL's binary PCD, fields x y z (float32), the points as given (voxel-filtered by the caller).
 // - corrected_tum.txt, odometry_tum.txt: `stamp tx ty tz qx qy qz qw` per keyframe (TUM, as evo reads it).
 // - corrected_kitti.txt: rows 0-2 of the 4x4 pose, 12 numbers a line; times.txt: its stamps, one a line.
-// - pose_graph.g2o: `VERTEX_SE3:QUAT i x y z qx qy qz qw` per keyframe (the corrected estimate), `FIX 0`,
+// - pose_graph.g2o: `VERTEX_SE3:QUAT i x y z qx qy qz qw` per keyframe (the corrected estimate), `FIX` and
+//   the keyframes held (the graph's gauges: `FIX 0` for one robot),
 //   then `EDGE_SE3:QUAT a b x y z qx qy qz qw` + the information matrix's 21 upper-triangular entries,
 //   row by row, for every factor (g2oInformation converts the covariance).
+// Several robots (MapFiles::robots): the trajectory files per robot, named with its id
+// (corrected_tum_<robot>.txt, odometry_tum_<robot>.txt, corrected_kitti_<robot>.txt, times_<robot>.txt), each
+// in the anchor's map frame for a joined robot and in its own group's frame for one not joined yet; and
+// frames.txt: `<robot> <joined 0|1> <12 numbers: T_map<-odom, rows 0-2 of the 4x4>` per robot (team.txt's
+// layout). map.pcd and pose_graph.g2o hold every robot's keyframes.
 // Stamps are written with nanosecond digits (%.9f from integer nanoseconds), poses with 17 significant
 // digits (a double read back is the one written).
 #pragma once
@@ -27,20 +33,35 @@
 
 namespace scan_context_loop {
 
+/// One robot of a team's map: its keyframes and its estimated odometry frame.
+struct MapRobot {
+  std::string id;                       ///< robot id ([A-Za-z0-9_]+), names its files
+  std::vector<std::size_t> keyframes;   ///< its keyframes' indices in MapFiles, in stamp order
+  Eigen::Isometry3d frame = Eigen::Isometry3d::Identity();  ///< T_map<-odom (PoseGraph::frame)
+  bool joined = false;                  ///< in the anchor's group (PoseGraph::joined)
+};
+
 /// What a save writes: one entry per keyframe in stamps, corrected and odometry (same length).
 struct MapFiles {
-  std::vector<std::int64_t> stamps_ns;  ///< keyframe stamps [ns], increasing
+  /// Keyframe stamps [ns]: increasing (with robots: each robot's, over its keyframes).
+  std::vector<std::int64_t> stamps_ns;
   std::vector<Eigen::Isometry3d> corrected, odometry;  ///< T_world<-keyframe
   std::vector<PoseGraphFactor> factors;
+  /// The keyframes held (the g2o file's FIX line; empty: keyframe 0).
+  std::vector<std::size_t> held;
+  /// Several robots: their files instead of the single trajectory files (empty: one robot).
+  std::vector<MapRobot> robots;
   /// The assembled map (KeyframeMap::assemble); map.pcd is left out when `has_cloud` is false.
   pcl::PointCloud<pcl::PointXYZ> cloud;
   bool has_cloud = false;
   double voxel = 0.0;  ///< the voxel edge the cloud was filtered with [m], for the report
 };
 
-/// The pose graph's part of MapFiles (stamps, corrected and odometry poses, factors); the cloud is the
-/// caller's.
-MapFiles mapFilesOf(const PoseGraph& graph, const std::vector<std::int64_t>& stamps_ns);
+/// The pose graph's part of MapFiles (stamps, corrected and odometry poses, factors, the keyframes held);
+/// the cloud is the caller's. With `robots` (robot id by chain number; empty: one robot) the robots'
+/// entries too, robot c being the graph's chain c.
+MapFiles mapFilesOf(const PoseGraph& graph, const std::vector<std::int64_t>& stamps_ns,
+                    const std::vector<std::string>& robots = {});
 
 /// What a save wrote.
 struct MapFilesReport {
@@ -60,8 +81,9 @@ struct MapFilesReport {
   std::string summary() const;
 };
 
-/// The file names a save writes, in order (map.pcd only when `with_cloud`).
-std::vector<std::string> mapFileNames(bool with_cloud);
+/// The file names a save writes, in order (map.pcd only when `with_cloud`; with `robots`, their files
+/// and frames.txt instead of the single trajectory files).
+std::vector<std::string> mapFileNames(bool with_cloud, const std::vector<std::string>& robots = {});
 
 /// Writes the files into `directory` (created, one level, mode 0755, when missing; its parent must
 /// exist). Every file goes to a temporary file first; only when all are written are they flushed and
@@ -69,7 +91,8 @@ std::vector<std::string> mapFileNames(bool with_cloud);
 /// file as it was, and no file is ever seen half written. Without a cloud, a map.pcd already in the
 /// directory is removed once the other files are in place. False with the reason in *error: a
 /// directory that cannot be created or written, stamps or poses of different lengths, stamps not
-/// increasing, a factor naming an unknown keyframe; *report then holds the directory and the abandoned
+/// increasing (a robot's, with robots), a factor or a robot naming an unknown keyframe, a robot id that is
+/// not [A-Za-z0-9_]+; *report then holds the directory and the abandoned
 /// temporary files removed, nothing else.
 bool writeMapFiles(const std::string& directory, const MapFiles& files, MapFilesReport* report, std::string* error);
 

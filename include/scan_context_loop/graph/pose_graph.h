@@ -9,13 +9,20 @@
 //   estimate (T_a^-1 T_b): translation in a's axes [m], rotation as a small angle about a's axes [rad].
 //   This is the order of a LoopClosure's covariance (x y z roll pitch yaw, in the query frame).
 // - A loop closure (query q, match m, relative_pose T_q<-m) is the factor a = q, b = m.
-// - Odometry between consecutive keyframes is the factor a = i, b = i+1 with the odometry's own
-//   T_i^-1 T_i+1 and a diagonal covariance that grows with the step (PoseGraphConfig).
-// - The first keyframe is held fixed (the gauge): the corrected trajectory starts where the odometry did.
-// - Fixed keyframes (addFixedKeyframe: a prior map's, at their stored poses) never move and join no
-//   odometry chain. The first loop between one and the odometry chain moves the whole chain rigidly so
-//   that the loop holds (the chain now lies in the fixed keyframes' frame) and frees the gauge: from then
-//   the fixed keyframes hold the chain, through its loops into them.
+// - Keyframes come in chains, one per odometry frame (one per robot; addKeyframe's `chain`, 0 by
+//   default). Odometry between consecutive keyframes of one chain is the factor a = i, b = j (j the
+//   chain's next keyframe) with the odometry's own T_i^-1 T_j and a diagonal covariance that grows with
+//   the step (PoseGraphConfig). Chains are independent until loops join them.
+// - Groups and gauges: chains joined by loops form a group; fixed keyframes (addFixedKeyframe: a prior
+//   map's, at their stored poses) form one of their own that never moves. A group without fixed keyframes
+//   holds the first keyframe of its lowest chain (the gauge): chain 0's group (the anchor's) starts where
+//   chain 0's odometry did, an unjoined chain where its own did. The first loop between two groups moves
+//   one of them rigidly so that the loop holds and frees its gauge: the group with the fixed keyframes
+//   stays, else the one with the lower chain (chain 0's group always stays). From then the loop is a
+//   normal factor, and the group moves as one (chains joined among themselves, then to the anchor's,
+//   move together).
+// - frame(c) = T_world<-odom_c: the corrected pose of chain c's first keyframe x inverse(its odometry
+//   pose). joined(c): chain c is in chain 0's group, i.e. frame(c) is an estimate in the anchor's frame.
 #pragma once
 
 #include <cstddef>
@@ -54,7 +61,7 @@ struct PoseGraphFactor {
   std::size_t a = 0, b = 0;
   Eigen::Isometry3d measurement = Eigen::Isometry3d::Identity();  ///< T_a<-b
   Matrix6d covariance = Matrix6d::Identity();
-  bool loop = false;  ///< a loop factor (else odometry between consecutive keyframes, b = a + 1)
+  bool loop = false;  ///< a loop factor (else odometry between consecutive keyframes of one chain)
 };
 
 struct PoseGraphResult {
@@ -73,19 +80,23 @@ class PoseGraph {
   PoseGraph(const PoseGraph&) = delete;
   PoseGraph& operator=(const PoseGraph&) = delete;
 
-  /// Appends a keyframe with its odometry pose T_odom<-keyframe; returns its index. Its estimate starts
-  /// at the previous keyframe's estimate moved by the odometry step, so earlier corrections carry on.
-  /// Returns -1 (nothing added) if the pose is not finite or its rotation is not one.
-  long addKeyframe(const Eigen::Isometry3d& odometry_pose);
+  /// Appends a keyframe of chain `chain` with its odometry pose T_odom<-keyframe (odometry frame of
+  /// that chain); returns its index. Its estimate starts at the chain's previous keyframe's estimate
+  /// moved by the odometry step, so earlier corrections carry on; a chain's first keyframe starts at
+  /// its odometry pose and is the gauge of its chain until a loop joins the chain to another group.
+  /// Returns -1 (nothing added) if the pose is not finite or its rotation is not one, or `chain` is not
+  /// below kMaxChains.
+  long addKeyframe(const Eigen::Isometry3d& odometry_pose, std::size_t chain = 0);
   /// Appends a keyframe held fixed at `pose` (T_world<-keyframe; a prior map's keyframe at its stored
-  /// pose); returns its index, or -1 (nothing added) as addKeyframe. No odometry factor ties it to
-  /// another keyframe (the next addKeyframe chains to the last keyframe addKeyframe added); loops may.
+  /// pose); returns its index, or -1 (nothing added) as addKeyframe. It belongs to no chain: no
+  /// odometry factor ties it to another keyframe; loops may.
   long addFixedKeyframe(const Eigen::Isometry3d& pose);
   /// Keyframe i was added with addFixedKeyframe.
   bool fixed(std::size_t i) const;
   /// Adds a loop factor T_query<-match with its covariance (x y z roll pitch yaw in the query's axes).
-  /// False (nothing added) for an unknown keyframe, a self-loop, a non-finite pose or a covariance that
-  /// is not symmetric positive definite, or between two fixed keyframes; `error` then says which.
+  /// A loop between two groups first moves one onto the other (see the conventions above). False
+  /// (nothing added) for an unknown keyframe, a self-loop, a non-finite pose or a covariance that is not
+  /// symmetric positive definite, or between two fixed keyframes; `error` then says which.
   bool addLoop(std::size_t query, std::size_t match, const Eigen::Isometry3d& query_from_match,
                const Matrix6d& covariance, std::string* error = nullptr);
   /// Solves from the current estimates (warm start).
@@ -97,9 +108,28 @@ class PoseGraph {
   /// or with fixed keyframes their frame).
   Eigen::Isometry3d pose(std::size_t i) const;
   std::vector<Eigen::Isometry3d> poses() const;
-  /// The correction T_world<-odom at the newest keyframe of the odometry chain: corrected pose x
+  /// The correction T_world<-odom at the newest keyframe of chain `chain`: corrected pose x
   /// inverse(odometry pose); the identity before the chain's first keyframe.
-  Eigen::Isometry3d correction() const;
+  Eigen::Isometry3d correction(std::size_t chain = 0) const;
+
+  /// Chains are numbered below this.
+  static constexpr std::size_t kMaxChains = 1024;
+  /// One more than the highest chain any keyframe was added to (0 before the first).
+  std::size_t chains() const;
+  /// The chain keyframe i was added to; -1 for a fixed keyframe.
+  long chainOf(std::size_t i) const;
+  /// The keyframes of chain `chain`, in the order added (empty for an unknown chain).
+  std::vector<std::size_t> chainKeyframes(std::size_t chain) const;
+  /// The estimated T_world<-odom_chain: the corrected pose of the chain's first keyframe x inverse(its
+  /// odometry pose); the identity for a chain without keyframes. In chain 0's frame (or the fixed
+  /// keyframes') only when joined(chain); else in the frame of the chain's own group.
+  Eigen::Isometry3d frame(std::size_t chain) const;
+  /// Chain `chain` has keyframes and is in chain 0's group (chain 0 itself: true once it has keyframes).
+  bool joined(std::size_t chain) const;
+  /// The keyframes held constant now: the gauges of the groups without fixed keyframes, and the fixed
+  /// keyframes; increasing.
+  std::vector<std::size_t> held() const;
+
   /// The odometry pose keyframe i was added with (a fixed keyframe's: its fixed pose).
   const Eigen::Isometry3d& odometryPose(std::size_t i) const { return odometry_[i]; }
   /// Every factor in the order it was added (odometry and loops interleaved as they came).
