@@ -3,14 +3,16 @@
 find_package(yaml-cpp REQUIRED)
 add_library(scan_context_loop_eval src/eval/kitti_io.cpp src/eval/metrics.cpp src/eval/relocalization.cpp
   src/eval/config_file.cpp src/eval/sequence.cpp src/eval/prior_map.cpp src/eval/evaluation.cpp
-  src/eval/trajectory_error.cpp src/eval/trajectory_correction_files.cpp)
+  src/eval/trajectory_error.cpp src/eval/trajectory_correction_files.cpp src/eval/sequence_scorer.cpp
+  src/eval/team_sequence.cpp src/eval/team_session.cpp src/eval/team_evaluation.cpp src/eval/team_map_files.cpp)
 target_include_directories(scan_context_loop_eval PUBLIC include ${YAML_CPP_INCLUDE_DIR})
 target_link_libraries(scan_context_loop_eval PUBLIC scan_context_loop_core yaml-cpp)
 if(SCL_WITH_BACKEND)
-  target_sources(scan_context_loop_eval PRIVATE src/eval/trajectory_correction.cpp src/eval/trajectory_correction_map.cpp)
+  target_sources(scan_context_loop_eval PRIVATE src/eval/trajectory_correction.cpp src/eval/trajectory_correction_map.cpp
+    src/eval/team_map.cpp)
   target_link_libraries(scan_context_loop_eval PUBLIC scan_context_loop_graph)
 else()
-  target_sources(scan_context_loop_eval PRIVATE src/eval/trajectory_correction_unavailable.cpp)
+  target_sources(scan_context_loop_eval PRIVATE src/eval/trajectory_correction_unavailable.cpp src/eval/team_map_unavailable.cpp)
 endif()
 
 install(TARGETS scan_context_loop_eval
