@@ -39,5 +39,45 @@ std::vector<PathPoint> smoothPath(const std::vector<Eigen::Vector2d>& points, in
   return path;
 }
 
+/// Straight legs through the waypoints, corners rounded with arcs of `radius`, sampled every `step`.
+std::vector<PathPoint> roundedPolyline(const std::vector<Eigen::Vector2d>& w, double radius, double step) {
+  std::vector<PathPoint> out;
+  if (w.size() < 2) return out;
+  Eigen::Vector2d cursor = w[0];
+  for (std::size_t k = 0; k + 1 < w.size(); ++k) {
+    const Eigen::Vector2d dir = (w[k + 1] - w[k]).normalized();
+    const double heading = std::atan2(dir.y(), dir.x());
+    // Stop short of the corner to leave room for the arc (not at the last waypoint).
+    double cut = 0.0;
+    Eigen::Vector2d next_dir = dir;
+    if (k + 2 < w.size()) {
+      next_dir = (w[k + 2] - w[k + 1]).normalized();
+      const double turn = std::atan2(dir.x() * next_dir.y() - dir.y() * next_dir.x(), dir.dot(next_dir));
+      cut = std::fabs(turn) > 1e-6 ? radius * std::tan(std::fabs(turn) / 2) : 0.0;
+    }
+    const Eigen::Vector2d end = w[k + 1] - dir * cut;
+    const double length = (end - cursor).norm();
+    for (double s = 0.0; s < length; s += step) {
+      const Eigen::Vector2d p = cursor + dir * s;
+      out.push_back({p.x(), p.y(), heading});
+    }
+    cursor = end;
+    if (cut > 0.0) {
+      const double turn = std::atan2(dir.x() * next_dir.y() - dir.y() * next_dir.x(), dir.dot(next_dir));
+      const double arc = std::fabs(turn) * radius;
+      const double side = turn > 0 ? 1.0 : -1.0;
+      const Eigen::Vector2d centre = cursor + side * radius * Eigen::Vector2d(-dir.y(), dir.x());
+      for (double s = 0.0; s < arc; s += step) {
+        const double h = heading + side * s / radius;
+        const Eigen::Vector2d p = centre + side * radius * Eigen::Vector2d(std::sin(h), -std::cos(h));
+        out.push_back({p.x(), p.y(), h});
+      }
+      cursor = w[k + 1] + next_dir * cut;
+    }
+  }
+  out.push_back({w.back().x(), w.back().y(), out.empty() ? 0.0 : out.back().heading});
+  return out;
+}
+
 }  // namespace sim
 }  // namespace scan_context_loop

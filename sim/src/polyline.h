@@ -20,5 +20,8 @@ std::vector<Eigen::Vector2d> resample(const std::vector<Eigen::Vector2d>& raw, d
 /// the corners and leaves straight stretches where they are, with headings along the smoothed path.
 std::vector<PathPoint> smoothPath(const std::vector<Eigen::Vector2d>& points, int window);
 
+/// Straight legs through the waypoints, corners rounded with arcs of `radius`, sampled every `step`.
+std::vector<PathPoint> roundedPolyline(const std::vector<Eigen::Vector2d>& waypoints, double radius, double step);
+
 }  // namespace sim
 }  // namespace scan_context_loop

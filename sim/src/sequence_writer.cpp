@@ -43,8 +43,8 @@ double writeSequence(const std::string& dir, const World& world, const SensorMod
       std::string local;
       for (std::size_t k = next++; k < data.truth.size(); k = next++) {
         const double time = data.world_clock + data.times[k];
-        const auto cloud =
-            downsample(scan(world, sensor, data.truth[k], time, (static_cast<std::uint64_t>(seed) << 32) ^ k), voxel);
+        const std::uint64_t noise_seed = (static_cast<std::uint64_t>(seed) << 32) ^ k;
+        const auto cloud = downsample(scan(world, sensor, data.origin * data.truth[k], time, noise_seed), voxel);
         points += cloud.size();
         if (!kitti::writeScan(kitti::scanPath(dir, static_cast<int>(k)), cloud, &local)) {
           std::lock_guard<std::mutex> lock(error_mutex);

@@ -68,6 +68,30 @@ std::string stackNames() {
   return names;
 }
 
+namespace {
+
+std::string withoutSlash(const std::string& name) { return !name.empty() && name[0] == '/' ? name.substr(1) : name; }
+
+}  // namespace
+
+std::string robotTopic(const std::string& robot, const std::string& topic) {
+  return robot.empty() ? topic : "/" + robot + "/" + withoutSlash(topic);
+}
+
+std::string robotFrame(const std::string& robot, const std::string& frame) {
+  return robot.empty() || frame.empty() ? frame : robot + "/" + withoutSlash(frame);
+}
+
+StackShape forRobot(const StackShape& shape, const std::string& robot) {
+  StackShape s = shape;
+  for (std::string* topic : {&s.cloud_topic, &s.odom_topic}) *topic = robotTopic(robot, *topic);
+  for (std::string* frame : {&s.cloud_frame, &s.odom_frame, &s.child_frame, &s.extrinsic_parent, &s.extrinsic_child,
+                             &s.map_frame}) {
+    *frame = robotFrame(robot, *frame);
+  }
+  return s;
+}
+
 Eigen::Isometry3d odometryAxes(const StackShape& shape) {
   Eigen::Isometry3d axes = Eigen::Isometry3d::Identity();
   if (shape.camera_axes) axes.linear() << 0, 1, 0, 0, 0, 1, 1, 0, 0;

@@ -292,12 +292,19 @@ class StreetBuilder : public StreetKit {
 
 namespace {
 
-World build(const std::vector<PathPoint>& path, const WorldOptions& options, const LaterDrive* later) {
-  const std::vector<PathPoint> dense = densify(path, 1.0);
+/// The world along `paths`; the changes during the drive (changed_world) follow the drive `path`,
+/// nullptr for none.
+World build(const std::vector<std::vector<PathPoint>>& paths, const std::vector<PathPoint>* path,
+            const WorldOptions& options, const LaterDrive* later) {
+  std::vector<PathPoint> dense;
+  for (const std::vector<PathPoint>& p : paths) {
+    const std::vector<PathPoint> d = densify(p, 1.0);
+    dense.insert(dense.end(), d.begin(), d.end());
+  }
   StreetBuilder builder(dense, options);
   const StreetRecord record = builder.build();
-  if (options.changed_world > 0.0 && options.duration > 0.0) {
-    changeWorld(path, options.times, record, duringDrive(options), &builder);
+  if (path != nullptr && options.changed_world > 0.0 && options.duration > 0.0) {
+    changeWorld(*path, options.times, record, duringDrive(options), &builder);
   }
   if (later != nullptr && !later->times.empty()) {
     Changes since;
@@ -313,11 +320,15 @@ World build(const std::vector<PathPoint>& path, const WorldOptions& options, con
 }  // namespace
 
 World generateWorld(const std::vector<PathPoint>& path, const WorldOptions& options) {
-  return build(path, options, nullptr);
+  return build({path}, &path, options, nullptr);
 }
 
 World generateWorld(const std::vector<PathPoint>& path, const WorldOptions& options, const LaterDrive& later) {
-  return build(path, options, &later);
+  return build({path}, &path, options, &later);
+}
+
+World generateWorld(const std::vector<std::vector<PathPoint>>& paths, const WorldOptions& options) {
+  return build(paths, nullptr, options, nullptr);
 }
 
 }  // namespace sim

@@ -1,5 +1,9 @@
 #include "sim_bag.h"
 
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <tuple>
 #include <utility>
 
 #include <nav_msgs/Odometry.h>
@@ -74,49 +78,81 @@ class RepeatedTransforms {
   ros::Time next_;
 };
 
+/// One robot's part of the bag: its shape, its poses as its stack publishes them, its repeated tf.
+struct Robot {
+  const BagSequence* sequence;
+  StackShape shape;
+  std::string truth_topic;
+  std::vector<Eigen::Isometry3d> truth, odom;
+  RepeatedTransforms repeated;
+};
+
 }  // namespace
 
-bool writeBag(const std::string& sequence_dir, const std::vector<Eigen::Isometry3d>& truth_in_world,
-              const std::vector<Eigen::Isometry3d>& odom_in_world, const std::vector<double>& times,
-              const BagOptions& options, std::string* error) {
-  const StackShape& shape = options.shape;
-  // A stack whose world is its first scan's frame publishes every pose (and the truth shaped like it)
-  // relative to that scan.
-  std::vector<Eigen::Isometry3d> truth = truth_in_world, odom = odom_in_world;
-  if (shape.world_at_first_scan && !truth.empty()) {
-    const Eigen::Isometry3d truth_origin = truth.front().inverse(), odom_origin = odom.front().inverse();
-    for (auto& pose : truth) pose = truth_origin * pose;
-    for (auto& pose : odom) pose = odom_origin * pose;
+bool writeBag(const std::vector<BagSequence>& sequences, const BagOptions& options, std::string* error) {
+  std::vector<Robot> robots;
+  // Every keyframe of every robot, (stamp, robot, keyframe), in time order.
+  std::vector<std::tuple<double, std::size_t, std::size_t>> order;
+  std::vector<FixedTransform> latched;
+  double first_time = std::numeric_limits<double>::infinity();
+  for (const BagSequence& sequence : sequences) {
+    if (sequence.truth.size() != sequence.odom.size() || sequence.truth.size() != sequence.times.size()) {
+      *error = "the sequence " + sequence.dir + " has different numbers of poses and times";
+      return false;
+    }
+    if (!sequence.times.empty()) first_time = std::min(first_time, sequence.times.front());
   }
+  if (!std::isfinite(first_time)) first_time = 0.0;
+  const ros::Time first(options.start_stamp + first_time);
+  for (const BagSequence& sequence : sequences) {
+    const StackShape shape = forRobot(options.shape, sequence.robot);
+    const std::vector<FixedTransform> fixed = fixedTransforms(shape);
+    // A stack whose world is its first scan's frame publishes every pose (and the truth shaped like it)
+    // relative to that scan.
+    std::vector<Eigen::Isometry3d> truth = sequence.truth, odom = sequence.odom;
+    if (shape.world_at_first_scan && !truth.empty()) {
+      const Eigen::Isometry3d truth_origin = truth.front().inverse(), odom_origin = odom.front().inverse();
+      for (auto& pose : truth) pose = truth_origin * pose;
+      for (auto& pose : odom) pose = odom_origin * pose;
+    }
+    if (shape.fixed_tf_period <= 0.0 && !truth.empty()) latched.insert(latched.end(), fixed.begin(), fixed.end());
+    const ros::Time start(options.start_stamp + (sequence.times.empty() ? 0.0 : sequence.times.front()));
+    RepeatedTransforms repeated(shape.fixed_tf_period > 0.0 ? fixed : std::vector<FixedTransform>(),
+                                shape.fixed_tf_period, start);
+    for (std::size_t k = 0; k < truth.size(); ++k) order.emplace_back(sequence.times[k], robots.size(), k);
+    robots.push_back({&sequence, shape, robotTopic(sequence.robot, options.truth_topic), std::move(truth),
+                      std::move(odom), std::move(repeated)});
+  }
+  std::stable_sort(order.begin(), order.end(),
+                   [](const auto& a, const auto& b) { return std::get<0>(a) < std::get<0>(b); });
   try {
     rosbag::Bag bag(options.path, rosbag::bagmode::Write);
     bag.setCompression(rosbag::compression::LZ4);
-    const std::vector<FixedTransform> fixed = fixedTransforms(shape);
-    const ros::Time first(options.start_stamp + (times.empty() ? 0.0 : times[0]));
-    if (!fixed.empty() && shape.fixed_tf_period <= 0.0 && !truth.empty()) writeLatched(fixed, first, &bag);
-    RepeatedTransforms repeated(shape.fixed_tf_period > 0.0 ? fixed : std::vector<FixedTransform>(),
-                                shape.fixed_tf_period, first);
-    for (std::size_t k = 0; k < truth.size(); ++k) {
+    if (!latched.empty()) writeLatched(latched, first, &bag);
+    for (const auto& [time, r, k] : order) {
+      Robot& robot = robots[r];
+      const StackShape& shape = robot.shape;
       pcl::PointCloud<pcl::PointXYZI> cloud;
-      if (!kitti::readScan(kitti::scanPath(sequence_dir, static_cast<int>(k)), &cloud, error)) return false;
+      if (!kitti::readScan(kitti::scanPath(robot.sequence->dir, static_cast<int>(k)), &cloud, error)) return false;
       if (shape.registered) {
-        pcl::transformPointCloud(cloud, cloud, (odometryAxes(shape) * odom[k]).matrix().cast<float>());
+        pcl::transformPointCloud(cloud, cloud, (odometryAxes(shape) * robot.odom[k]).matrix().cast<float>());
       }
-      const ros::Time stamp(options.start_stamp + times[k]);
+      const ros::Time stamp(options.start_stamp + time);
       // The transforms sent up to this scan (the first scan's own included), then the scan and its pose.
-      repeated.writeUntil(stamp + ros::Duration(1e-6), &bag);
+      robot.repeated.writeUntil(stamp + ros::Duration(1e-6), &bag);
       sensor_msgs::PointCloud2 msg;
       pcl::toROSMsg(cloud, msg);
       msg.header.stamp = stamp;
       msg.header.frame_id = shape.cloud_frame;
       if (shape.odom_tf) {
         tf2_msgs::TFMessage tf;
-        tf.transforms.push_back(stampedTransform(toStackPose(shape, odom[k]), shape.odom_frame, shape.child_frame, stamp));
+        tf.transforms.push_back(
+            stampedTransform(toStackPose(shape, robot.odom[k]), shape.odom_frame, shape.child_frame, stamp));
         bag.write("/tf", stamp, tf);
       }
       bag.write(shape.cloud_topic, stamp, msg);
-      bag.write(shape.odom_topic, stamp, odometry(odom[k], stamp, shape));
-      bag.write(options.truth_topic, stamp, odometry(truth[k], stamp, shape));
+      bag.write(shape.odom_topic, stamp, odometry(robot.odom[k], stamp, shape));
+      bag.write(robot.truth_topic, stamp, odometry(robot.truth[k], stamp, shape));
     }
     bag.close();
   } catch (const std::exception& e) {
@@ -124,6 +160,12 @@ bool writeBag(const std::string& sequence_dir, const std::vector<Eigen::Isometry
     return false;
   }
   return true;
+}
+
+bool writeBag(const std::string& sequence_dir, const std::vector<Eigen::Isometry3d>& truth,
+              const std::vector<Eigen::Isometry3d>& odom, const std::vector<double>& times, const BagOptions& options,
+              std::string* error) {
+  return writeBag({BagSequence{sequence_dir, truth, odom, times, ""}}, options, error);
 }
 
 }  // namespace sim

@@ -23,6 +23,7 @@
 #include "scan_context_sim/trajectory.h"
 #include "cli.h"
 #include "sim_bag.h"
+#include "simulate_team.h"
 
 namespace scl = scan_context_loop;
 namespace sim = scan_context_loop::sim;
@@ -50,6 +51,8 @@ struct Options {
   sim::OdometryFailures failures;
   sim::BagOptions bag;
   bool bag_frames = false;  ///< --sensor-frame or --odom-frame given
+  sim::TeamOptions team;
+  bool team_mode = false;  ///< --team given
   int threads = 0;
 };
 
@@ -75,6 +78,40 @@ void addOptions(scl::cli::Parser* cli, Options* o) {
             "a 400 m drive twice around a 60 x 40 m block, the second lap the other way: a short bag to try a "
             "launch file with",
             &o->block)
+      .option("--team", "N",
+              "a team: N robots (1-6; robot1..robotN) driving different, overlapping routes of 380-430 m each "
+              "through one street grid (3 x 2 blocks of 70 x 50 m): the same street the same way, the other way "
+              "in the opposite lane and one lane over, and streets only one robot sees; each with its own "
+              "drifting odometry from its own first pose. Writes OUT_DIR/team.txt and OUT_DIR/robotN/",
+              [o](const std::string& value, std::string* error) {
+                char* end = nullptr;
+                const long n = std::strtol(value.c_str(), &end, 10);
+                if (end == value.c_str() || *end != '\0') {
+                  *error = "must be a number of robots, got '" + value + "'";
+                  return false;
+                }
+                o->team.robots = static_cast<int>(n);
+                return o->team_mode = true;
+              })
+      .option("--team-start", "T1,T2,...",
+              "with --team: each robot's start, seconds after the earliest (one per robot; default all 0)",
+              [o](const std::string& value, std::string* error) {
+                o->team.start_offsets.clear();
+                std::size_t from = 0;
+                while (from <= value.size()) {
+                  const std::size_t comma = std::min(value.find(',', from), value.size());
+                  const std::string field = value.substr(from, comma - from);
+                  char* end = nullptr;
+                  const double t = std::strtod(field.c_str(), &end);
+                  if (field.empty() || *end != '\0') {
+                    *error = "must be seconds separated by commas, got '" + value + "'";
+                    return false;
+                  }
+                  o->team.start_offsets.push_back(t);
+                  from = comma + 1;
+                }
+                return true;
+              })
       .option("--kitti-poses", "DIR", "a real KITTI trajectory: DIR/poses.txt, DIR/calib.txt, DIR/times.txt",
               &o->kitti)
       .option("--first", "N", "first frame of the KITTI trajectory's window (default: all)", &o->first)
@@ -195,7 +232,8 @@ void addOptions(scl::cli::Parser* cli, Options* o) {
           "scripts/simulate only:\n"
           "  --render                   also render OUT_DIR/render_map.png (whole map), render_detail.png (120 m\n"
           "                             around keyframe 20) and render_scan.png (keyframe 20: top-down, side view,\n"
-          "                             range image) with scripts/render_sequence.py");
+          "                             range image) with scripts/render_sequence.py; with --team, each robot's\n"
+          "                             in OUT_DIR/<robot>/");
 }
 
 /// Checks the values together; empty when they are fine.
@@ -216,6 +254,20 @@ std::string check(const Options& o) {
   if (!(o.traffic >= 0.0 && o.traffic <= 20.0)) return "--traffic must be in [0, 20]";
   if (o.session != 1 && o.session != 2) return "--session must be 1 or 2";
   if (o.second.changed < 0.0 || o.second.changed > 1.0) return "--session-changes must be in [0, 1]";
+  if (!o.team.start_offsets.empty() && !o.team_mode) return "--team-start needs --team";
+  if (o.team_mode) {
+    if (const std::string why = sim::checkTeam(o.team); !why.empty()) return "--team: " + why;
+    if (o.city || o.narrow || o.block || !o.kitti.empty()) return "--team drives its own routes: no other trajectory";
+    if (o.session != 1) return "--team has no --session 2";
+    if (o.changed_world > 0.0) return "--team has no --changed-world (its traffic follows one drive)";
+    if (o.tilt > 0.0 || o.mount_pitch != 0.0) return "--team has no --tilt or --mount-pitch";
+    if (o.failures.any()) return "--team has no odometry failures (--heading-ramp, --heading-jumps, --slip-length, "
+                                 "--odometry-restart)";
+    if (!o.bag.shape.name.empty() || o.bag_frames) {
+      return "--team bags have the default shape, each robot's topics and frames in its namespace: no --stack, "
+             "--sensor-frame or --odom-frame";
+    }
+  }
   return "";
 }
 
@@ -244,6 +296,34 @@ int main(int argc, char** argv) {
   if (o.max_range > 0) sensor.max_range = static_cast<float>(o.max_range);
   if (o.mount > 0) sensor.mount_height = static_cast<float>(o.mount);
   if (o.dim_range >= 0) sensor.dim_range = static_cast<float>(o.dim_range);
+
+  const int threads = o.threads > 0 ? o.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  if (!scl::cli::makeDirectories(o.out, &error) ||
+      (!o.bag.path.empty() && std::filesystem::path(o.bag.path).has_parent_path() &&
+       !scl::cli::makeDirectories(std::filesystem::path(o.bag.path).parent_path().string(), &error))) {
+    std::fprintf(stderr, "scan_context_simulate: %s\n", error.c_str());
+    return 1;
+  }
+  if (o.team_mode) {
+    sim::TeamRun run;
+    run.out = o.out;
+    run.team = o.team;
+    run.sensor = sensor;
+    run.world.seed = o.seed;
+    run.world.dynamic_car_fraction = o.dynamic_cars;
+    run.world.repeat_templates = o.repeat_templates;
+    run.drift = o.drift;
+    run.spacing = std::isnan(o.spacing) ? 2.0 : o.spacing;
+    run.voxel = o.voxel;
+    run.seed = o.seed;
+    run.threads = threads;
+    run.bag = o.bag;
+    if (!sim::simulateTeam(run, &error)) {
+      std::fprintf(stderr, "scan_context_simulate: %s\n", error.c_str());
+      return 1;
+    }
+    return 0;
+  }
 
   // The drive: every source frame (for the world) and the keyframes along it.
   std::vector<sim::PathPoint> path;
@@ -343,13 +423,6 @@ int main(int argc, char** argv) {
     // A run of its own: its odometry starts at the identity, knowing nothing of session 1's frame.
     const Eigen::Isometry3d origin = data.odometry.front().inverse();
     for (Eigen::Isometry3d& pose : data.odometry) pose = origin * pose;
-  }
-  const int threads = o.threads > 0 ? o.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-  if (!scl::cli::makeDirectories(o.out, &error) ||
-      (!o.bag.path.empty() && std::filesystem::path(o.bag.path).has_parent_path() &&
-       !scl::cli::makeDirectories(std::filesystem::path(o.bag.path).parent_path().string(), &error))) {
-    std::fprintf(stderr, "scan_context_simulate: %s\n", error.c_str());
-    return 1;
   }
   const double mean_points = sim::writeSequence(o.out, world, sensor, data, o.voxel, run_seed, threads, &error);
   if (mean_points < 0) {

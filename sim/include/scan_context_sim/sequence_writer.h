@@ -12,7 +12,10 @@ namespace scan_context_loop {
 namespace sim {
 
 struct SequenceData {
-  std::vector<Eigen::Isometry3d> truth, odometry;  ///< LiDAR poses, one per keyframe
+  std::vector<Eigen::Isometry3d> truth, odometry;  ///< LiDAR poses, one per keyframe, in the frame `origin`
+  /// T_world<-frame of truth: the scans are cast from origin * truth[k] (a team robot's sequence is
+  /// relative to its own first keyframe).
+  Eigen::Isometry3d origin = Eigen::Isometry3d::Identity();
   std::vector<double> times;                       ///< seconds from the first keyframe
   double world_clock = 0.0;  ///< the world's clock at the first keyframe [s] (a later drive's start)
 };

@@ -53,6 +53,15 @@ const StackShape* findStackShape(const std::string& name);
 /// "aloam | lego_loam | lio_sam | fast_lio".
 std::string stackNames();
 
+/// A topic in a robot's namespace: "/<robot>/<topic>" (the topic's own leading '/' dropped); the topic as
+/// it is for an empty robot.
+std::string robotTopic(const std::string& robot, const std::string& topic);
+/// A frame of a robot of a team: "<robot>/<frame>" (tf1's leading '/' dropped); as it is for an empty robot.
+std::string robotFrame(const std::string& robot, const std::string& frame);
+/// The shape one robot of a team publishes in: every topic in its namespace and every frame its own
+/// (robotTopic, robotFrame). An empty robot: the shape as it is.
+StackShape forRobot(const StackShape& shape, const std::string& robot);
+
 /// T_odometry-axes<-LiDAR-axes: camera axes (x_camera = y_lidar, y_camera = z_lidar, z_camera = x_lidar)
 /// or the identity. It is also the fixed extrinsic child_frame -> cloud_frame of a camera-axes stack.
 Eigen::Isometry3d odometryAxes(const StackShape& shape);

@@ -119,6 +119,11 @@ struct WorldOptions {
 /// path, including one that crosses or revisits itself, gets open streets.
 World generateWorld(const std::vector<PathPoint>& path, const WorldOptions& options);
 
+/// The streets along several paths at once (a team's drives, teamStreets()), each walked on its own
+/// (no road joins one path's end to the next one's start), nothing placed on any of them. The changed
+/// world is left out (changed_world must be 0: its traffic follows one drive's clock).
+World generateWorld(const std::vector<std::vector<PathPoint>>& paths, const WorldOptions& options);
+
 /// A later drive through the world that generateWorld(path, options) builds, on another day: the same
 /// streets, buildings and everything else built, as the first drive left them, with the street
 /// changed since (WorldOptions::changed_world's changes at strength `changed`, all made by the later
