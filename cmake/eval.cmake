@@ -30,6 +30,14 @@ if(CATKIN_ENABLE_TESTING)
   # A prior map given as a saved database: its own binary, a few seconds.
   catkin_add_gtest(test_eval_database_prior test/test_main.cpp test/eval/test_database_prior.cpp)
   target_link_libraries(test_eval_database_prior scan_context_loop_eval_sequences)
+  # A tiny team of two robots scored offline (--team); the map part with the backend only.
+  catkin_add_gtest(test_eval_team test/test_main.cpp test/eval/test_team_evaluation.cpp)
+  target_link_libraries(test_eval_team scan_context_loop_eval_sequences)
+  if(SCL_WITH_BACKEND)
+    target_compile_definitions(test_eval_team PRIVATE SCL_TEST_WITH_BACKEND=1)
+  else()
+    target_compile_definitions(test_eval_team PRIVATE SCL_TEST_WITH_BACKEND=0)
+  endif()
   if(SCL_WITH_BACKEND)
     # Whole evaluations of simulated drives, with the trajectory correction.
     catkin_add_gtest(test_eval test/test_main.cpp test/eval/test_evaluation.cpp test/eval/test_relocalization.cpp)
