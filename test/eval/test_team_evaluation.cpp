@@ -160,10 +160,8 @@ TEST(TeamEvaluation, BytesPerKeyframeAreCounted) {
 
 TEST(TeamEvaluation, FramesBetweenRobotsAreEstimated) {
   const TeamMap& map = run().map;
-  if (!SCL_TEST_WITH_BACKEND) {
-    EXPECT_FALSE(map.computed);
-    return;
-  }
+  // A build without the backend has no map (team_map_unavailable.cpp), and says so.
+  if (!map.computed && map.note.find("without the pose-graph backend") != std::string::npos) GTEST_SKIP() << map.note;
   ASSERT_TRUE(map.computed) << map.note;
   ASSERT_EQ(map.robots.size(), 2u);
   EXPECT_TRUE(map.robots[0].joined);
