@@ -8,6 +8,7 @@ add_library(scan_context_loop_pose_graph_nodelet
   src/ros/pose_graph_ros.cpp
   src/ros/pose_graph_worker.cpp
   src/ros/pose_graph_saving.cpp
+  src/ros/pose_graph_robots.cpp
   src/ros/pose_graph_nodelet.cpp)
 target_link_libraries(scan_context_loop_pose_graph_nodelet scan_context_loop_ros scan_context_loop_graph)
 add_executable(pose_graph_node src/ros/pose_graph_node.cpp)
@@ -22,6 +23,9 @@ if(CATKIN_ENABLE_TESTING)
   add_rostest_gtest(test_ros_pose_graph test/ros/pose_graph.test test/ros/test_pose_graph.cpp)
   target_link_libraries(test_ros_pose_graph scan_context_loop_ros_harness scan_context_loop_eval ${PCL_IO_LIBRARIES})
   add_dependencies(test_ros_pose_graph scan_context_loop_nodelet scan_context_loop_pose_graph_nodelet pose_graph_node)
+  add_rostest_gtest(test_ros_pose_graph_team test/ros/pose_graph_team.test test/ros/test_pose_graph_team.cpp)
+  target_link_libraries(test_ros_pose_graph_team scan_context_loop_ros_harness)
+  add_dependencies(test_ros_pose_graph_team pose_graph_node)
   add_rostest_gtest(test_ros_corrected_relocalization test/ros/corrected_relocalization.test
     test/ros/test_corrected_relocalization.cpp)
   target_link_libraries(test_ros_corrected_relocalization scan_context_loop_ros_harness scan_context_sim)

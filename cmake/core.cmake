@@ -72,6 +72,7 @@ if(CATKIN_ENABLE_TESTING)
     test/core/test_file_io.cpp
     test/core/test_block_arena.cpp
     test/core/test_team_matcher.cpp
+    test/core/test_task_thread.cpp
   )
   # The real-data tests read KITTI scans (eval/kitti_io.h); the simulated-data tests cast scans with the
   # simulator.

@@ -1,5 +1,5 @@
 # The ROS adapter (a library the two nodelets share, with no plugin in it), the loop-closure nodelet (the
-# plugin library, its class alone) and its standalone node.
+# plugin library, its classes alone: the loop-closure nodelet and the base station's) and their standalone nodes.
 add_library(scan_context_loop_ros
   src/ros/parameters.cpp
   src/ros/frame_ids.cpp
@@ -26,20 +26,26 @@ add_library(scan_context_loop_ros
   src/ros/database_paths.cpp
   src/ros/database_services.cpp
   src/ros/loop_closure_ros.cpp
+  src/ros/team_base_ros.cpp
 )
 target_include_directories(scan_context_loop_ros PUBLIC include ${catkin_INCLUDE_DIRS})
 target_link_libraries(scan_context_loop_ros PUBLIC scan_context_loop_core ${catkin_LIBRARIES}
   ${PCL_FILTERS_LIBRARIES} ${PCL_COMMON_LIBRARIES})
 add_dependencies(scan_context_loop_ros ${PROJECT_NAME}_generate_messages_cpp ${PROJECT_NAME}_gencfg)
 
-add_library(scan_context_loop_nodelet src/ros/loop_closure_nodelet.cpp)
+add_library(scan_context_loop_nodelet src/ros/loop_closure_nodelet.cpp src/ros/team_base_nodelet.cpp)
 target_link_libraries(scan_context_loop_nodelet scan_context_loop_ros)
 
 add_executable(loop_closure_node src/ros/loop_closure_node.cpp)
 target_include_directories(loop_closure_node PRIVATE include ${catkin_INCLUDE_DIRS})
 target_link_libraries(loop_closure_node ${catkin_LIBRARIES})
 
-install(TARGETS scan_context_loop_ros scan_context_loop_nodelet loop_closure_node
+# The base station: one process, one loop-closure adapter per robot of a team.
+add_executable(team_base_node src/ros/team_base_node.cpp)
+target_include_directories(team_base_node PRIVATE include ${catkin_INCLUDE_DIRS})
+target_link_libraries(team_base_node ${catkin_LIBRARIES})
+
+install(TARGETS scan_context_loop_ros scan_context_loop_nodelet loop_closure_node team_base_node
   ARCHIVE DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
   LIBRARY DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION}
   RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
@@ -89,6 +95,8 @@ if(CATKIN_ENABLE_TESTING)
   target_link_libraries(test_ros_markers scan_context_loop_ros)
   catkin_add_gtest(test_ros_database_paths test/test_main.cpp test/ros/test_database_paths.cpp)
   target_link_libraries(test_ros_database_paths scan_context_loop_ros)
+  catkin_add_gtest(test_ros_team_base test/test_main.cpp test/ros/test_team_base.cpp)
+  target_link_libraries(test_ros_team_base scan_context_loop_ros)
 endif()
 
 if(CATKIN_ENABLE_TESTING)
@@ -131,6 +139,38 @@ if(CATKIN_ENABLE_TESTING)
     add_rostest(${PROJECT_BINARY_DIR}/test/ros/${stack}.test
       DEPENDENCIES scan_context_loop_${stack}_bag ${stack_test_deps})
   endforeach()
+  # Several robots: a simulated team's bag (three robots, the third a minute late) and the rostest that runs
+  # their nodes on it (test/ros/team.test).
+  add_custom_command(OUTPUT ${bags}/team/team.bag
+    COMMAND scan_context_simulate ${bags}/team --team 3 --team-start 0,0,60 --sensor vlp16 --voxel 0.2 --threads 2
+      --bag ${bags}/team/team.bag
+    COMMAND ${CMAKE_COMMAND} -E remove_directory ${bags}/team/robot1/velodyne
+    COMMAND ${CMAKE_COMMAND} -E remove_directory ${bags}/team/robot2/velodyne
+    COMMAND ${CMAKE_COMMAND} -E remove_directory ${bags}/team/robot3/velodyne
+    DEPENDS scan_context_simulate
+    COMMENT "Simulating a team of three robots"
+    VERBATIM)
+  add_custom_target(scan_context_loop_team_bag DEPENDS ${bags}/team/team.bag)
+  add_dependencies(tests scan_context_loop_team_bag)
+  add_executable(test_ros_team EXCLUDE_FROM_ALL test/ros/test_team.cpp)
+  target_link_libraries(test_ros_team scan_context_loop_ros_harness scan_context_sim ${GTEST_LIBRARIES})
+  add_dependencies(tests test_ros_team)
+  file(GENERATE OUTPUT ${PROJECT_BINARY_DIR}/test/ros/team.test CONTENT
+"<launch>
+  <include file=\"$(find scan_context_loop)/test/ros/team.test\">
+    <arg name=\"bag\" value=\"${bags}/team/team.bag\"/>
+    <arg name=\"team_file\" value=\"${bags}/team/team.txt\"/>
+  </include>
+</launch>
+")
+  add_rostest(${PROJECT_BINARY_DIR}/test/ros/team.test
+    DEPENDENCIES scan_context_loop_team_bag test_ros_team loop_closure_node scan_context_loop_nodelet)
+
+  add_executable(test_ros_team_input EXCLUDE_FROM_ALL test/ros/test_team_input.cpp)
+  target_link_libraries(test_ros_team_input scan_context_loop_ros_harness ${GTEST_LIBRARIES})
+  add_dependencies(tests test_ros_team_input)
+  add_rostest(test/ros/team_input.test DEPENDENCIES test_ros_team_input loop_closure_node scan_context_loop_nodelet)
+
   # One bag played again and again (rosbag play -l): each pass a session that closes loops into the first.
   file(GENERATE OUTPUT ${PROJECT_BINARY_DIR}/test/ros/fast_lio_replayed.test CONTENT
 "<launch>

@@ -27,8 +27,9 @@ std::vector<std::string> KeyframeMapConfig::validate() const { return checkSetti
 
 KeyframeMap::KeyframeMap(const KeyframeMapConfig& config) : config_(config) {}
 
-std::size_t KeyframeMap::add(std::size_t index, const std::vector<Eigen::Vector3f>& points) {
-  if (index % static_cast<std::size_t>(config_.keyframe_stride) != 0) return 0;
+std::size_t KeyframeMap::add(std::size_t index, const std::vector<Eigen::Vector3f>& points, long ordinal) {
+  const std::size_t counted = ordinal >= 0 ? static_cast<std::size_t>(ordinal) : index;
+  if (counted % static_cast<std::size_t>(config_.keyframe_stride) != 0) return 0;
   pcl::PointCloud<pcl::PointXYZ>::Ptr near(new pcl::PointCloud<pcl::PointXYZ>);
   near->reserve(points.size());
   const double r2 = config_.max_range * config_.max_range;
@@ -46,11 +47,12 @@ std::size_t KeyframeMap::add(std::size_t index, const std::vector<Eigen::Vector3
   return clouds_.back().points.size();
 }
 
-pcl::PointCloud<pcl::PointXYZ> KeyframeMap::assemble(const std::vector<Eigen::Isometry3d>& poses) const {
+pcl::PointCloud<pcl::PointXYZ> KeyframeMap::assemble(const std::vector<Eigen::Isometry3d>& poses,
+                                                     const std::vector<bool>& leave_out) const {
   pcl::PointCloud<pcl::PointXYZ>::Ptr all(new pcl::PointCloud<pcl::PointXYZ>);
   all->reserve(points_);
   for (const auto& stored : clouds_) {
-    if (stored.index >= poses.size()) continue;
+    if (stored.index >= poses.size() || (stored.index < leave_out.size() && leave_out[stored.index])) continue;
     const Eigen::Isometry3f pose = poses[stored.index].cast<float>();
     for (const auto& p : stored.points) {
       const Eigen::Vector3f w = pose * p;

@@ -1,5 +1,8 @@
 #include "scan_context_loop/graph/pose_graph_settings.h"
 
+#include <algorithm>
+#include <sstream>
+
 #include "../core/setting_rows.h"
 
 namespace scan_context_loop {
@@ -41,6 +44,34 @@ std::vector<Setting<KeyframeMapConfig>> makeKeyframeMapSettings() {
   };
 }
 
+std::vector<std::string> words(const std::string& text) {
+  std::istringstream in(text);
+  std::vector<std::string> out;
+  for (std::string word; in >> word;) out.push_back(word);
+  return out;
+}
+
+/// "" when `robots` names robots by valid, distinct ids, else the rule it breaks.
+std::string robotsRule(const PoseGraphOptions& o) {
+  const std::vector<std::string> ids = words(o.robots);
+  for (std::size_t i = 0; i < ids.size(); ++i) {
+    if (ids[i].find_first_not_of("ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789_") !=
+        std::string::npos) {
+      return "robot ids must be [A-Za-z0-9_]+ (\"" + ids[i] + "\" is not)";
+    }
+    if (std::find(ids.begin(), ids.begin() + i, ids[i]) != ids.begin() + i) return "robot " + ids[i] + " is listed twice";
+  }
+  if (ids.size() > PoseGraph::kMaxChains) return "at most " + std::to_string(PoseGraph::kMaxChains) + " robots";
+  return "";
+}
+
+std::string anchorRule(const PoseGraphOptions& o) {
+  if (o.anchor_robot.empty()) return "";
+  const std::vector<std::string> ids = words(o.robots);
+  if (std::find(ids.begin(), ids.end(), o.anchor_robot) == ids.end()) return "must be one of robots";
+  return "";
+}
+
 std::vector<Setting<PoseGraphOptions>> makePoseGraphNodeSettings() {
   using PO = PoseGraphOptions;
   const auto not_empty = [](const PO& o) { return o.map_frame.empty() ? std::string("must not be empty") : ""; };
@@ -64,6 +95,12 @@ std::vector<Setting<PoseGraphOptions>> makePoseGraphNodeSettings() {
       stringSetting<PO>("map_save", O(map_save), {},
                         "directory the map files are written to at shutdown (absolute, or relative to "
                         "map_directory; empty: none)"),
+      alsoCheck<PO>(robotsRule, stringSetting<PO>("robots", O(robots), {},
+                                                  "several robots: their ids, a list (or one string, separated by "
+                                                  "spaces); empty: one robot")),
+      alsoCheck<PO>(anchorRule, stringSetting<PO>("anchor_robot", O(anchor_robot), {},
+                                                  "the robot whose odometry frame is the map's (empty: the first "
+                                                  "of robots)")),
   };
 }
 
@@ -72,6 +109,13 @@ std::vector<Setting<PoseGraphOptions>> makePoseGraphNodeSettings() {
 #undef G
 
 }  // namespace
+
+std::vector<std::string> robotIds(const PoseGraphOptions& options) {
+  std::vector<std::string> ids = words(options.robots);
+  const auto anchor = std::find(ids.begin(), ids.end(), options.anchor_robot);
+  if (anchor != ids.end()) std::rotate(ids.begin(), anchor, anchor + 1);  // the anchor first, the rest in order
+  return ids;
+}
 
 const std::vector<Setting<PoseGraphConfig>>& poseGraphSettings() {
   static const std::vector<Setting<PoseGraphConfig>> table = makePoseGraphSettings();

@@ -60,6 +60,7 @@ bool LoopClosureRos::start() {
 
   queue_.reset(new KeyframeQueue(static_cast<std::size_t>(options_.queue_size), &counters_.queue_length));
   markers_.reset(new MarkerPublisher(config_));
+  markers_->setRobot(options_.robot_id);
   loops_.reset(new LoopPublisher(name_, config_, options_, &counters_, markers_.get()));
   // In relocalize mode keyframes are placed in the loaded map, not added to a map of this run's: none
   // is published as selected.

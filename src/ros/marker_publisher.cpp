@@ -18,8 +18,12 @@ void MarkerPublisher::publish(const Database& database) {
   keyframes.position = [&database](std::size_t k) { return keyframePosition(database.keyframe(k)); };
   keyframes.session = [&database](std::size_t k) { return database.keyframe(k).session; };
   const ros::Time stamp = keyframeStamp(database.keyframe(database.size() - 1).info);
-  const auto update = makeLoopMarkers(keyframes, loops_, rejected_, frame_, stamp, config_.distance_threshold, &shown_);
-  if (!update.markers.empty()) pub_.publish(update);
+  auto update = makeLoopMarkers(keyframes, loops_, rejected_, frame_, stamp, config_.distance_threshold, &shown_);
+  if (update.markers.empty()) return;
+  if (!robot_.empty()) {
+    for (auto& marker : update.markers) marker.ns = robot_ + "/" + marker.ns;  // a team's markers apart in RViz
+  }
+  pub_.publish(update);
 }
 
 void MarkerPublisher::redraw(const Database& database) {

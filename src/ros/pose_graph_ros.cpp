@@ -14,9 +14,11 @@ PoseGraphRos::~PoseGraphRos() {
   save_srv_.shutdown();
   if (service_spinner_) service_spinner_->stop();  // a save in progress finishes first
   map_srv_.shutdown();
-  odom_sub_.shutdown();
-  cloud_sub_.shutdown();
-  loop_sub_.shutdown();
+  for (GraphRobot& robot : robots_) {
+    robot.odom_sub.shutdown();
+    robot.cloud_sub.shutdown();
+    robot.loop_sub.shutdown();
+  }
   tf_timer_.stop();
   diagnostics_timer_.stop();
   {
@@ -40,9 +42,18 @@ bool PoseGraphRos::start() {
   graph_.reset(new PoseGraph(graph_config_));
   map_.reset(new KeyframeMap(map_config_));
 
-  // Latched: RViz opened late, or a tool asking once, still gets the latest paths and map.
-  path_pub_ = nh_.advertise<nav_msgs::Path>("corrected_path", 1, true);
-  odometry_path_pub_ = nh_.advertise<nav_msgs::Path>("odometry_path", 1, true);
+  // The robots and their outputs (latched: RViz opened late, or a tool asking once, still gets the
+  // latest paths and map).
+  const std::vector<std::string> ids = robotIds(options_);
+  team_ = !ids.empty();
+  robots_.resize(team_ ? ids.size() : 1);
+  for (std::size_t r = 0; r < robots_.size(); ++r) {
+    GraphRobot& robot = robots_[r];
+    robot.id = team_ ? ids[r] : "";
+    robot.chain = r;
+    robot.path_pub = nh_.advertise<nav_msgs::Path>(robot.topic("corrected_path"), 1, true);
+    robot.odometry_path_pub = nh_.advertise<nav_msgs::Path>(robot.topic("odometry_path"), 1, true);
+  }
   marker_pub_ = nh_.advertise<visualization_msgs::MarkerArray>("graph_markers", 1, true);
   map_pub_ = nh_.advertise<sensor_msgs::PointCloud2>("map_cloud", 1, true);
   map_srv_ = pnh_.advertiseService("publish_map", &PoseGraphRos::onPublishMap, this);
@@ -57,35 +68,54 @@ bool PoseGraphRos::start() {
   diagnostics_timer_ = nh_.createTimer(ros::Duration(1.0), [this](const ros::TimerEvent&) { diagnostics_->update(); });
 
   worker_ = std::thread(&PoseGraphRos::work, this);
-  odom_sub_ = nh_.subscribe("selected_keyframe_odom", 1000, &PoseGraphRos::onOdom, this);
-  loop_sub_ = nh_.subscribe("loop_closures", 1000, &PoseGraphRos::onLoop, this);
-  if (options_.build_map) cloud_sub_ = nh_.subscribe("selected_keyframe_cloud", 1000, &PoseGraphRos::onCloud, this);
-  ROS_INFO_NAMED(name_, "pose graph on %s + %s%s; %s loops; corrected poses in %s", odom_sub_.getTopic().c_str(),
-                 loop_sub_.getTopic().c_str(), options_.build_map ? (", map from " + cloud_sub_.getTopic()).c_str() : "",
-                 options_.verified_only ? "verified" : "all", options_.map_frame.c_str());
+  subscribeRobots();
   return true;
+}
+
+void PoseGraphRos::subscribeRobots() {
+  for (std::size_t r = 0; r < robots_.size(); ++r) {
+    GraphRobot& robot = robots_[r];
+    robot.odom_sub = nh_.subscribe<nav_msgs::Odometry>(
+        robot.topic("selected_keyframe_odom"), 1000, [this, r](const nav_msgs::OdometryConstPtr& m) { onOdom(m, r); });
+    robot.loop_sub = nh_.subscribe<scan_context_loop::LoopClosure>(
+        robot.topic("loop_closures"), 1000, [this, r](const scan_context_loop::LoopClosureConstPtr& m) { onLoop(m, r); });
+    if (options_.build_map) {
+      robot.cloud_sub = nh_.subscribe<sensor_msgs::PointCloud2>(
+          robot.topic("selected_keyframe_cloud"), 1000,
+          [this, r](const sensor_msgs::PointCloud2ConstPtr& m) { onCloud(m, r); });
+    }
+    ROS_INFO_NAMED(name_, "pose graph on %s + %s%s; %s loops; corrected poses in %s%s%s", robot.odom_sub.getTopic().c_str(),
+                   robot.loop_sub.getTopic().c_str(),
+                   options_.build_map ? (", map from " + robot.cloud_sub.getTopic()).c_str() : "",
+                   options_.verified_only ? "verified" : "all", options_.map_frame.c_str(),
+                   team_ ? (r == 0 ? " (the anchor: robot " : " (robot ") : "",
+                   team_ ? (robot.id + ", chain " + std::to_string(r) + ")").c_str() : "");
+  }
 }
 
 // ---- callbacks: queue and return ----------------------------------------------------------------
 
-void PoseGraphRos::onOdom(const nav_msgs::OdometryConstPtr& msg) {
+void PoseGraphRos::onOdom(const nav_msgs::OdometryConstPtr& msg, std::size_t robot) {
   Event event;
+  event.robot = robot;
   event.odom = msg;
   enqueue(std::move(event));
 }
 
-void PoseGraphRos::onCloud(const sensor_msgs::PointCloud2ConstPtr& msg) {
+void PoseGraphRos::onCloud(const sensor_msgs::PointCloud2ConstPtr& msg, std::size_t robot) {
   Event event;
+  event.robot = robot;
   event.cloud = msg;
   enqueue(std::move(event));
 }
 
-void PoseGraphRos::onLoop(const scan_context_loop::LoopClosureConstPtr& msg) {
+void PoseGraphRos::onLoop(const scan_context_loop::LoopClosureConstPtr& msg, std::size_t robot) {
   if (options_.verified_only && !msg->verified) {
     ++loops_skipped_;
     return;
   }
   Event event;
+  event.robot = robot;
   event.loop = msg;
   enqueue(std::move(event));
 }
@@ -119,16 +149,20 @@ void PoseGraphRos::enqueue(Event event) {
 }
 
 void PoseGraphRos::onTfTimer(const ros::TimerEvent&) {
-  geometry_msgs::TransformStamped tf;
+  std::vector<geometry_msgs::TransformStamped> transforms;
   {
     std::lock_guard<std::mutex> lock(correction_mutex_);
-    if (!have_correction_) return;
-    tf = tf2::eigenToTransform(correction_);
-    tf.child_frame_id = odom_frame_;
+    for (const TfFrame& frame : tf_frames_) {
+      transforms.push_back(tf2::eigenToTransform(frame.correction));
+      transforms.back().child_frame_id = frame.odom_frame;
+    }
   }
-  tf.header.frame_id = options_.map_frame;
-  tf.header.stamp = ros::Time::now();
-  tf_broadcaster_->sendTransform(tf);
+  const ros::Time now = ros::Time::now();
+  for (auto& tf : transforms) {
+    tf.header.frame_id = options_.map_frame;
+    tf.header.stamp = now;
+  }
+  if (!transforms.empty()) tf_broadcaster_->sendTransform(transforms);
 }
 
 void PoseGraphRos::diagnose(diagnostic_updater::DiagnosticStatusWrapper& status) {
@@ -138,6 +172,10 @@ void PoseGraphRos::diagnose(diagnostic_updater::DiagnosticStatusWrapper& status)
     status.summary(diagnostic_msgs::DiagnosticStatus::OK, "running");
   }
   status.add("keyframes", keyframes_.load());
+  if (team_) {
+    status.add("robots", robots_.size());
+    status.add("robots joined", robots_joined_.load());
+  }
   status.add("loops in the graph", loops_used_.load());
   status.add("loops skipped (unverified)", loops_skipped_.load());
   status.add("loops waiting for keyframes", loops_waiting_.load());

@@ -80,12 +80,13 @@ bool PoseGraphRos::mapTarget(const std::string& requested, std::string* director
 
 MapFiles PoseGraphRos::snapshotMap() {
   if (solve_pending_) solveAndPublish(true);  // the loops that came are in the map saved
-  std::vector<std::int64_t> stamps;
-  stamps.reserve(stamps_.size());
-  for (const ros::Time& stamp : stamps_) stamps.push_back(static_cast<std::int64_t>(stamp.toNSec()));
-  MapFiles files = mapFilesOf(*graph_, stamps);
+  std::vector<std::string> ids;  // by chain; none for the single robot (its files keep their names)
+  for (const GraphRobot& robot : robots_) {
+    if (team_) ids.push_back(robot.id);
+  }
+  MapFiles files = mapFilesOf(*graph_, stampsByIndex(*graph_, robots_), ids);
   if (options_.build_map) {
-    files.cloud = map_->assemble(files.corrected);
+    files.cloud = map_->assemble(files.corrected, unjoinedKeyframes(*graph_, robots_));  // the map's robots only
     files.has_cloud = true;
     files.voxel = map_config_.voxel;
   }

@@ -13,6 +13,7 @@
 #include "scan_context_loop/ros/frame_ids.h"
 #include "scan_context_loop/ros/pose_graph_ros.h"
 #include "scan_context_loop/ros/pose_input.h"
+#include "scan_context_loop/ros/pose_graph_robots.h"
 
 namespace scan_context_loop {
 
@@ -23,20 +24,6 @@ constexpr std::size_t kMaxWaiting = 1000;
 /// Paths and markers go out at most this often while messages keep coming [s]; once the queue is empty
 /// the latest state always goes out.
 constexpr double kPublishPeriod = 1.0;
-
-nav_msgs::Path makePath(const std::vector<Eigen::Isometry3d>& poses, const std::vector<ros::Time>& stamps,
-                        const std::string& frame) {
-  nav_msgs::Path path;
-  path.header.frame_id = frame;
-  path.header.stamp = stamps.empty() ? ros::Time() : stamps.back();
-  path.poses.resize(poses.size());
-  for (std::size_t i = 0; i < poses.size(); ++i) {
-    path.poses[i].header.frame_id = frame;
-    path.poses[i].header.stamp = stamps[i];
-    path.poses[i].pose = tf2::toMsg(poses[i]);
-  }
-  return path;
-}
 
 }  // namespace
 
@@ -105,52 +92,53 @@ bool PoseGraphRos::handleBatch(const std::deque<Event>& batch, bool* changed) {
 
 void PoseGraphRos::handle(const Event& event) {
   if (event.odom) {
-    addKeyframe(*event.odom);
+    addKeyframe(*event.odom, &robots_[event.robot]);
   } else if (event.cloud) {
-    addCloud(*event.cloud);
+    addCloud(*event.cloud, &robots_[event.robot]);
   } else if (event.loop) {
-    if (!addLoop(*event.loop)) {
+    if (!addLoop(*event.loop, event.robot)) {
       if (waiting_.size() >= kMaxWaiting) waiting_.erase(waiting_.begin());
-      waiting_.push_back(*event.loop);
+      waiting_.push_back({*event.loop, event.robot});
     }
     loops_waiting_ = waiting_.size();
   }
 }
 
-void PoseGraphRos::addKeyframe(const nav_msgs::Odometry& msg) {
+void PoseGraphRos::addKeyframe(const nav_msgs::Odometry& msg, GraphRobot* robot) {
   const ros::Time stamp = msg.header.stamp;
-  if (!stamps_.empty() && stamp <= stamps_.back()) {
+  const char* of = robot->id.empty() ? "" : " of robot ";
+  if (!robot->stamps.empty() && stamp <= robot->stamps.back()) {
     ++rejected_;
-    ROS_ERROR_THROTTLE_NAMED(5.0, name_, "keyframe at %.3f skipped: its stamp is not after the last one (%.3f); the "
-                             "reference graph holds one session", stamp.toSec(), stamps_.back().toSec());
+    ROS_ERROR_THROTTLE_NAMED(5.0, name_, "keyframe%s%s at %.3f skipped: its stamp is not after the last one (%.3f); the "
+                             "reference graph holds one session", of, robot->id.c_str(), stamp.toSec(),
+                             robot->stamps.back().toSec());
     return;
   }
   const std::string frame = normaliseFrameId(msg.header.frame_id);
-  if (!odom_frame_.empty() && frame != odom_frame_) {
+  if (!robot->odom_frame.empty() && frame != robot->odom_frame) {
     ++rejected_;
-    ROS_ERROR_THROTTLE_NAMED(5.0, name_, "keyframe at %.3f skipped: its frame %s is not the odometry frame %s",
-                             stamp.toSec(), frame.c_str(), odom_frame_.c_str());
+    ROS_ERROR_THROTTLE_NAMED(5.0, name_, "keyframe%s%s at %.3f skipped: its frame %s is not the odometry frame %s", of,
+                             robot->id.c_str(), stamp.toSec(), frame.c_str(), robot->odom_frame.c_str());
     return;
   }
   Eigen::Isometry3d pose;
   std::string why;
-  if (!poseFromMsg(msg.pose.pose, &pose, &why) || graph_->addKeyframe(pose) < 0) {
+  long index = -1;
+  if (!poseFromMsg(msg.pose.pose, &pose, &why) || (index = graph_->addKeyframe(pose, robot->chain)) < 0) {
     ++rejected_;
-    ROS_ERROR_THROTTLE_NAMED(5.0, name_, "keyframe at %.3f skipped: its pose is unusable: %s", stamp.toSec(),
-                             why.c_str());
+    ROS_ERROR_THROTTLE_NAMED(5.0, name_, "keyframe%s%s at %.3f skipped: its pose is unusable: %s", of, robot->id.c_str(),
+                             stamp.toSec(), why.c_str());
     return;
   }
-  if (odom_frame_.empty()) {
-    std::lock_guard<std::mutex> lock(correction_mutex_);
-    odom_frame_ = frame;
-  }
-  stamps_.push_back(stamp);
-  keyframes_ = stamps_.size();
+  robot->odom_frame = frame;
+  robot->stamps.push_back(stamp);
+  robot->keyframes.push_back(static_cast<std::size_t>(index));
+  keyframes_ = graph_->size();
   // A cloud may have come first (separate topics); and loops wait for both their keyframes.
-  for (auto it = early_clouds_.begin(); it != early_clouds_.end();) {
-    if (keyframeAt((*it)->header.stamp) >= 0) {
-      addCloud(**it);
-      it = early_clouds_.erase(it);
+  for (auto it = robot->early_clouds.begin(); it != robot->early_clouds.end();) {
+    if (robot->keyframeAt((*it)->header.stamp, options_.stamp_tolerance) >= 0) {
+      addCloud(**it, robot);
+      it = robot->early_clouds.erase(it);
     } else {
       ++it;
     }
@@ -158,13 +146,13 @@ void PoseGraphRos::addKeyframe(const nav_msgs::Odometry& msg) {
   retryWaitingLoops();
 }
 
-void PoseGraphRos::addCloud(const sensor_msgs::PointCloud2& msg) {
-  const long index = keyframeAt(msg.header.stamp);
+void PoseGraphRos::addCloud(const sensor_msgs::PointCloud2& msg, GraphRobot* robot) {
+  const long index = robot->keyframeAt(msg.header.stamp, options_.stamp_tolerance);
   if (index < 0) {
     // Not a keyframe yet: its pose may follow. Clouds older than the newest keyframe never match one.
-    if (stamps_.empty() || msg.header.stamp > stamps_.back()) {
-      if (early_clouds_.size() >= 50) early_clouds_.pop_front();
-      early_clouds_.push_back(boost::make_shared<sensor_msgs::PointCloud2>(msg));
+    if (robot->stillToCome(msg.header.stamp)) {
+      if (robot->early_clouds.size() >= 50) robot->early_clouds.pop_front();
+      robot->early_clouds.push_back(boost::make_shared<sensor_msgs::PointCloud2>(msg));
     }
     return;
   }
@@ -182,16 +170,34 @@ void PoseGraphRos::addCloud(const sensor_msgs::PointCloud2& msg) {
     std::memcpy(points[i].data() + 1, p + view.offset_y, 4);
     std::memcpy(points[i].data() + 2, p + view.offset_z, 4);
   }
-  if (map_->add(static_cast<std::size_t>(index), points) > 0) map_changed_ = true;
+  // The stride counts each robot's own keyframes (the single robot's are the graph's).
+  const auto own = std::lower_bound(robot->keyframes.begin(), robot->keyframes.end(), static_cast<std::size_t>(index));
+  if (map_->add(static_cast<std::size_t>(index), points, team_ ? own - robot->keyframes.begin() : -1) > 0) {
+    map_changed_ = true;
+  }
   map_points_ = map_->points();
 }
 
-bool PoseGraphRos::addLoop(const scan_context_loop::LoopClosure& msg) {
-  const long query = keyframeAt(msg.query_stamp);
-  const long match = keyframeAt(msg.match_stamp);
+bool PoseGraphRos::addLoop(const scan_context_loop::LoopClosure& msg, std::size_t came_on) {
+  // Without robots the robot fields are not read: every loop is the single robot's.
+  const long qr = team_ ? robotNamed(robots_, msg.query_robot, came_on) : 0;
+  const long mr = team_ ? robotNamed(robots_, msg.match_robot, came_on) : 0;
+  if (qr < 0 || mr < 0) {
+    ++rejected_;
+    ROS_WARN_THROTTLE_NAMED(5.0, name_, "loop %u -> %u left out: robot %s is not one of robots", msg.query_id,
+                            msg.match_id, (qr < 0 ? msg.query_robot : msg.match_robot).c_str());
+    return true;
+  }
+  const GraphRobot &query_robot = robots_[qr], &match_robot = robots_[mr];
+  const long query = query_robot.keyframeAt(msg.query_stamp, options_.stamp_tolerance);
+  const long match = match_robot.keyframeAt(msg.match_stamp, options_.stamp_tolerance);
   if (query < 0 || match < 0) {
-    const ros::Time latest = std::max(msg.query_stamp, msg.match_stamp);
-    if (stamps_.empty() || latest > stamps_.back()) return false;  // its keyframes are still to come
+    // Its keyframes are still to come (both of one robot: the later stamp decides, as without robots).
+    if (qr == mr ? query_robot.stillToCome(std::max(msg.query_stamp, msg.match_stamp))
+                 : (query < 0 && query_robot.stillToCome(msg.query_stamp)) ||
+                       (match < 0 && match_robot.stillToCome(msg.match_stamp))) {
+      return false;
+    }
     ++rejected_;
     ROS_WARN_THROTTLE_NAMED(5.0, name_, "loop %u -> %u left out: no keyframe at its stamps %.3f / %.3f (another "
                             "session, or a keyframe this node skipped)", msg.query_id, msg.match_id,
@@ -216,24 +222,12 @@ bool PoseGraphRos::addLoop(const scan_context_loop::LoopClosure& msg) {
 
 void PoseGraphRos::retryWaitingLoops() {
   if (waiting_.empty()) return;
-  std::vector<scan_context_loop::LoopClosure> still;
+  std::vector<WaitingLoop> still;
   for (const auto& loop : waiting_) {
-    if (!addLoop(loop)) still.push_back(loop);
+    if (!addLoop(loop.msg, loop.robot)) still.push_back(loop);
   }
   waiting_.swap(still);
   loops_waiting_ = waiting_.size();
-}
-
-long PoseGraphRos::keyframeAt(const ros::Time& stamp) const {
-  const ros::Duration tolerance(options_.stamp_tolerance);
-  auto it = std::lower_bound(stamps_.begin(), stamps_.end(), stamp - tolerance);
-  if (it == stamps_.end() || *it > stamp + tolerance) return -1;
-  // The nearest within the tolerance (keyframes closer together than it are ambiguous; take the nearest).
-  auto best = it;
-  for (++it; it != stamps_.end() && *it <= stamp + tolerance; ++it) {
-    if ((*it - stamp).toSec() * (*it - stamp).toSec() < (*best - stamp).toSec() * (*best - stamp).toSec()) best = it;
-  }
-  return static_cast<long>(best - stamps_.begin());
 }
 
 void PoseGraphRos::solveAndPublish(bool solve) {
@@ -251,23 +245,36 @@ void PoseGraphRos::solveAndPublish(bool solve) {
                               result.message.c_str());
     }
   }
-  const std::vector<Eigen::Isometry3d> poses = graph_->poses();
+  std::vector<TfFrame> tf_frames;
+  std::size_t joined = 0;
+  ros::Time newest;
+  for (const GraphRobot& robot : robots_) {
+    if (robot.keyframes.empty()) continue;  // nothing to show yet
+    const RobotView view = viewOf(*graph_, robot, options_.map_frame);
+    robot.path_pub.publish(view.corrected);
+    robot.odometry_path_pub.publish(view.odometry);
+    newest = std::max(newest, robot.stamps.back());
+    if (!view.joined) continue;  // no tf: its frame is not in the map yet
+    ++joined;
+    tf_frames.push_back({robot.odom_frame, view.correction});
+  }
+  robots_joined_ = joined;
   {
     std::lock_guard<std::mutex> lock(correction_mutex_);
-    correction_ = graph_->correction();
-    have_correction_ = true;
+    tf_frames_.swap(tf_frames);
   }
-  path_pub_.publish(makePath(poses, stamps_, options_.map_frame));
-  std::vector<Eigen::Isometry3d> odometry(graph_->size());
-  for (std::size_t i = 0; i < odometry.size(); ++i) odometry[i] = graph_->odometryPose(i);
-  odometry_path_pub_.publish(makePath(odometry, stamps_, options_.map_frame));
+  publishMarkers(graph_->poses(), newest);
+}
 
-  // The loops between the corrected poses: verified green, unverified (verified_only false) orange.
+void PoseGraphRos::publishMarkers(const std::vector<Eigen::Isometry3d>& poses, const ros::Time& stamp) {
+  // The loops between the corrected poses: verified green, unverified (verified_only false) orange; those
+  // of a robot not joined yet are in another frame and left out.
+  const std::vector<bool> unjoined = unjoinedKeyframes(*graph_, robots_);
   visualization_msgs::MarkerArray markers;
   for (const bool verified : {true, false}) {
     visualization_msgs::Marker lines;
     lines.header.frame_id = options_.map_frame;
-    lines.header.stamp = stamps_.back();
+    lines.header.stamp = stamp;
     lines.ns = verified ? "verified loops" : "unverified loops";
     lines.id = 0;
     lines.type = visualization_msgs::Marker::LINE_LIST;
@@ -279,7 +286,7 @@ void PoseGraphRos::solveAndPublish(bool solve) {
     lines.color.g = verified ? 0.9f : 0.55f;
     lines.color.b = 0.1f;
     for (const auto& loop : used_) {
-      if (loop.verified != verified) continue;
+      if (loop.verified != verified || unjoined[loop.query] || unjoined[loop.match]) continue;
       lines.points.push_back(tf2::toMsg(Eigen::Vector3d(poses[loop.query].translation())));
       lines.points.push_back(tf2::toMsg(Eigen::Vector3d(poses[loop.match].translation())));
     }
@@ -290,11 +297,14 @@ void PoseGraphRos::solveAndPublish(bool solve) {
 }
 
 void PoseGraphRos::publishMap() {
-  const auto cloud = map_->assemble(graph_->poses());
+  // Every joined robot's clouds at their corrected poses; a robot not joined yet is in another frame.
+  const auto cloud = map_->assemble(graph_->poses(), unjoinedKeyframes(*graph_, robots_));
   sensor_msgs::PointCloud2 msg;
   pcl::toROSMsg(cloud, msg);
   msg.header.frame_id = options_.map_frame;
-  msg.header.stamp = stamps_.empty() ? ros::Time() : stamps_.back();
+  for (const GraphRobot& robot : robots_) {
+    if (!robot.stamps.empty()) msg.header.stamp = std::max(msg.header.stamp, robot.stamps.back());
+  }
   map_pub_.publish(msg);
   last_map_ = ros::WallTime::now();
   map_changed_ = false;

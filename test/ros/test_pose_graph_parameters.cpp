@@ -1,7 +1,10 @@
 // The reference backend's parameter reader (built with the backend, into test_ros_parameters): defaults,
 // types, unknown keys and ranges.
 #include <algorithm>
+#include <functional>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include <gtest/gtest.h>
 #include <ros/ros.h>
@@ -50,6 +53,44 @@ TEST(PoseGraphParameters, DefaultsTypesUnknownKeysAndRangesAreChecked) {
         << key << " not reported";
   }
   EXPECT_EQ(problems.size(), 6u);
+}
+
+TEST(PoseGraphParameters, RobotsAreAListOfIdsAndTheAnchorOneOfThem) {
+  PoseGraphConfig graph;
+  KeyframeMapConfig map;
+  PoseGraphOptions options;
+  EXPECT_TRUE(robotIds(options).empty()) << "one robot by default";
+  ros::NodeHandle team("/graph_team");
+  team.setParam("robots", std::vector<std::string>{"robot1", "robot2", "robot_3"});
+  team.setParam("anchor_robot", std::string("robot2"));
+  auto problems = readPoseGraphParameters(team, &graph, &map, &options);
+  EXPECT_TRUE(problems.empty()) << problems.front();
+  EXPECT_EQ(robotIds(options), (std::vector<std::string>{"robot2", "robot1", "robot_3"})) << "the anchor is chain 0";
+  ros::NodeHandle spaced("/graph_spaced");
+  spaced.setParam("robots", std::string("a b"));
+  PoseGraphOptions spaced_options;
+  problems = readPoseGraphParameters(spaced, &graph, &map, &spaced_options);
+  EXPECT_TRUE(problems.empty()) << problems.front();
+  EXPECT_EQ(robotIds(spaced_options), (std::vector<std::string>{"a", "b"})) << "the first anchors by default";
+
+  const std::vector<std::pair<std::string, std::function<void(ros::NodeHandle&)>>> bad = {
+      {"robots", [](ros::NodeHandle& nh) { nh.setParam("robots", std::vector<std::string>{"a", "../b"}); }},
+      {"robots", [](ros::NodeHandle& nh) { nh.setParam("robots", std::vector<std::string>{"a", "a"}); }},
+      {"robots", [](ros::NodeHandle& nh) { nh.setParam("robots", std::vector<int>{1, 2}); }},
+      {"anchor_robot", [](ros::NodeHandle& nh) {
+         nh.setParam("robots", std::vector<std::string>{"a", "b"});
+         nh.setParam("anchor_robot", std::string("c"));
+       }},
+  };
+  int n = 0;
+  for (const auto& [key, set] : bad) {
+    ros::NodeHandle nh("/graph_bad_robots_" + std::to_string(n++));
+    set(nh);
+    PoseGraphOptions o;
+    problems = readPoseGraphParameters(nh, &graph, &map, &o);
+    ASSERT_EQ(problems.size(), 1u) << key;
+    EXPECT_EQ(problems[0].compare(0, key.size(), key), 0) << problems[0];
+  }
 }
 
 }  // namespace

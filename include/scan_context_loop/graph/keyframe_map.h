@@ -29,12 +29,15 @@ class KeyframeMap {
  public:
   explicit KeyframeMap(const KeyframeMapConfig& config = KeyframeMapConfig());
 
-  /// Keeps keyframe `index`'s points (sensor frame; NaN/Inf skipped) if the stride selects it. Returns
-  /// the number of points kept.
-  std::size_t add(std::size_t index, const std::vector<Eigen::Vector3f>& points);
+  /// Keeps keyframe `index`'s points (sensor frame; NaN/Inf skipped) if the stride selects it: it counts
+  /// `ordinal` (the keyframe's number in its own robot's sequence, with several robots), or `index`
+  /// when `ordinal` is negative. Returns the number of points kept.
+  std::size_t add(std::size_t index, const std::vector<Eigen::Vector3f>& points, long ordinal = -1);
   /// The kept clouds moved by `poses` (T_world<-keyframe by keyframe index) into one cloud in the world
-  /// frame, thinned by the voxel grid. Keyframes beyond `poses` are left out.
-  pcl::PointCloud<pcl::PointXYZ> assemble(const std::vector<Eigen::Isometry3d>& poses) const;
+  /// frame, thinned by the voxel grid. Keyframes beyond `poses`, and keyframe i when `leave_out[i]`, are
+  /// left out.
+  pcl::PointCloud<pcl::PointXYZ> assemble(const std::vector<Eigen::Isometry3d>& poses,
+                                          const std::vector<bool>& leave_out = {}) const;
 
   std::size_t keyframes() const { return clouds_.size(); }
   std::size_t points() const { return points_; }

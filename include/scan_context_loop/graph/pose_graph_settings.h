@@ -38,7 +38,16 @@ struct PoseGraphOptions {
   std::string map_directory;
   /// A directory the map is written to at shutdown (absolute, or relative to map_directory; empty: none).
   std::string map_save;
+  /// Several robots (doc/pose_graph.md#several-robots): their ids, separated by spaces (the ROS
+  /// parameter may be a list of strings); empty: one robot, the topics in the node's namespace.
+  std::string robots;
+  /// The robot whose odometry frame is the map's (empty: the first of `robots`).
+  std::string anchor_robot;
 };
+
+/// The robot ids of `options.robots` in chain order: the anchor first (chain 0), then the others in
+/// the order given. Empty without robots.
+std::vector<std::string> robotIds(const PoseGraphOptions& options);
 
 /// The solver's keys (odometry noise, robust loss, iterations).
 const std::vector<Setting<PoseGraphConfig>>& poseGraphSettings();

@@ -32,6 +32,10 @@ class MarkerPublisher {
   void addRejected(const LoopEdge& edge) { rejected_.push_back(edge); }
   /// The pose frame of the newest keyframe: the markers' frame.
   void setFrame(const std::string& frame) { frame_ = frame; }
+  /// A team's robot id (robot_id): every marker's namespace begins with "<robot>/" (set before advertise()).
+  /// Loops into other robots' keyframes are not drawn: those keyframes have no pose in this robot's frame
+  /// (the backend's graph_markers draw them in the map).
+  void setRobot(const std::string& robot) { robot_ = robot; }
   /// Publishes what changed since the last time, stamped with the newest keyframe's stamp; the
   /// database must hold keyframes.
   void publish(const Database& database);
@@ -48,6 +52,7 @@ class MarkerPublisher {
   ros::Publisher pub_;
   std::vector<LoopEdge> loops_, rejected_;
   MarkerState shown_;   // what the published markers already show
+  std::string robot_;
   std::string frame_;   // the pose frame of the newest keyframe
 };
 

@@ -1,8 +1,9 @@
 // The reference backend's ROS adapter: keyframe poses (selected_keyframe_odom) and loop closures
 // (loop_closures) in; the corrected keyframe path, the raw odometry path, the loops as markers, the
 // correction as the tf map_frame -> odometry frame, and a corrected map cloud out; the map as files on
-// ~save_map and at shutdown (map_save). Callbacks queue what arrives; one worker owns the graph and the
-// map and publishes.
+// ~save_map and at shutdown (map_save). With `robots`, the same per robot (`<robot>/...`, each robot a
+// chain of the graph, pose_graph_robots.h) and one merged map. Callbacks queue what arrives; one worker
+// owns the graph and the map and publishes.
 #pragma once
 
 #include <atomic>
@@ -30,6 +31,7 @@
 #include "scan_context_loop/graph/map_files.h"
 #include "scan_context_loop/graph/pose_graph.h"
 #include "scan_context_loop/ros/pose_graph_parameters.h"
+#include "scan_context_loop/ros/pose_graph_robots.h"
 
 namespace scan_context_loop {
 
@@ -48,6 +50,7 @@ class PoseGraphRos {
  private:
   /// Something that arrived, waiting for the worker: exactly one pointer is set, or publish_map, or task.
   struct Event {
+    std::size_t robot = 0;  ///< robots_ index of the robot whose topic it came on
     nav_msgs::OdometryConstPtr odom;
     sensor_msgs::PointCloud2ConstPtr cloud;
     scan_context_loop::LoopClosureConstPtr loop;
@@ -55,9 +58,11 @@ class PoseGraphRos {
     std::function<void()> task;  ///< a service's work on the graph (runOnWorker)
   };
 
-  void onOdom(const nav_msgs::OdometryConstPtr& msg);
-  void onCloud(const sensor_msgs::PointCloud2ConstPtr& msg);
-  void onLoop(const scan_context_loop::LoopClosureConstPtr& msg);
+  /// Sets up robots_ and subscribes each robot's inputs (the worker runs already).
+  void subscribeRobots();
+  void onOdom(const nav_msgs::OdometryConstPtr& msg, std::size_t robot);
+  void onCloud(const sensor_msgs::PointCloud2ConstPtr& msg, std::size_t robot);
+  void onLoop(const scan_context_loop::LoopClosureConstPtr& msg, std::size_t robot);
   bool onPublishMap(std_srvs::Trigger::Request& request, std_srvs::Trigger::Response& response);
   void enqueue(Event event);
   void onTfTimer(const ros::TimerEvent&);
@@ -83,14 +88,15 @@ class PoseGraphRos {
   /// Handles a batch taken from the queue; true if one asked for the map.
   bool handleBatch(const std::deque<Event>& batch, bool* changed);
   void handle(const Event& event);
-  void addKeyframe(const nav_msgs::Odometry& msg);
-  void addCloud(const sensor_msgs::PointCloud2& msg);
-  /// Adds the loop if both keyframes are known; false if it has to wait for them.
-  bool addLoop(const scan_context_loop::LoopClosure& msg);
+  void addKeyframe(const nav_msgs::Odometry& msg, GraphRobot* robot);
+  void addCloud(const sensor_msgs::PointCloud2& msg, GraphRobot* robot);
+  /// Adds the loop (that came on robot `robot`'s topic) if both keyframes are known; false if it has to
+  /// wait for them.
+  bool addLoop(const scan_context_loop::LoopClosure& msg, std::size_t robot);
   void retryWaitingLoops();
-  /// The keyframe whose stamp is within stamp_tolerance of `stamp`, or -1.
-  long keyframeAt(const ros::Time& stamp) const;
   void solveAndPublish(bool solve);
+  /// The loops between keyframes in map_frame as markers (those of robots not joined are left out).
+  void publishMarkers(const std::vector<Eigen::Isometry3d>& poses, const ros::Time& stamp);
   void publishMap();
 
   ros::NodeHandle nh_, pnh_;
@@ -99,8 +105,10 @@ class PoseGraphRos {
   KeyframeMapConfig map_config_;
   PoseGraphOptions options_;
 
-  ros::Subscriber odom_sub_, cloud_sub_, loop_sub_;
-  ros::Publisher path_pub_, odometry_path_pub_, marker_pub_, map_pub_;
+  /// The robots (one, id "", without the `robots` parameter), the anchor first; set up by start().
+  std::vector<GraphRobot> robots_;
+  bool team_ = false;  ///< the `robots` parameter is set
+  ros::Publisher marker_pub_, map_pub_;
   ros::ServiceServer map_srv_, save_srv_;
   // ~save_map has its own queue and thread: a call waits for the worker and for its write, and holds up
   // nothing else meanwhile.
@@ -117,28 +125,33 @@ class PoseGraphRos {
   bool stop_ = false;
   std::thread worker_;
 
-  // correction_mutex_ guards correction_, odom_frame_ and have_correction_ (worker writes, tf timer reads).
+  // correction_mutex_ guards tf_frames_ (worker writes, tf timer reads): map_frame -> each joined
+  // robot's odometry frame, its correction.
+  struct TfFrame {
+    std::string odom_frame;
+    Eigen::Isometry3d correction;
+  };
   std::mutex correction_mutex_;
-  Eigen::Isometry3d correction_ = Eigen::Isometry3d::Identity();
-  std::string odom_frame_;
-  bool have_correction_ = false;
+  std::vector<TfFrame> tf_frames_;
 
   // Counters read by diagnostics; written by callbacks and the worker.
   std::atomic<std::size_t> keyframes_{0}, loops_used_{0}, loops_skipped_{0}, loops_waiting_{0}, rejected_{0},
-      dropped_{0}, solves_{0}, map_points_{0}, saves_{0}, save_failures_{0};
+      dropped_{0}, solves_{0}, map_points_{0}, saves_{0}, save_failures_{0}, robots_joined_{0};
   std::atomic<double> last_solve_ms_{0.0}, last_cost_{0.0};
 
   // Worker-only state.
   std::unique_ptr<PoseGraph> graph_;
   std::unique_ptr<KeyframeMap> map_;
-  std::vector<ros::Time> stamps_;  // keyframe stamps, increasing, by graph index
-  std::vector<scan_context_loop::LoopClosure> waiting_;  // loops whose keyframes have not arrived yet
+  struct WaitingLoop {
+    scan_context_loop::LoopClosure msg;
+    std::size_t robot;  // the robot whose topic it came on
+  };
+  std::vector<WaitingLoop> waiting_;  // loops whose keyframes have not arrived yet
   struct UsedLoop {
     std::size_t query, match;
     bool verified;
   };
   std::vector<UsedLoop> used_;
-  std::deque<sensor_msgs::PointCloud2ConstPtr> early_clouds_;  // clouds that came before their pose
   ros::WallTime last_solve_;
   ros::WallTime last_map_;
   bool solve_pending_ = false;
