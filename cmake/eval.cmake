@@ -3,14 +3,16 @@
 find_package(yaml-cpp REQUIRED)
 add_library(scan_context_loop_eval src/eval/kitti_io.cpp src/eval/metrics.cpp src/eval/relocalization.cpp
   src/eval/config_file.cpp src/eval/sequence.cpp src/eval/prior_map.cpp src/eval/evaluation.cpp
-  src/eval/trajectory_error.cpp src/eval/trajectory_correction_files.cpp)
+  src/eval/trajectory_error.cpp src/eval/trajectory_correction_files.cpp src/eval/sequence_scorer.cpp
+  src/eval/team_sequence.cpp src/eval/team_session.cpp src/eval/team_evaluation.cpp src/eval/team_map_files.cpp)
 target_include_directories(scan_context_loop_eval PUBLIC include ${YAML_CPP_INCLUDE_DIR})
 target_link_libraries(scan_context_loop_eval PUBLIC scan_context_loop_core yaml-cpp)
 if(SCL_WITH_BACKEND)
-  target_sources(scan_context_loop_eval PRIVATE src/eval/trajectory_correction.cpp src/eval/trajectory_correction_map.cpp)
+  target_sources(scan_context_loop_eval PRIVATE src/eval/trajectory_correction.cpp src/eval/trajectory_correction_map.cpp
+    src/eval/team_map.cpp)
   target_link_libraries(scan_context_loop_eval PUBLIC scan_context_loop_graph)
 else()
-  target_sources(scan_context_loop_eval PRIVATE src/eval/trajectory_correction_unavailable.cpp)
+  target_sources(scan_context_loop_eval PRIVATE src/eval/trajectory_correction_unavailable.cpp src/eval/team_map_unavailable.cpp)
 endif()
 
 install(TARGETS scan_context_loop_eval
@@ -28,6 +30,9 @@ if(CATKIN_ENABLE_TESTING)
   # A prior map given as a saved database: its own binary, a few seconds.
   catkin_add_gtest(test_eval_database_prior test/test_main.cpp test/eval/test_database_prior.cpp)
   target_link_libraries(test_eval_database_prior scan_context_loop_eval_sequences)
+  # A tiny team of two robots scored offline (--team); the map part with the backend only.
+  catkin_add_gtest(test_eval_team test/test_main.cpp test/eval/test_team_evaluation.cpp)
+  target_link_libraries(test_eval_team scan_context_loop_eval_sequences)
   if(SCL_WITH_BACKEND)
     # Whole evaluations of simulated drives, with the trajectory correction.
     catkin_add_gtest(test_eval test/test_main.cpp test/eval/test_evaluation.cpp test/eval/test_relocalization.cpp)

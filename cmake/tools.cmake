@@ -5,7 +5,7 @@ add_library(scan_context_loop_cli STATIC tools/cli.cpp)
 target_include_directories(scan_context_loop_cli PUBLIC tools)
 
 if(SCL_BUILD_TOOLS)
-  add_executable(scan_context_evaluate tools/evaluate_main.cpp)
+  add_executable(scan_context_evaluate tools/evaluate_main.cpp tools/evaluate_team.cpp)
   target_link_libraries(scan_context_evaluate scan_context_loop_eval scan_context_loop_cli)
   install(TARGETS scan_context_evaluate RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
 

@@ -8,6 +8,7 @@
 #include "scan_context_loop/eval/evaluation.h"
 #include "scan_context_loop/eval/trajectory_correction.h"
 #include "cli.h"
+#include "evaluate_team.h"
 
 namespace scl = scan_context_loop;
 namespace eval = scan_context_loop::eval;
@@ -19,14 +20,18 @@ int main(int argc, char** argv) {
   double radius = 5.0;
   std::vector<std::string> overrides;
   std::string config_file, prior_path, prior_truth, save_database, save_map;
-  bool save_clouds = false;
+  bool save_clouds = false, team = false;
   scl::cli::Parser cli("scan_context_evaluate",
                        "Runs the Scan Context detector frame by frame over a KITTI-format sequence (velodyne/*.bin, "
                        "poses.txt, calib.txt, optional times.txt and odom_poses.txt) through the node's own code "
                        "(KeyframePipeline), and writes OUT_DIR/results.csv, metrics.json and trajectory.csv (scripts/evaluate adds pr.png and "
                        "map.png); with verification also verifications.csv, one row per candidate registered, scored "
                        "against the truth; with --prior also relocalization.csv; with --save-database the run's "
-                       "database. Prints a summary, and last the line `output: OUT_DIR`.");
+                       "database. With --team, SEQUENCE_DIR is a team's (team.txt and one sequence per robot): every robot's "
+                       "keyframes run in the world's clock order through a pipeline of its own, exchanging keyframe "
+                       "records and registration data as the node's team does, and OUT_DIR gets team.json, "
+                       "inter_robot_loops.csv and one folder per robot. Prints a summary, and last the line "
+                       "`output: OUT_DIR`.");
   cli.positional("SEQUENCE_DIR", "the KITTI-format sequence", &sequence_dir)
       .positional("OUT_DIR", "where the results go (created with its parents when missing)", &out_dir)
       .option("--config", "FILE",
@@ -39,6 +44,13 @@ int main(int argc, char** argv) {
       .option("--first", "N", "first frame of the window (default 0)", &options.first)
       .option("--last", "N", "last frame of the window (default: to the end)", &options.last)
       .option("--revisit-radius", "R", "ground-truth revisit radius [m] (default 5)", &radius)
+      .flag("--team",
+            "SEQUENCE_DIR is a team sequence (scan_context_simulate --team): team.txt (robot id, start on the "
+            "world's clock, true start pose) and one KITTI-format folder per robot. Scores each robot's own loops, "
+            "the loops between robots against the truth in the world frame, the bytes exchanged, and the map of "
+            "the team (one pose-graph chain per robot, the first robot anchoring it): each robot's frame and "
+            "trajectory error in the anchor's frame",
+            &team)
       .flag("--truth-odometry", "feed the true poses even when odom_poses.txt exists",
             [&options] { options.use_odometry_file = false; })
       .option("--prior", "DIR|FILE",
@@ -66,6 +78,9 @@ int main(int argc, char** argv) {
               &save_map);
   if (const int status = cli.parse(argc, argv); status >= 0) return status;
   if (save_clouds && save_database.empty()) return cli.fail("--save-clouds goes with --save-database FILE");
+  if (team && (!prior_path.empty() || !prior_truth.empty() || !save_database.empty() || !save_map.empty())) {
+    return cli.fail("--team goes without --prior, --prior-truth, --save-database and --save-map");
+  }
   std::vector<std::string> warnings;
   if (!config_file.empty() && !eval::loadConfigFile(config_file, &config, &error, &warnings)) {
     std::fprintf(stderr, "scan_context_evaluate: %s\n", error.c_str());
@@ -84,6 +99,8 @@ int main(int argc, char** argv) {
     if (!(radius > 0.0)) std::fprintf(stderr, "scan_context_evaluate: --revisit-radius must be positive\n");
     return 2;
   }
+
+  if (team) return scl::tools::evaluateTeam(sequence_dir, out_dir, config, options, radius);
 
   eval::Sequence sequence;
   if (!eval::loadSequence(sequence_dir, options, &sequence, &error)) {

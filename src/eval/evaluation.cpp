@@ -9,229 +9,10 @@
 #include "scan_context_loop/core/keyframes.h"
 #include "scan_context_loop/eval/prior_map.h"
 #include "scan_context_loop/eval/kitti_io.h"
+#include "scan_context_loop/eval/sequence_scorer.h"
 
 namespace scan_context_loop {
 namespace eval {
-
-namespace {
-
-double yawOf(const Eigen::Isometry3d& t) { return std::atan2(t(1, 0), t(0, 0)); }
-
-constexpr double kConstraintMetres = 1.0, kConstraintDegrees = 2.0;
-
-/// Feeds keyframes through the pipeline and scores the query sequence's. A prior map (when given) comes
-/// first, as session 0: a prior sequence's keyframes fed through the pipeline, or a saved database's
-/// joining it; it is not scored.
-class SequenceScorer {
- public:
-  SequenceScorer(const Config& config, double revisit_radius, Evaluation* e)
-      : pipeline_(config), radius_(revisit_radius), e_(*e) {}
-
-  /// The prior's keyframes, then a new session.
-  void buildPriorMap(const Sequence& prior) {
-    for (std::size_t k = 0; k < prior.frames.size(); ++k) {
-      pcl::PointCloud<pcl::PointXYZI> cloud;
-      const Detection d = feed(prior, k, &cloud);
-      if (d.accepted) keyframes_.push_back({&prior, k});
-    }
-    priorMapBuilt();
-    pipeline_.startSession();
-  }
-
-  /// The database's keyframes, as saved (the next keyframe begins a new session).
-  bool loadPriorMap(DatabasePrior* prior, std::string* error) {
-    if (!pipeline_.appendSessions(std::move(prior->sessions), error)) {
-      *error = prior->path + ": " + *error;
-      return false;
-    }
-    const Sequence& s = prior->keyframes;
-    for (std::size_t k = 0; k < s.frames.size(); ++k) {
-      keyframes_.push_back({&s, k});
-      positions_.push_back(s.truth[k].translation());
-    }
-    priorMapBuilt();
-    return true;
-  }
-
-  void score(const Sequence& s);
-  std::size_t priorKeyframes() const { return prior_count_; }
-  const KeyframePipeline& pipeline() const { return pipeline_; }
-
- private:
-  struct Keyframe {
-    const Sequence* sequence;
-    std::size_t k;
-    const Eigen::Isometry3d& truth() const { return sequence->truth[k]; }
-    int frame() const { return sequence->frames[k]; }
-  };
-
-  /// Reads and processes keyframe k; a cloud that cannot be read, or that the detector refuses, counts
-  /// as rejected (Detection::accepted false).
-  Detection feed(const Sequence& s, std::size_t k, pcl::PointCloud<pcl::PointXYZI>* cloud) {
-    std::string error;
-    if (!kitti::readScan(kitti::scanPath(s.dir, s.frames[k]), cloud, &error)) {
-      e_.errors.push_back(error);
-      ++e_.rejected;
-      return Detection();
-    }
-    KeyframeInfo info;
-    info.stamp = s.stamps[k];
-    info.pose = s.odometry[k];
-    info.tag = s.frames[k];
-    Detection d = pipeline_.process(viewOf(*cloud), info);
-    if (d.selected && !d.accepted) {
-      e_.errors.push_back("frame " + std::to_string(s.frames[k]) + ": " + d.error);
-      ++e_.rejected;
-    }
-    if (d.accepted) positions_.push_back(s.truth[k].translation());
-    return d;
-  }
-
-  void priorMapBuilt() {
-    prior_count_ = keyframes_.size();
-    has_prior_ = true;
-    Sequence& stored = e_.prior_keyframes;
-    for (const Keyframe& kf : keyframes_) {
-      stored.dir = kf.sequence->dir;
-      stored.odometry_from_file = kf.sequence->odometry_from_file;
-      stored.frames.push_back(kf.frame());
-      stored.truth.push_back(kf.truth());
-      stored.odometry.push_back(kf.sequence->odometry[kf.k]);
-      stored.stamps.push_back(kf.sequence->stamps[kf.k]);
-    }
-  }
-  bool inPrior(std::size_t index) const { return index < prior_count_; }
-  PriorOutcome priorOutcome(const Sequence& s, std::size_t k) const;
-  void scoreLoops(const Sequence& s, std::size_t k, const Detection& d);
-
-  KeyframePipeline pipeline_;
-  double radius_;
-  bool has_prior_ = false;
-  Evaluation& e_;
-  std::vector<Eigen::Vector3d> positions_;  // true positions of the accepted keyframes
-  std::vector<Keyframe> keyframes_;         // detector index -> sequence and keyframe
-  std::size_t prior_count_ = 0;             // keyframes of the prior map
-  std::vector<long> outcome_of_, prior_outcome_of_;  // detector index -> outcome, -1 for none
-  std::vector<double> metres_;  // true distance along the query sequence to each keyframe
-};
-
-PriorOutcome SequenceScorer::priorOutcome(const Sequence& s, std::size_t k) const {
-  PriorOutcome o;
-  o.query = s.frames[k];
-  o.seconds = s.stamps[k] - s.stamps.front();
-  o.metres = metres_[k];
-  double nearest = 1e300;
-  for (std::size_t i = 0; i < prior_count_; ++i) {
-    const double gap = (positions_[i] - s.truth[k].translation()).norm();
-    if (gap >= nearest) continue;
-    nearest = gap;
-    o.nearest = keyframes_[i].frame();
-    o.nearest_yaw = yawOf(s.truth[k].inverse() * keyframes_[i].truth());
-  }
-  o.nearest_gap = o.nearest >= 0 ? nearest : -1.0;
-  o.prior_place = o.nearest >= 0 && nearest < radius_;
-  return o;
-}
-
-void SequenceScorer::scoreLoops(const Sequence& s, std::size_t k, const Detection& d) {
-  // Loops may be reported a few keyframes after their query (consistency check): score each one on
-  // its own query's outcome.
-  e_.loops_dropped += d.dropped.size();
-  e_.loops.insert(e_.loops.end(), d.loops.begin(), d.loops.end());
-  if (!d.verifications_enabled) return;
-  for (const Loop& loop : d.loops) {
-    if (loop.query >= outcome_of_.size() || outcome_of_[loop.query] < 0) continue;
-    QueryOutcome& q = e_.outcomes[outcome_of_[loop.query]];
-    const Keyframe& query = keyframes_[loop.query];
-    const Keyframe& match = keyframes_[loop.match];
-    const Eigen::Isometry3d truth = query.truth().inverse() * match.truth();
-    q.verified_match = match.frame();
-    q.verified_in_prior = inPrior(loop.match);
-    // A verified loop is a constraint: it is correct when its pose is (within 1 m and 2 deg of the
-    // truth), however far apart the keyframes are; one between places within the revisit radius with
-    // a wrong pose is a false constraint all the same.
-    const double pose_error = (loop.verification.relative.translation() - truth.translation()).norm();
-    const double rotation_error =
-        Eigen::AngleAxisd(truth.linear().transpose() * loop.verification.relative.linear()).angle();
-    q.verified_correct = pose_error <= kConstraintMetres && rotation_error <= kConstraintDegrees * M_PI / 180.0;
-    q.verified_beyond_radius = truth.translation().norm() >= radius_;
-    q.fitness = loop.verification.fitness;
-    q.inlier_ratio = loop.verification.inlier_ratio;
-    q.translation_error = pose_error;
-    q.yaw_error = std::fabs(wrapAngle(yawOf(loop.verification.relative) - yawOf(truth)));
-    q.reported_late = loop.query != d.index;
-    if (!q.verified_in_prior) continue;
-    PriorOutcome& r = e_.prior_outcomes[prior_outcome_of_[loop.query]];
-    r.match = q.verified_match;
-    r.correct = q.verified_correct;
-    r.translation_error = q.translation_error;
-    r.yaw_error = q.yaw_error;
-    r.reported_seconds = s.stamps[k] - s.stamps.front();
-    r.reported_metres = metres_[k];
-  }
-}
-
-void SequenceScorer::score(const Sequence& s) {
-  metres_.assign(s.frames.size(), 0.0);
-  for (std::size_t k = 1; k < s.frames.size(); ++k) {
-    metres_[k] = metres_[k - 1] + (s.truth[k].translation() - s.truth[k - 1].translation()).norm();
-  }
-  for (std::size_t k = 0; k < s.frames.size(); ++k) {
-    pcl::PointCloud<pcl::PointXYZI> cloud;
-    const Detection d = feed(s, k, &cloud);
-    if (!d.accepted) continue;  // refused, or passed over by keyframe selection
-    e_.descriptor_ms.push_back(d.descriptor_seconds * 1e3);
-    e_.query_ms.push_back(d.query_seconds * 1e3);
-    keyframes_.push_back({&s, k});
-    e_.keyframe_of.resize(d.index + 1, -1);
-    e_.keyframe_of[d.index] = static_cast<long>(k);
-    outcome_of_.resize(d.index + 1, -1);
-    prior_outcome_of_.resize(d.index + 1, -1);
-    if (has_prior_) {
-      prior_outcome_of_[d.index] = static_cast<long>(e_.prior_outcomes.size());
-      e_.prior_outcomes.push_back(priorOutcome(s, k));
-    }
-    if (d.index == 0) continue;  // the first keyframe has nothing to query
-
-    QueryOutcome o;
-    o.query = s.frames[k];
-    o.revisit = isRevisit(positions_, d.index, d.query.eligible, radius_);
-    if (const Candidate* best = d.query.best()) {
-      const Keyframe& m = keyframes_[best->index];
-      o.match = m.frame();
-      o.match_in_prior = inPrior(best->index);
-      o.distance = best->alignment.distance;
-      o.yaw = best->alignment.yaw;
-      o.match_gap = (m.truth().translation() - s.truth[k].translation()).norm();
-      o.correct = o.match_gap < radius_;
-      o.true_yaw = yawOf(s.truth[k].inverse() * m.truth());
-    }
-    if (d.verifications_enabled) {
-      e_.verify_ms.push_back(d.verify_seconds * 1e3);
-      o.candidates_verified = static_cast<int>(d.verifications.size());
-      for (const VerifiedCandidate& v : d.verifications) {
-        const Keyframe& m = keyframes_[v.index];
-        const Eigen::Isometry3d truth = s.truth[k].inverse() * m.truth();
-        VerificationAttempt a;
-        a.query = s.frames[k];
-        a.match = m.frame();
-        a.distance = v.alignment.distance;
-        a.gap = truth.translation().norm();
-        a.true_place = a.gap < radius_;
-        a.result = v.result;
-        a.translation_error = (v.result.relative.translation() - truth.translation()).norm();
-        a.yaw_error = std::fabs(wrapAngle(yawOf(v.result.relative) - yawOf(truth)));
-        a.rotation_error = Eigen::AngleAxisd(truth.linear().transpose() * v.result.relative.linear()).angle();
-        e_.attempts.push_back(a);
-      }
-    }
-    outcome_of_[d.index] = static_cast<long>(e_.outcomes.size());
-    e_.outcomes.push_back(o);
-    scoreLoops(s, k, d);
-  }
-}
-
-}  // namespace
 
 bool evaluate(const Sequence& s, const Config& config, const EvaluationOptions& options, Evaluation* out,
               std::string* error) {
@@ -240,7 +21,8 @@ bool evaluate(const Sequence& s, const Config& config, const EvaluationOptions& 
     return false;
   }
   Evaluation e;
-  SequenceScorer run(config, options.revisit_radius, &e);
+  KeyframePipeline pipeline(config);
+  SequenceScorer run(&pipeline, options.revisit_radius, &e);
   if (options.prior != nullptr) {
     run.buildPriorMap(*options.prior);
     e.prior_source = options.prior->dir;
@@ -255,14 +37,9 @@ bool evaluate(const Sequence& s, const Config& config, const EvaluationOptions& 
     save.include_clouds = options.save_clouds;
     if (!saveDatabase(run.pipeline().detector(), options.save_database, save, error)) return false;
   }
-  e.metrics = computeMetrics(e.outcomes, config.distance_threshold);
-  e.verification = config.verification.enabled;
-  if (e.verification) e.verified = computeVerifiedMetrics(e.outcomes);
   e.has_prior = options.prior != nullptr || options.prior_database != nullptr;
-  if (e.has_prior) {
-    e.relocalization = computeRelocalizationMetrics(e.prior_outcomes);
-    e.relocalization.prior_keyframes = run.priorKeyframes();
-  }
+  finishEvaluation(config, &e);
+  if (e.has_prior) e.relocalization.prior_keyframes = run.priorKeyframes();
   *out = std::move(e);
   return true;
 }

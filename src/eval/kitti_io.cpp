@@ -22,8 +22,9 @@ bool onlySpaceLeft(std::istream& in) {
   return in.eof();
 }
 
-/// Exactly 12 finite numbers, the 3 x 4 matrix row by row.
-bool parseMatrix34(const std::string& line, Eigen::Isometry3d* out) {
+}  // namespace
+
+bool parsePoseRow(const std::string& line, Eigen::Isometry3d* out) {
   std::istringstream in(line);
   Eigen::Matrix4d m = Eigen::Matrix4d::Identity();
   for (int r = 0; r < 3; ++r) {
@@ -35,8 +36,6 @@ bool parseMatrix34(const std::string& line, Eigen::Isometry3d* out) {
   out->matrix() = m;
   return true;
 }
-
-}  // namespace
 
 bool readScan(const std::string& path, pcl::PointCloud<pcl::PointXYZI>* cloud, std::string* error) {
   std::ifstream in(path, std::ios::binary | std::ios::ate);
@@ -88,7 +87,7 @@ bool readPoses(const std::string& path, std::vector<Eigen::Isometry3d>* poses, s
     ++number;
     if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
     Eigen::Isometry3d pose;
-    if (!parseMatrix34(line, &pose)) {
+    if (!parsePoseRow(line, &pose)) {
       return fail(error, path + ":" + std::to_string(number) + ": expected exactly 12 finite numbers");
     }
     poses->push_back(pose);
@@ -115,7 +114,7 @@ bool readCalibTr(const std::string& path, Eigen::Isometry3d* tr, std::string* er
   std::string line;
   while (std::getline(in, line)) {
     if (line.rfind("Tr:", 0) != 0) continue;
-    if (!parseMatrix34(line.substr(3), tr)) return fail(error, path + ": malformed Tr: line");
+    if (!parsePoseRow(line.substr(3), tr)) return fail(error, path + ": malformed Tr: line");
     return true;
   }
   return fail(error, path + ": no Tr: line");

@@ -7,27 +7,51 @@
 
 namespace scan_context_loop {
 
-TrajectoryError absoluteTrajectoryError(const std::vector<Eigen::Isometry3d>& estimate,
-                                        const std::vector<Eigen::Isometry3d>& truth) {
+namespace {
+
+/// RMSE, mean and max of the distances between alignment x estimate and truth, column by column.
+TrajectoryError errorOf(const Eigen::Matrix3Xd& estimate, const Eigen::Matrix3Xd& truth,
+                        const Eigen::Isometry3d& alignment) {
   TrajectoryError error;
-  if (estimate.size() != truth.size() || estimate.size() < 3) return error;
-  Eigen::Matrix3Xd from(3, estimate.size()), to(3, truth.size());
-  for (std::size_t i = 0; i < estimate.size(); ++i) {
-    from.col(i) = estimate[i].translation();
-    to.col(i) = truth[i].translation();
-  }
-  error.alignment.matrix() = Eigen::umeyama(from, to, false);
+  error.alignment = alignment;
   double sum_squares = 0.0, sum = 0.0;
-  for (std::size_t i = 0; i < estimate.size(); ++i) {
-    const double e = (error.alignment * from.col(i) - to.col(i)).norm();
+  for (Eigen::Index i = 0; i < estimate.cols(); ++i) {
+    const double e = (alignment * Eigen::Vector3d(estimate.col(i)) - truth.col(i)).norm();
     sum_squares += e * e;
     sum += e;
     error.max = std::max(error.max, e);
   }
-  error.poses = estimate.size();
+  error.poses = static_cast<std::size_t>(estimate.cols());
   error.rmse = std::sqrt(sum_squares / error.poses);
   error.mean = sum / error.poses;
   return error;
+}
+
+void positions(const std::vector<Eigen::Isometry3d>& poses, Eigen::Matrix3Xd* out) {
+  out->resize(3, static_cast<Eigen::Index>(poses.size()));
+  for (std::size_t i = 0; i < poses.size(); ++i) out->col(static_cast<Eigen::Index>(i)) = poses[i].translation();
+}
+
+}  // namespace
+
+TrajectoryError absoluteTrajectoryError(const std::vector<Eigen::Isometry3d>& estimate,
+                                        const std::vector<Eigen::Isometry3d>& truth) {
+  if (estimate.size() != truth.size() || estimate.size() < 3) return TrajectoryError();
+  Eigen::Matrix3Xd from, to;
+  positions(estimate, &from);
+  positions(truth, &to);
+  Eigen::Isometry3d alignment;
+  alignment.matrix() = Eigen::umeyama(from, to, false);
+  return errorOf(from, to, alignment);
+}
+
+TrajectoryError positionError(const std::vector<Eigen::Isometry3d>& estimate,
+                              const std::vector<Eigen::Isometry3d>& truth) {
+  if (estimate.size() != truth.size() || estimate.empty()) return TrajectoryError();
+  Eigen::Matrix3Xd from, to;
+  positions(estimate, &from);
+  positions(truth, &to);
+  return errorOf(from, to, Eigen::Isometry3d::Identity());
 }
 
 }  // namespace scan_context_loop

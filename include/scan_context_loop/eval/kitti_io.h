@@ -17,6 +17,9 @@ bool readScan(const std::string& path, pcl::PointCloud<pcl::PointXYZI>* cloud, s
 bool writeScan(const std::string& path, const pcl::PointCloud<pcl::PointXYZI>& cloud,
                std::string* error);
 
+/// Exactly 12 finite numbers, the 3 x 4 matrix row by row, and nothing else (white space aside).
+bool parsePoseRow(const std::string& text, Eigen::Isometry3d* pose);
+
 /// Reads 3x4 row-major pose rows, one per line. Returns false, naming the file and line, on a line that
 /// is not exactly 12 finite numbers (blank lines are skipped).
 bool readPoses(const std::string& path, std::vector<Eigen::Isometry3d>* poses, std::string* error);

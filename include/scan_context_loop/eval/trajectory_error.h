@@ -22,4 +22,9 @@ struct TrajectoryError {
 TrajectoryError absoluteTrajectoryError(const std::vector<Eigen::Isometry3d>& estimate,
                                         const std::vector<Eigen::Isometry3d>& truth);
 
+/// The error of `estimate` against `truth` as they are, in one frame (no alignment; same length, at least
+/// one pose): what a map whose frame is fixed (a team's anchor) is off by. poses = 0 as above.
+TrajectoryError positionError(const std::vector<Eigen::Isometry3d>& estimate,
+                              const std::vector<Eigen::Isometry3d>& truth);
+
 }  // namespace scan_context_loop
