@@ -24,6 +24,7 @@ add_library(scan_context_loop_core
   src/core/database_writer.cpp
   src/core/pose_corrections.cpp
   src/core/team_matcher.cpp
+  src/core/team_consistency.cpp
   src/core/task_thread.cpp
 )
 target_include_directories(scan_context_loop_core PUBLIC
@@ -73,6 +74,7 @@ if(CATKIN_ENABLE_TESTING)
     test/core/test_block_arena.cpp
     test/core/test_team_matcher.cpp
     test/core/test_task_thread.cpp
+    test/core/test_team_consistency.cpp
   )
   # The real-data tests read KITTI scans (eval/kitti_io.h); the simulated-data tests cast scans with the
   # simulator.

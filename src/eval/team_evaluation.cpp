@@ -64,9 +64,9 @@ class TeamScorer {
       for (const Stored& s : stored_) revisit |= s.robot != r && (s.position - here).norm() < e_.revisit_radius;
       mine.revisits += revisit;
     }
-    if (step.found) scoreLoop(r, k, step, revisit);
-    stored_.push_back({r, k, here});
     ownKeyframe(r, index, k);
+    for (const TeamLoop& loop : step.loops) scoreLoop(loop, revisit);
+    stored_.push_back({r, k, here});
   }
 
   /// Robot r's keyframe number `index` is its sequence's keyframe k.
@@ -77,10 +77,15 @@ class TeamScorer {
   }
 
  private:
-  void scoreLoop(std::size_t r, std::size_t k, const TeamStep& step, bool revisit) {
-    const TeamLoop& found = step.loop;
+  /// `revisit`: whether the keyframe that released the loop had another robot's keyframe within the
+  /// revisit radius (a loop confirmed later counts for the keyframe that confirmed it).
+  void scoreLoop(const TeamLoop& found, bool revisit) {
+    const std::size_t r = found.query_robot;
     const std::vector<long>& of = sequence_of_[found.match_robot];
+    const std::vector<long>& mine_of = sequence_of_[r];
     if (found.match >= of.size() || of[found.match] < 0) return;  // cannot be: every stored keyframe is known
+    if (found.query >= mine_of.size() || mine_of[found.query] < 0) return;
+    const std::size_t k = static_cast<std::size_t>(mine_of[found.query]);
     InterRobotLoop loop;
     loop.query_robot = r;
     loop.query = k;

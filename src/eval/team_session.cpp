@@ -15,6 +15,7 @@ TeamSession::TeamSession(const Config& config, const std::vector<std::string>& r
   for (std::size_t r = 0; r < robots.size(); ++r) {
     pipelines_.push_back(std::make_unique<KeyframePipeline>(config));
     matchers_.push_back(std::make_unique<TeamMatcher>(config));
+    consistency_.push_back(std::make_unique<TeamConsistency>(config));
   }
 }
 
@@ -55,12 +56,35 @@ TeamStep TeamSession::share(std::size_t robot, const Detection& detection,
         const Loop loop = v.toLoop(detection.index);
         const TeamKeyframeId& id = matcher.id(found.match);
         step.found = true;
-        step.loop.query_robot = robot;
-        step.loop.match_robot = static_cast<std::size_t>(robotOf(id.robot));
-        step.loop.query = detection.index;
-        step.loop.match = id.keyframe;
-        step.loop.relative = loop.relative();
-        step.loop.covariance = loopCovariance(loop, config_);
+        TeamLoop found_loop;
+        found_loop.query_robot = robot;
+        found_loop.match_robot = static_cast<std::size_t>(robotOf(id.robot));
+        found_loop.query = detection.index;
+        found_loop.match = id.keyframe;
+        found_loop.relative = loop.relative();
+        found_loop.covariance = loopCovariance(loop, config_);
+        // As the node: reported once another loop between the same two frames agrees.
+        const Keyframe& own = pipelines_[robot]->detector().database().keyframe(detection.index);
+        const Keyframe& other = matcher.keyframe(found.match);
+        TeamLoopOffer offer;
+        offer.robot = id.robot;
+        offer.run = id.run;
+        offer.session = matcher.session(found.match);
+        offer.own_session = own.session;
+        offer.own_pose = own.info.pose.value_or(Eigen::Isometry3d::Identity());
+        offer.other_pose = other.info.pose.value_or(Eigen::Isometry3d::Identity());
+        offer.own_path = own.path_length;
+        offer.other_path = other.path_length;
+        offer.relative = found_loop.relative;
+        offer.handle = next_handle_++;
+        unconfirmed_.emplace(offer.handle, found_loop);
+        const TeamRelease release = consistency_[robot]->offer(offer);
+        for (std::size_t handle : release.report) {
+          step.loops.push_back(unconfirmed_.at(handle));
+          unconfirmed_.erase(handle);
+        }
+        for (std::size_t handle : release.dropped) unconfirmed_.erase(handle);
+        step.dropped = release.dropped.size();
         break;
       }
       // Synchronous: whatever was asked for has come (or failed) by the next round; nothing waits.

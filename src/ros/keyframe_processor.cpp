@@ -234,6 +234,7 @@ void KeyframeProcessor::shareWithTeam(std::size_t index, const QueuedKeyframe& q
   auto own = std::make_shared<OwnKeyframe>();
   own->index = static_cast<std::uint32_t>(index);
   own->session = stored.session;
+  own->path_length = stored.path_length;
   own->stamp = keyframeStamp(stored.info);
   own->frame = queued.pose_frame;
   own->pose = queued.pose;

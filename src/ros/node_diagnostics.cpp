@@ -73,6 +73,7 @@ void NodeDiagnostics::diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat
     status.add("team requests failed", c.team_fetch_failures.load());
     status.add("team requests answered busy", c.team_busy.load());
     status.add("team loops", c.team_loops.load());
+    status.add("team loops dropped (no agreeing loop)", c.team_loops_dropped.load());
     status.add("team bytes sent", c.team_bytes_sent.load());
     status.add("team bytes received", c.team_bytes_received.load());
   }

@@ -49,7 +49,8 @@ std::string differences(const std::string& theirs, const std::string& ours) {
 
 TeamWorker::TeamWorker(const std::string& name, const Config& config, const RosOptions& options,
                        NodeCounters* counters, LoopPublisher* loops)
-    : name_(name), config_(config), options_(options), counters_(counters), loops_(loops), matcher_(config) {
+    : name_(name), config_(config), options_(options), counters_(counters), loops_(loops), matcher_(config),
+      consistency_(config) {
   std::tie(settings_text_, settings_crc_) = teamSettings(config);
 }
 
@@ -166,7 +167,29 @@ void TeamWorker::publishLoop(const OwnKeyframe& keyframe, const TeamMatch& found
   message.match_id = id.keyframe;
   message.query_robot = options_.robot_id;
   message.match_robot = id.robot;
-  loops_->publishTeamLoop(message);
+  // Reported once another loop between the same two odometry frames agrees (team_consistency.h).
+  TeamLoopOffer offer;
+  offer.robot = id.robot;
+  offer.run = id.run;
+  offer.session = match.session;
+  offer.own_session = keyframe.session;
+  offer.own_pose = keyframe.pose;
+  offer.other_pose = match.info.pose.value_or(Eigen::Isometry3d::Identity());
+  offer.own_path = keyframe.path_length;
+  offer.other_path = matcher_.keyframe(found.match).path_length;
+  offer.relative = v.result.relative;
+  offer.handle = next_handle_++;
+  message.support = config_.consistency_min_support > 0 ? 1 : 0;
+  unconfirmed_.emplace(offer.handle, std::move(message));
+  const TeamRelease release = consistency_.offer(offer);
+  for (std::size_t handle : release.report) {
+    loops_->publishTeamLoop(unconfirmed_.at(handle));
+    unconfirmed_.erase(handle);
+  }
+  for (std::size_t handle : release.dropped) {
+    ++counters_->team_loops_dropped;
+    unconfirmed_.erase(handle);
+  }
 }
 
 void TeamWorker::fetch(const TeamKeyframeId& id) {

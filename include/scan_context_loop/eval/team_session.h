@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstddef>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -15,6 +16,7 @@
 
 #include "scan_context_loop/core/config.h"
 #include "scan_context_loop/core/keyframes.h"
+#include "scan_context_loop/core/team_consistency.h"
 #include "scan_context_loop/core/team_matcher.h"
 
 namespace scan_context_loop {
@@ -38,7 +40,10 @@ struct TeamStep {
   std::size_t held = 0;            ///< the other robots' records its robot held when matching it
   int matches = 0;                 ///< TeamMatcher::match calls (one, plus one per round of fetches)
   bool found = false;              ///< a loop into another robot's keyframe was verified
-  TeamLoop loop;
+  /// Loops between robots reported now: this keyframe's, once another loop between the same two frames
+  /// agrees with it (TeamConsistency), and an earlier one it confirmed; possibly none.
+  std::vector<TeamLoop> loops;
+  std::size_t dropped = 0;         ///< verified loops that no other loop ever agreed with
 };
 
 class TeamSession {
@@ -71,6 +76,9 @@ class TeamSession {
   std::vector<std::string> robots_;
   std::vector<std::unique_ptr<KeyframePipeline>> pipelines_;
   std::vector<std::unique_ptr<TeamMatcher>> matchers_;
+  std::vector<std::unique_ptr<TeamConsistency>> consistency_;  // per robot, as each node has its own
+  std::map<std::size_t, TeamLoop> unconfirmed_;                 // loops waiting for support, by handle
+  std::size_t next_handle_ = 0;
 };
 
 }  // namespace eval

@@ -38,7 +38,7 @@ struct NodeCounters {
   std::atomic<std::size_t> team_records_sent{0}, team_records_deferred{0}, team_records_received{0};
   std::atomic<std::size_t> team_records_duplicate{0}, team_records_refused{0}, team_keyframes{0};
   std::atomic<std::size_t> team_clouds_served{0}, team_clouds_fetched{0}, team_fetch_failures{0}, team_busy{0};
-  std::atomic<std::size_t> team_loops{0}, team_bytes_sent{0}, team_bytes_received{0};
+  std::atomic<std::size_t> team_loops{0}, team_loops_dropped{0}, team_bytes_sent{0}, team_bytes_received{0};
   std::atomic<long long> heap_allocated{-1}, heap_free{-1};  ///< malloc's statistics at the worker's last read
   std::atomic<double> heap_statistics_ms{0.0};
   std::atomic<double> last_query_ms{0.0}, last_keyframe_ms{0.0}, max_keyframe_ms{0.0};

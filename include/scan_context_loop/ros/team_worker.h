@@ -20,6 +20,7 @@
 #include "scan_context_loop/KeyframeRecord.h"
 #include "scan_context_loop/TeamMember.h"
 #include "scan_context_loop/core/task_thread.h"
+#include "scan_context_loop/core/team_consistency.h"
 #include "scan_context_loop/core/team_matcher.h"
 #include "scan_context_loop/ros/loop_publisher.h"
 #include "scan_context_loop/ros/node_counters.h"
@@ -34,6 +35,7 @@ std::pair<std::string, std::uint32_t> teamSettings(const Config& config);
 struct OwnKeyframe {
   std::uint32_t index = 0;  ///< its number in this node's database
   std::uint32_t session = 0;
+  double path_length = 0.0;  ///< odometry path within its session [m]
   ros::Time stamp;
   std::string frame;        ///< the odometry frame of its pose
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
@@ -90,6 +92,9 @@ class TeamWorker {
   // The matcher's thread's alone.
   TeamMatcher matcher_;
   std::vector<Pending> pending_;
+  TeamConsistency consistency_;             // loops wait here for another loop of the same frames
+  std::map<std::size_t, scan_context_loop::LoopClosure> unconfirmed_;  // their messages, by handle
+  std::size_t next_handle_ = 0;
   std::map<Run, std::string> nodes_;        // each run's node (its services)
   std::set<Run> refused_;                   // runs whose settings differ
   std::set<Run> asking_;                    // runs with a records request under way
