@@ -169,6 +169,17 @@ if(CATKIN_ENABLE_TESTING)
     list(APPEND team_test_deps pose_graph_node scan_context_loop_pose_graph_nodelet)
   endif()
   add_rostest(${PROJECT_BINARY_DIR}/test/ros/team.test DEPENDENCIES ${team_test_deps})
+  # The same team with a base station: one node, a detector per robot.
+  file(GENERATE OUTPUT ${PROJECT_BINARY_DIR}/test/ros/team_base.test CONTENT
+"<launch>
+  <include file=\"$(find scan_context_loop)/test/ros/team_base.test\">
+    <arg name=\"bag\" value=\"${bags}/team/team.bag\"/>
+    <arg name=\"team_file\" value=\"${bags}/team/team.txt\"/>
+  </include>
+</launch>
+")
+  add_rostest(${PROJECT_BINARY_DIR}/test/ros/team_base.test
+    DEPENDENCIES scan_context_loop_team_bag test_ros_team team_base_node scan_context_loop_nodelet)
 
   add_executable(test_ros_team_input EXCLUDE_FROM_ALL test/ros/test_team_input.cpp)
   target_link_libraries(test_ros_team_input scan_context_loop_ros_harness ${GTEST_LIBRARIES})

@@ -22,6 +22,11 @@ std::size_t bytesOf(const M& message) {
   return ros::serialization::serializationLength(message);
 }
 
+/// The answer to a request of another run than this node's.
+std::string otherRun(std::uint64_t asked, std::uint64_t ours) {
+  return "run " + std::to_string(asked) + " is not this node's (" + std::to_string(ours) + "): it was restarted or reset";
+}
+
 /// Bursts of this many seconds' worth of bytes pass the rate limit at once (a keyframe's registration data
 /// are larger than a second's budget at low rates).
 constexpr double kBurstSeconds = 4.0;
@@ -74,6 +79,15 @@ void TeamExchange::stop() {
   member_sub_.shutdown();
   if (spinner_) spinner_->stop();
   worker_->stop();
+}
+
+bool TeamExchange::answer(std::size_t bytes, std::string* message) {
+  if (!maySend(bytes)) {
+    *message = "busy: over team_max_bytes_per_second";
+    return false;
+  }
+  counters_->team_bytes_sent += bytes;
+  return true;
 }
 
 bool TeamExchange::maySend(std::size_t bytes) {
@@ -139,22 +153,16 @@ bool TeamExchange::onRecords(scan_context_loop::GetKeyframeRecords::Request& req
   {
     std::lock_guard<std::mutex> lock(served_mutex_);
     if (request.run != run_) {
-      response.message = "run " + std::to_string(request.run) + " is not this node's (" + std::to_string(run_) + ")";
+      response.message = otherRun(request.run, run_);
       return true;
     }
     const std::size_t first = std::min<std::size_t>(request.first, served_.size());
     const std::size_t count = std::min<std::size_t>({request.count, 100, served_.size() - first});
     for (std::size_t i = first; i < first + count; ++i) response.records.push_back(*served_[i].record);
   }
-  const std::size_t bytes = bytesOf(response);
-  if (!maySend(bytes)) {
-    response.records.clear();
-    response.message = "busy: over team_max_bytes_per_second";
-    return true;
-  }
-  response.ok = true;
-  counters_->team_records_sent += response.records.size();
-  counters_->team_bytes_sent += bytes;
+  response.ok = answer(bytesOf(response), &response.message);
+  if (!response.ok) response.records.clear();
+  if (response.ok) counters_->team_records_sent += response.records.size();
   return true;
 }
 
@@ -164,7 +172,7 @@ bool TeamExchange::onCloud(scan_context_loop::GetKeyframeCloud::Request& request
   {
     std::lock_guard<std::mutex> lock(served_mutex_);
     if (request.run != run_) {
-      response.message = "run " + std::to_string(request.run) + " is not this node's (" + std::to_string(run_) + ")";
+      response.message = otherRun(request.run, run_);
       return true;
     }
     if (request.keyframe >= served_.size()) {
@@ -175,15 +183,9 @@ bool TeamExchange::onCloud(scan_context_loop::GetKeyframeCloud::Request& request
     data = served_[request.keyframe].data;  // encoded outside the lock
   }
   response.data = encodeDatabase(data);
-  const std::size_t bytes = bytesOf(response);
-  if (!maySend(bytes)) {
-    response.data.clear();
-    response.message = "busy: over team_max_bytes_per_second";
-    return true;
-  }
-  response.ok = true;
-  ++counters_->team_clouds_served;
-  counters_->team_bytes_sent += bytes;
+  response.ok = answer(bytesOf(response), &response.message);
+  if (!response.ok) response.data.clear();
+  if (response.ok) ++counters_->team_clouds_served;
   return true;
 }
 

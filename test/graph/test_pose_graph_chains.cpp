@@ -10,24 +10,15 @@
 
 #include "scan_context_loop/graph/pose_graph.h"
 
+#include "../common/block_poses.h"
+
 namespace scan_context_loop {
 namespace {
 
 constexpr std::size_t kPerLap = 180;  // a 120 m x 60 m block, a keyframe every 2 m
 
-Eigen::Isometry3d planar(double x, double y, double yaw) {
-  return Eigen::Translation3d(x, y, 0.0) * Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ());
-}
-
-/// Keyframe k of the block's perimeter (counter-clockwise, `in` metres inside the outer lane), k modulo a lap.
-Eigen::Isometry3d blockPose(std::size_t k, double in) {
-  const double w = 120.0 - 2 * in, h = 60.0 - 2 * in;
-  double s = (w + h) * 2.0 * static_cast<double>(k % kPerLap) / kPerLap;
-  if (s < w) return planar(in + s, in, 0.0);
-  if ((s -= w) < h) return planar(in + w, in + s, M_PI / 2);
-  if ((s -= h) < w) return planar(in + w - s, in + h, M_PI);
-  return planar(in, in + h - (s - w), -M_PI / 2);
-}
+using test::planar;
+Eigen::Isometry3d blockPoseOf(std::size_t k, double in) { return test::blockPose(k, in, kPerLap); }
 
 /// A robot driving `keyframes` keyframes along its lane from keyframe `start` of the lap, truth in the world frame; its
 /// odometry starts at the identity (its own origin) and drifts: a yaw bias (`yaw_bias` a step) and noise.
@@ -45,7 +36,7 @@ Robot drive(std::size_t start, double in, double yaw_bias, std::uint32_t seed, s
   r.in = in;
   std::mt19937 rng(seed);
   std::normal_distribution<double> metres(0.0, 0.01), radians(0.0, 0.0005);
-  for (std::size_t k = 0; k < keyframes; ++k) r.truth.push_back(blockPose(start + k, in));
+  for (std::size_t k = 0; k < keyframes; ++k) r.truth.push_back(blockPoseOf(start + k, in));
   r.odometry.push_back(Eigen::Isometry3d::Identity());
   for (std::size_t k = 1; k < r.truth.size(); ++k) {
     Eigen::Isometry3d step = r.truth[k - 1].inverse() * r.truth[k];

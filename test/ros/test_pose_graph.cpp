@@ -25,6 +25,7 @@
 #include "../common/map_file_readers.h"
 #include "harness.h"
 #include "scan_context_loop/SaveMap.h"
+#include "path_poses.h"
 #include "topic_watch.h"
 #include "scan_context_loop/eval/trajectory_error.h"
 #include "scan_context_sim/trajectory.h"
@@ -32,16 +33,6 @@
 namespace scan_context_loop {
 namespace test {
 namespace {
-
-std::vector<Eigen::Isometry3d> posesOf(const nav_msgs::Path& path) {
-  std::vector<Eigen::Isometry3d> poses;
-  for (const auto& p : path.poses) {
-    Eigen::Isometry3d pose;
-    tf2::fromMsg(p.pose, pose);
-    poses.push_back(pose);
-  }
-  return poses;
-}
 
 /// The stamps of a path as the map files write them (seconds, nine decimals).
 std::vector<std::string> stampTexts(const nav_msgs::Path& path) {

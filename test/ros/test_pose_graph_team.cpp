@@ -26,28 +26,20 @@
 #include "harness.h"
 #include "scan_context_loop/LoopClosure.h"
 #include "scan_context_loop/SaveMap.h"
+#include "path_poses.h"
 #include "topic_watch.h"
+
+#include "../common/block_poses.h"
 
 namespace scan_context_loop {
 namespace test {
 namespace {
 
 constexpr std::size_t kPerLap = 180;                  // a keyframe every 2 m
+
+using test::planar;
+Eigen::Isometry3d blockPoseOf(std::size_t k, double in) { return test::blockPose(k, in, kPerLap); }
 constexpr std::size_t kDriven = kPerLap + kPerLap / 5;  // each robot passes its start again
-
-Eigen::Isometry3d planar(double x, double y, double yaw) {
-  return Eigen::Translation3d(x, y, 0.0) * Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ());
-}
-
-/// Keyframe k of the block's perimeter, counter-clockwise, `in` metres inside the outer lane.
-Eigen::Isometry3d blockPose(std::size_t k, double in) {
-  const double w = 120.0 - 2 * in, h = 60.0 - 2 * in;
-  double s = (w + h) * 2.0 * static_cast<double>(k % kPerLap) / kPerLap;
-  if (s < w) return planar(in + s, in, 0.0);
-  if ((s -= w) < h) return planar(in + w, in + s, M_PI / 2);
-  if ((s -= h) < w) return planar(in + w - s, in + h, M_PI);
-  return planar(in, in + h - (s - w), -M_PI / 2);
-}
 
 struct Robot {
   std::string id;
@@ -63,7 +55,7 @@ Robot drive(const std::string& id, std::size_t start, double in, double yaw_bias
   std::mt19937 rng(static_cast<std::uint32_t>(start) + 1);
   std::normal_distribution<double> metres(0.0, 0.01), radians(0.0, 0.0005);
   for (std::size_t k = 0; k < kDriven; ++k) {
-    r.truth.push_back(blockPose(start + k, in));
+    r.truth.push_back(blockPoseOf(start + k, in));
     r.stamps.push_back(ros::Time(1000.0 + offset + 0.5 * k));
   }
   r.odometry.push_back(Eigen::Isometry3d::Identity());
@@ -121,16 +113,6 @@ scan_context_loop::LoopClosure loopMsg(const Robot& q, std::size_t kq, const Rob
   for (int i = 0; i < 6; ++i) loop.covariance[7 * i] = i < 3 ? 0.01 : 7.6e-5;
   loop.verified = true;
   return loop;
-}
-
-std::vector<Eigen::Isometry3d> posesOf(const nav_msgs::Path& path) {
-  std::vector<Eigen::Isometry3d> poses;
-  for (const auto& p : path.poses) {
-    Eigen::Isometry3d pose;
-    tf2::fromMsg(p.pose, pose);
-    poses.push_back(pose);
-  }
-  return poses;
 }
 
 /// The largest distance of `path` from robot r's truth in the frame whose origin is `frame_origin` (in

@@ -61,6 +61,8 @@ class TeamExchange {
   void announce();
   /// Whether `bytes` more may go out now (team_max_bytes_per_second).
   bool maySend(std::size_t bytes);
+  /// A service's answer of `bytes`: counted and true when it may go out, else false with `message` busy.
+  bool answer(std::size_t bytes, std::string* message);
 
   ros::NodeHandle pnh_, team_nh_;
   std::string name_;
