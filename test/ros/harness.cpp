@@ -166,7 +166,11 @@ bool Harness::waitForKeyframes(std::size_t count, double seconds) const {
   const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(seconds);
   while (ros::ok() && ros::WallTime::now() < end) {
     std::size_t shown = 0;
-    for (const auto& m : shownMarkers().markers) shown += m.ns == "keyframes" ? m.points.size() : 0;
+    // A team's node prefixes its namespaces with the robot ("robot1/keyframes").
+    for (const auto& m : shownMarkers().markers) {
+      const bool keyframes = m.ns == "keyframes" || (m.ns.size() > 10 && m.ns.compare(m.ns.size() - 10, 10, "/keyframes") == 0);
+      shown += keyframes ? m.points.size() : 0;
+    }
     if (shown >= count) return true;
     ros::WallDuration(0.1).sleep();
   }
