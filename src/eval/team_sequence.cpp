@@ -14,7 +14,7 @@ namespace eval {
 namespace {
 
 /// One line of team.txt (comment stripped, not blank); false with what is wrong.
-bool parseRobot(const std::string& line, TeamRobot* robot, std::string* why) {
+bool parseRobot(const std::string& line, TeamStart* robot, std::string* why) {
   std::istringstream in(line);
   in >> robot->id;
   if (!validRobotId(robot->id)) {
@@ -41,21 +41,19 @@ bool parseRobot(const std::string& line, TeamRobot* robot, std::string* why) {
 
 }  // namespace
 
-bool loadTeam(const std::string& dir, const SequenceOptions& options, TeamSequence* team, std::string* error) {
-  const std::string path = dir + "/team.txt";
+bool readTeamFile(const std::string& path, std::vector<TeamStart>* team, std::string* error) {
   std::ifstream in(path);
   if (!in) {
-    *error = "cannot open " + path + " (a team sequence: team.txt and one folder per robot)";
+    *error = "cannot open " + path;
     return false;
   }
-  TeamSequence t;
-  t.dir = dir;
+  std::vector<TeamStart> read;
   std::set<std::string> ids;
   std::string line;
   for (int number = 1; std::getline(in, line); ++number) {
     line = line.substr(0, line.find('#'));
     if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
-    TeamRobot robot;
+    TeamStart robot;
     std::string why;
     if (!parseRobot(line, &robot, &why)) {
       *error = path + ":" + std::to_string(number) + ": " + why;
@@ -65,14 +63,30 @@ bool loadTeam(const std::string& dir, const SequenceOptions& options, TeamSequen
       *error = path + ":" + std::to_string(number) + ": robot " + robot.id + " is there twice";
       return false;
     }
-    t.robots.push_back(std::move(robot));
+    read.push_back(std::move(robot));
   }
-  if (t.robots.empty()) {
+  if (read.empty()) {
     *error = path + ": no robot";
     return false;
   }
-  for (TeamRobot& robot : t.robots) {
+  *team = std::move(read);
+  return true;
+}
+
+bool loadTeam(const std::string& dir, const SequenceOptions& options, TeamSequence* team, std::string* error) {
+  const std::string path = dir + "/team.txt";
+  std::vector<TeamStart> starts;
+  if (!readTeamFile(path, &starts, error)) {
+    if (error->rfind("cannot open", 0) == 0) *error += " (a team sequence: team.txt and one folder per robot)";
+    return false;
+  }
+  TeamSequence t;
+  t.dir = dir;
+  for (TeamStart& start : starts) {
+    TeamRobot robot;
+    static_cast<TeamStart&>(robot) = std::move(start);
     if (!loadSequence(dir + "/" + robot.id, options, &robot.sequence, error)) return false;
+    t.robots.push_back(std::move(robot));
   }
   *team = std::move(t);
   return true;

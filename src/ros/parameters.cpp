@@ -1,15 +1,13 @@
 #include "scan_context_loop/ros/parameters.h"
 
-#include <ros/names.h>
-
-#include "scan_context_loop/core/team_matcher.h"
-
 #include <cmath>
 #include <sstream>
 
+#include <ros/names.h>
 #include <xmlrpcpp/XmlRpcValue.h>
 
 #include "scan_context_loop/core/settings.h"
+#include "scan_context_loop/core/team_matcher.h"
 
 namespace scan_context_loop {
 

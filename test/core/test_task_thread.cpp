@@ -8,6 +8,7 @@
 #include <thread>
 #include <vector>
 
+#include "scan_context_loop/core/rate_limit.h"
 #include "scan_context_loop/core/task_thread.h"
 
 namespace scan_context_loop {

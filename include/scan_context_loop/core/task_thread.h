@@ -2,7 +2,6 @@
 // touches (a team's matcher), or the one that waits on slow calls so that nothing else does.
 #pragma once
 
-#include <algorithm>
 #include <atomic>
 #include <condition_variable>
 #include <cstddef>
@@ -42,24 +41,6 @@ class TaskThread {
   bool stop_ = false;
   std::atomic<std::size_t> failures_{0};
   std::thread thread_;  // last: starts once the members above exist
-};
-
-/// A token bucket: on average at most `rate` bytes a second, bursts up to `burst` bytes. Not thread-safe.
-class RateLimit {
- public:
-  RateLimit(double rate, double burst) : rate_(rate), burst_(burst), tokens_(burst) {}
-  /// Takes `bytes` at time `now` [s] if the budget allows; false (nothing taken) when not.
-  bool take(double bytes, double now) {
-    if (last_ >= 0.0 && now > last_) tokens_ = std::min(burst_, tokens_ + (now - last_) * rate_);
-    if (last_ < 0.0 || now > last_) last_ = now;
-    if (bytes > tokens_) return false;
-    tokens_ -= bytes;
-    return true;
-  }
-
- private:
-  double rate_, burst_, tokens_;
-  double last_ = -1.0;
 };
 
 }  // namespace scan_context_loop

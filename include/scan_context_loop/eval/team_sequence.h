@@ -14,11 +14,20 @@
 namespace scan_context_loop {
 namespace eval {
 
-struct TeamRobot {
+/// A robot's line of team.txt.
+struct TeamStart {
   std::string id;
   double start_seconds = 0.0;  ///< the world's clock at the robot's first keyframe
   /// The true LiDAR pose of its first keyframe in the world: the origin of its odometry frame.
   Eigen::Isometry3d world_from_start = Eigen::Isometry3d::Identity();
+};
+
+/// Reads a team.txt (the simulator writes it: sim::writeTeamFile). False with the reason, naming the file
+/// and line: a robot id that is not 1-64 characters of [A-Za-z0-9_] or is repeated, a start that is negative
+/// or not finite, not exactly 12 finite numbers after it, a rotation that is not one, or no robot.
+bool readTeamFile(const std::string& path, std::vector<TeamStart>* team, std::string* error);
+
+struct TeamRobot : TeamStart {
   Sequence sequence;  ///< DIR/<id>, its poses relative to world_from_start
 
   /// The world's clock at keyframe k (times.txt counts from the robot's first keyframe).
@@ -32,10 +41,8 @@ struct TeamSequence {
   std::vector<TeamRobot> robots;  ///< in team.txt's order; the first anchors the map
 };
 
-/// Reads DIR/team.txt and each robot's sequence (loadSequence with `options`). False with the reason,
-/// naming the file and line: a robot id that is not [A-Za-z0-9_]+ or is repeated, a start that is
-/// negative or not finite, not exactly 12 finite numbers after it, a rotation that is not one, no robot,
-/// or a robot's sequence that does not load.
+/// Reads DIR/team.txt (readTeamFile) and each robot's sequence (loadSequence with `options`). False with
+/// the reason: what readTeamFile refuses, or a robot's sequence that does not load.
 bool loadTeam(const std::string& dir, const SequenceOptions& options, TeamSequence* team, std::string* error);
 
 }  // namespace eval

@@ -23,7 +23,7 @@
 #include "scan_context_loop/KeyframeRecord.h"
 #include "scan_context_loop/TeamMember.h"
 #include "scan_context_loop/core/database_file.h"
-#include "scan_context_loop/core/task_thread.h"
+#include "scan_context_loop/core/rate_limit.h"
 #include "scan_context_loop/ros/team_worker.h"
 
 namespace scan_context_loop {

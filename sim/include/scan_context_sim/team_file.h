@@ -11,24 +11,16 @@
 
 #include <Eigen/Geometry>
 
+#include "scan_context_loop/eval/team_sequence.h"
+
 namespace scan_context_loop {
 namespace sim {
 
-struct TeamMember {
-  std::string id;  ///< [A-Za-z0-9_]+
-  double start_seconds = 0.0;
-  Eigen::Isometry3d world_from_start = Eigen::Isometry3d::Identity();
-};
-
-/// Whether `id` is a usable robot id: one or more of [A-Za-z0-9_].
-bool validRobotId(const std::string& id);
+/// A robot's line of team.txt: the evaluator's (eval/team_sequence.h), which reads the file back.
+using TeamMember = eval::TeamStart;
+using eval::readTeamFile;
 
 bool writeTeamFile(const std::string& path, const std::vector<TeamMember>& team, std::string* error);
-
-/// Reads a team file; false with the line and what is wrong there on a bad line (a robot id that is not
-/// [A-Za-z0-9_]+, a repeated id, a negative or non-finite start, not exactly 12 finite numbers after
-/// it, a rotation that is not one) or no robot at all.
-bool readTeamFile(const std::string& path, std::vector<TeamMember>* team, std::string* error);
 
 }  // namespace sim
 }  // namespace scan_context_loop
