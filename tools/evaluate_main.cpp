@@ -166,6 +166,10 @@ int main(int argc, char** argv) {
   std::printf("descriptor %.3f ms median, %.3f ms p99; query + insert %.3f ms median, %.3f ms p99\n",
               eval::percentile(result.descriptor_ms, 0.5), eval::percentile(result.descriptor_ms, 0.99),
               eval::percentile(result.query_ms, 0.5), eval::percentile(result.query_ms, 0.99));
+  std::printf("CPU: %.2f ms a keyframe reading, describing, querying and verifying (%zu keyframes); whole process "
+              "%.2f s with the pose graph and files\n",
+              result.descriptor_ms.empty() ? 0.0 : 1e3 * result.cpu_seconds / static_cast<double>(result.descriptor_ms.size()),
+              result.descriptor_ms.size(), eval::processCpuSeconds());
   if (result.verification) {
     const eval::VerifiedMetrics& v = result.verified;
     std::printf("verified loops: precision %.3f, recall %.3f (%zu TP, %zu FP); relative pose error of true ones: "

@@ -51,7 +51,9 @@ inline float loadFloat(const std::uint8_t* p) {
 struct Binning {
   int rings, sectors;
   float min2, max2, ring_scale, sector_scale, h0;
-  float view_x, view_y;  ///< the viewpoint the grid is made from, subtracted from every x and y
+  const float* rotation;  ///< row-major 3 x 3 applied to every point first, or null for none
+  const Eigen::Vector2f* views;  ///< the viewpoints the grids are made from, subtracted from every x and y
+  int view_count;
 };
 
 // One portable binary, with AVX-512 and AVX2/FMA clones picked at run time where the CPU has them
@@ -69,24 +71,26 @@ struct Binning {
 /// same bin, and a single grid would make every max wait for the previous store to the same cell.
 constexpr int kLanes = 4;
 
-/// Fills best (kLanes grids of rings x sectors, row-major, plus one trash cell each, all starting at
-/// -inf) with maxima of z + h0; returns the number of points that fell into a bin.
-SCL_CLONES std::size_t binPoints(const PointView& points, const Binning& b, float* best) {
+/// Fills, for every viewpoint v, best + v * kLanes * (rings * sectors + 1) (kLanes grids of rings x
+/// sectors, row-major, plus one trash cell each, all starting at -inf) with maxima of z + h0; adds the
+/// number of points that fell into a bin of view v to used[v]. The points are read (and rotated) once
+/// for all viewpoints: a raw scan is megabytes, and reading it again per view cost more than binning it.
+SCL_CLONES void binPoints(const PointView& points, const Binning& b, float* best, std::size_t* used) {
   const int rings = b.rings;
   const int sectors = b.sectors;
   const float min2 = b.min2, max2 = b.max2, ring_scale = b.ring_scale, sector_scale = b.sector_scale;
   const float h0 = b.h0;
-  const float view_x = b.view_x, view_y = b.view_y;
-  // Three passes per block: gather x, y, z into contiguous arrays; a branch-free pass that turns them
-  // into (bin, height), which the compiler vectorises (the library is built with -fno-math-errno and
-  // -fno-trapping-math for this; NaN semantics are untouched); then the scatter of maxima, spread over
-  // the lanes. A point that falls out goes to the trash cell, so the scatter needs no branch either.
+  const float* R = b.rotation;
+  // Three passes per block: gather x, y, z into contiguous arrays (turned by the rotation, if any); per
+  // viewpoint, a branch-free pass that turns them into (bin, height), which the compiler vectorises (the
+  // library is built with -fno-math-errno and -fno-trapping-math for this; NaN semantics are untouched);
+  // then the scatter of maxima, spread over the lanes. A point that falls out goes to the trash cell, so
+  // the scatter needs no branch either.
   const int cells = rings * sectors + 1;
   const int trash = rings * sectors;
   constexpr std::size_t kBlock = 512;
   float xs[kBlock], ys[kBlock], zs[kBlock];
   int bin[kBlock];
-  std::size_t used = 0;
   const std::uint8_t* base = points.data;
   const std::size_t count = base != nullptr ? points.count : 0;
   for (std::size_t start = 0; start < count; start += kBlock) {
@@ -94,38 +98,53 @@ SCL_CLONES std::size_t binPoints(const PointView& points, const Binning& b, floa
     const std::uint8_t* block = base + start * points.stride;
     for (std::size_t i = 0; i < n; ++i) {
       const std::uint8_t* p = block + i * points.stride;
-      xs[i] = loadFloat(p + points.offset_x) - view_x;
-      ys[i] = loadFloat(p + points.offset_y) - view_y;
-      zs[i] = loadFloat(p + points.offset_z) + h0;
+      xs[i] = loadFloat(p + points.offset_x);
+      ys[i] = loadFloat(p + points.offset_y);
+      zs[i] = loadFloat(p + points.offset_z);
     }
-    for (std::size_t i = 0; i < n; ++i) {
-      const float x = xs[i], y = ys[i], z = zs[i];
-      const float r2 = x * x + y * y;
-      // NaN compares false and Inf exceeds max2 or the height bound, so both fall out here.
-      const bool keep = (r2 >= min2) & (r2 <= max2) & (std::fabs(z) <= kMaxPointHeight);
-      const float r = std::sqrt(keep ? r2 : 0.0f);
-      int ring = static_cast<int>(r * ring_scale);
-      ring = ring < rings - 1 ? ring : rings - 1;
-      int sector = static_cast<int>(azimuth(keep ? x : 1.0f, keep ? y : 0.0f) * sector_scale);
-      sector = sector < sectors - 1 ? sector : sectors - 1;
-      bin[i] = keep ? ring * sectors + sector : trash;
-      used += keep;
+    if (R != nullptr) {
+      for (std::size_t i = 0; i < n; ++i) {
+        const float x = xs[i], y = ys[i], z = zs[i];
+        xs[i] = R[0] * x + R[1] * y + R[2] * z;
+        ys[i] = R[3] * x + R[4] * y + R[5] * z;
+        zs[i] = R[6] * x + R[7] * y + R[8] * z;
+      }
     }
-    for (std::size_t i = 0; i < n; ++i) {
-      float& cell = best[(i % kLanes) * cells + bin[i]];
-      cell = std::max(cell, zs[i]);
+    for (std::size_t i = 0; i < n; ++i) zs[i] += h0;
+    for (int v = 0; v < b.view_count; ++v) {
+      const float view_x = b.views[v].x(), view_y = b.views[v].y();
+      std::size_t kept = 0;
+      for (std::size_t i = 0; i < n; ++i) {
+        const float x = xs[i] - view_x, y = ys[i] - view_y, z = zs[i];
+        const float r2 = x * x + y * y;
+        // NaN compares false and Inf exceeds max2 or the height bound, so both fall out here.
+        const bool keep = (r2 >= min2) & (r2 <= max2) & (std::fabs(z) <= kMaxPointHeight);
+        const float r = std::sqrt(keep ? r2 : 0.0f);
+        int ring = static_cast<int>(r * ring_scale);
+        ring = ring < rings - 1 ? ring : rings - 1;
+        int sector = static_cast<int>(azimuth(keep ? x : 1.0f, keep ? y : 0.0f) * sector_scale);
+        sector = sector < sectors - 1 ? sector : sectors - 1;
+        bin[i] = keep ? ring * sectors + sector : trash;
+        kept += keep;
+      }
+      used[v] += kept;
+      float* grids = best + static_cast<std::size_t>(v) * kLanes * cells;
+      for (std::size_t i = 0; i < n; ++i) {
+        float& cell = grids[(i % kLanes) * cells + bin[i]];
+        cell = std::max(cell, zs[i]);
+      }
     }
   }
-
-  return used;
 }
 
 }  // namespace
 
-HeightGrid makeHeightGrid(const PointView& points, const Config& config, const Eigen::Vector2f& viewpoint) {
+std::vector<HeightGrid> makeHeightGrids(const PointView& points, const Config& config,
+                                        const std::vector<Eigen::Vector2f>& viewpoints, const Eigen::Matrix3f& rotation) {
   const int rings = config.num_rings;
   const int sectors = config.num_sectors;
   const float max_r = static_cast<float>(config.max_radius);
+  const Eigen::Matrix<float, 3, 3, Eigen::RowMajor> turn = rotation;
   const Binning binning{rings,
                         sectors,
                         static_cast<float>(config.min_range * config.min_range),
@@ -133,32 +152,42 @@ HeightGrid makeHeightGrid(const PointView& points, const Config& config, const E
                         static_cast<float>(rings) / max_r,
                         static_cast<float>(sectors) / kTwoPi,
                         static_cast<float>(config.lidar_height),
-                        viewpoint.x(),
-                        viewpoint.y()};
+                        rotation.isIdentity() ? nullptr : turn.data(),
+                        viewpoints.data(),
+                        static_cast<int>(viewpoints.size())};
   constexpr float kEmpty = -std::numeric_limits<float>::infinity();
   // Row-major scratch (ring, sector) so that one ring's sectors are contiguous while binning.
   const std::size_t cells = static_cast<std::size_t>(rings) * sectors + 1;
-  std::vector<float> best(kLanes * cells, kEmpty);
-  const std::size_t used = binPoints(points, binning, best.data());
-  for (int lane = 1; lane < kLanes; ++lane) {
-    for (std::size_t c = 0; c + 1 < cells; ++c) best[c] = std::max(best[c], best[lane * cells + c]);
-  }
+  std::vector<float> best(viewpoints.size() * kLanes * cells, kEmpty);
+  std::vector<std::size_t> used(viewpoints.size(), 0);
+  binPoints(points, binning, best.data(), used.data());
 
-  HeightGrid grid;
-  grid.heights.setZero(rings, sectors);
-  grid.occupied.setZero(rings, sectors);
-  for (int r = 0; r < rings; ++r) {
-    for (int s = 0; s < sectors; ++s) {
-      const float v = best[static_cast<std::size_t>(r) * sectors + s];
-      if (v != kEmpty) {
-        grid.heights(r, s) = v;
-        grid.occupied(r, s) = 1;
+  std::vector<HeightGrid> grids(viewpoints.size());
+  for (std::size_t v = 0; v < viewpoints.size(); ++v) {
+    float* lanes = best.data() + v * kLanes * cells;
+    for (int lane = 1; lane < kLanes; ++lane) {
+      for (std::size_t c = 0; c + 1 < cells; ++c) lanes[c] = std::max(lanes[c], lanes[lane * cells + c]);
+    }
+    HeightGrid& grid = grids[v];
+    grid.heights.setZero(rings, sectors);
+    grid.occupied.setZero(rings, sectors);
+    for (int r = 0; r < rings; ++r) {
+      for (int s = 0; s < sectors; ++s) {
+        const float h = lanes[static_cast<std::size_t>(r) * sectors + s];
+        if (h != kEmpty) {
+          grid.heights(r, s) = h;
+          grid.occupied(r, s) = 1;
+        }
       }
     }
+    grid.points_used = used[v];
+    grid.points_skipped = points.count - used[v];
   }
-  grid.points_used = used;
-  grid.points_skipped = points.count - used;
-  return grid;
+  return grids;
+}
+
+HeightGrid makeHeightGrid(const PointView& points, const Config& config, const Eigen::Vector2f& viewpoint) {
+  return std::move(makeHeightGrids(points, config, {viewpoint}).front());
 }
 
 Descriptor makeDescriptor(const HeightGrid& grid, const Config& config) {

@@ -95,7 +95,7 @@ Detection LoopDetector::process(const PointView& raw, const KeyframeInfo& info) 
   updateWorldTilt(raw, info, &detection);  // first: the first keyframe's fit says which axis is up
   describeAndQuery(raw, info, &described, &detection);
   const Eigen::Matrix3f level = described.level;
-  const PointView& points = described.points;
+  const PointView& points = described.points;  // the raw cloud: level turns it
   const auto t2 = Clock::now();
   detection.index = database_.size();
   // Room first: once the database holds the keyframe, its gravity alignment must be stored too.
@@ -108,7 +108,7 @@ Detection LoopDetector::process(const PointView& raw, const KeyframeInfo& info) 
   gravity_alignment_.push_back(level);
   if (config.verification.enabled) {
     const auto start = Clock::now();
-    VoxelCloud cloud = prepareCloud(points, verification_);
+    VoxelCloud cloud = prepareCloud(points, verification_, level);
     const std::optional<TrackedCandidate> tracked = tracker_.predict(
         database_, detection.index, detection.query.eligible, [this](std::size_t i) { return store_.get(i) != nullptr; });
     try {
@@ -131,22 +131,24 @@ void LoopDetector::describeAndQuery(const PointView& raw, const KeyframeInfo& in
                                     Detection* detection) {
   const Config& config = database_.config();
   const auto t0 = Clock::now();
-  // Gravity-aligned keyframes are described and registered in their gravity-aligned frame.
+  // Gravity-aligned keyframes are described and registered in their gravity-aligned frame: the binning
+  // turns each point as it reads it, for the real viewpoint and the virtual ones in one pass.
   out->level = gravityAlignmentOf(raw, info, detection);
   out->points = raw;
-  if (!out->level.isIdentity()) {
-    out->aligned = rotatedCloud(raw, out->level);
-    out->points = viewOf(out->aligned);
-  }
-  const HeightGrid grid = makeHeightGrid(out->points, config);
-  detection->points_used = grid.points_used;
-  detection->points_skipped = grid.points_skipped;
-  out->descriptor = makeDescriptor(grid, config);
+  std::vector<Eigen::Vector2f> views = {Eigen::Vector2f::Zero()};
+  for (const Eigen::Vector2f& view : lateralViewpoints(config)) views.push_back(view);
+  std::vector<HeightGrid> grids = makeHeightGrids(raw, config, views, out->level);
+  detection->points_used = grids.front().points_used;
+  detection->points_skipped = grids.front().points_skipped;
+  out->descriptor = makeDescriptor(grids.front(), config);
   detection->descriptor_seconds = secondsSince(t0);
   const auto t1 = Clock::now();
   detection->query = database_.query(out->descriptor, info);
   detection->query_seconds = secondsSince(t1);
-  if (!out->descriptor.empty()) queryViewpoints(out->points, info, detection);
+  if (out->descriptor.empty()) return;
+  views.erase(views.begin());
+  grids.erase(grids.begin());
+  queryViewpoints(views, grids, info, detection);
 }
 
 std::string LoopDetector::cloudMismatch(const VoxelCloud& cloud) const {
@@ -184,7 +186,7 @@ Detection LoopDetector::locate(const PointView& raw) {
   describeAndQuery(raw, info, &described, &detection);
   if (described.descriptor.empty() || !database_.config().verification.enabled) return detection;
   const auto t2 = Clock::now();
-  verifyCandidates(prepareCloud(described.points, verification_), described.descriptor, described.level, false,
+  verifyCandidates(prepareCloud(described.points, verification_, described.level), described.descriptor, described.level, false,
                    nullptr, &detection);
   detection.verify_seconds = secondsSince(t2);
   return detection;
@@ -238,14 +240,15 @@ void LoopDetector::updateWorldTilt(const PointView& points, const KeyframeInfo& 
   if (world_tilt_.established()) detection->world_tilt_deg = world_tilt_.tiltDeg();
 }
 
-void LoopDetector::queryViewpoints(const PointView& points, const KeyframeInfo& info, Detection* detection) {
+void LoopDetector::queryViewpoints(const std::vector<Eigen::Vector2f>& views, const std::vector<HeightGrid>& grids,
+                                   const KeyframeInfo& info, Detection* detection) {
   const Config& config = database_.config();
-  const std::vector<Eigen::Vector2f> views = lateralViewpoints(config);
   if (views.empty()) return;
   std::vector<Candidate>& merged = detection->query.candidates;
-  for (const Eigen::Vector2f& view : views) {
+  for (std::size_t v = 0; v < views.size(); ++v) {
+    const Eigen::Vector2f& view = views[v];
     const auto t0 = Clock::now();
-    const Descriptor d = makeDescriptor(points, config, view);
+    const Descriptor d = makeDescriptor(grids[v], config);
     const auto t1 = Clock::now();
     detection->descriptor_seconds += std::chrono::duration<double>(t1 - t0).count();
     QueryResult r = database_.query(d, info);

@@ -1,5 +1,7 @@
 #include "scan_context_loop/eval/evaluation.h"
 
+#include <sys/resource.h>
+
 #include <cmath>
 #include <fstream>
 
@@ -13,6 +15,13 @@
 
 namespace scan_context_loop {
 namespace eval {
+
+double processCpuSeconds() {
+  rusage usage{};
+  if (::getrusage(RUSAGE_SELF, &usage) != 0) return 0.0;
+  const auto seconds = [](const timeval& t) { return static_cast<double>(t.tv_sec) + 1e-6 * t.tv_usec; };
+  return seconds(usage.ru_utime) + seconds(usage.ru_stime);
+}
 
 bool evaluate(const Sequence& s, const Config& config, const EvaluationOptions& options, Evaluation* out,
               std::string* error) {
@@ -31,7 +40,9 @@ bool evaluate(const Sequence& s, const Config& config, const EvaluationOptions& 
     e.prior_source = options.prior_database->path;
     e.prior_truth = options.prior_database->truth_dir;
   }
+  const double cpu_before = processCpuSeconds();
   run.score(s);
+  e.cpu_seconds = processCpuSeconds() - cpu_before;
   if (!options.save_database.empty()) {
     SaveOptions save;
     save.include_clouds = options.save_clouds;
@@ -118,6 +129,8 @@ bool writeMetricsJson(const std::string& path, const Evaluation& e, const Sequen
       << "  \"average_precision\": " << m.average_precision << ",\n"
       << "  \"yaw_error_deg\": {\"median\": " << m.yaw_error_median << ", \"p90\": " << m.yaw_error_p90
       << ", \"max\": " << m.yaw_error_max << "},\n"
+      << "  \"cpu_ms_per_keyframe\": "
+      << (e.descriptor_ms.empty() ? 0.0 : 1e3 * e.cpu_seconds / static_cast<double>(e.descriptor_ms.size())) << ",\n"
       << "  \"descriptor_ms\": {\"median\": " << percentile(e.descriptor_ms, 0.5)
       << ", \"p99\": " << percentile(e.descriptor_ms, 0.99) << "},\n"
       << "  \"query_ms\": {\"median\": " << percentile(e.query_ms, 0.5) << ", \"p99\": " << percentile(e.query_ms, 0.99)

@@ -37,7 +37,8 @@ bool parsePoseRow(const std::string& line, Eigen::Isometry3d* out) {
   return true;
 }
 
-bool readScan(const std::string& path, pcl::PointCloud<pcl::PointXYZI>* cloud, std::string* error) {
+bool readScan(const std::string& path, std::vector<float>* buffer, PointView* view, std::string* error) {
+  *view = PointView();
   std::ifstream in(path, std::ios::binary | std::ios::ate);
   if (!in) return fail(error, "cannot open " + path);
   const std::streamsize bytes = in.tellg();
@@ -45,8 +46,18 @@ bool readScan(const std::string& path, pcl::PointCloud<pcl::PointXYZI>* cloud, s
     return fail(error, path + ": size " + std::to_string(bytes) + " is not a multiple of 16 bytes");
   }
   in.seekg(0);
-  std::vector<float> raw(static_cast<std::size_t>(bytes) / sizeof(float));
-  if (!in.read(reinterpret_cast<char*>(raw.data()), bytes)) return fail(error, "cannot read " + path);
+  buffer->resize(static_cast<std::size_t>(bytes) / sizeof(float));
+  if (!in.read(reinterpret_cast<char*>(buffer->data()), bytes)) return fail(error, "cannot read " + path);
+  view->data = reinterpret_cast<const std::uint8_t*>(buffer->data());
+  view->count = buffer->size() / 4;
+  view->stride = 4 * sizeof(float);
+  return true;
+}
+
+bool readScan(const std::string& path, pcl::PointCloud<pcl::PointXYZI>* cloud, std::string* error) {
+  std::vector<float> raw;
+  PointView view;
+  if (!readScan(path, &raw, &view, error)) return false;
   const std::size_t n = raw.size() / 4;
   cloud->clear();
   cloud->resize(n);

@@ -46,9 +46,9 @@ bool SequenceScorer::loadPriorMap(DatabasePrior* prior, std::string* error) {
 }
 
 Detection SequenceScorer::feed(const Sequence& s, std::size_t k, pcl::PointCloud<pcl::PointXYZ>* described) {
-  pcl::PointCloud<pcl::PointXYZI> cloud;
+  PointView cloud;
   std::string error;
-  if (!kitti::readScan(kitti::scanPath(s.dir, s.frames[k]), &cloud, &error)) {
+  if (!kitti::readScan(kitti::scanPath(s.dir, s.frames[k]), &scan_buffer_, &cloud, &error)) {
     e_.errors.push_back(error);
     ++e_.rejected;
     return Detection();
@@ -57,7 +57,7 @@ Detection SequenceScorer::feed(const Sequence& s, std::size_t k, pcl::PointCloud
   info.stamp = s.stamps[k];
   info.pose = s.odometry[k];
   info.tag = s.frames[k];
-  Detection d = pipeline_.process(viewOf(cloud), info, described);
+  Detection d = pipeline_.process(cloud, info, described);
   if (d.selected && !d.accepted) {
     e_.errors.push_back("frame " + std::to_string(s.frames[k]) + ": " + d.error);
     ++e_.rejected;

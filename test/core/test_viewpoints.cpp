@@ -28,6 +28,29 @@ TEST(Viewpoints, GridFromAViewpointIsTheGridOfTheShiftedCloud) {
   EXPECT_GT((from_view.heights - makeHeightGrid(cloud, config).heights).cwiseAbs().maxCoeff(), 1.0f);
 }
 
+TEST(Viewpoints, GridsOfSeveralViewpointsInOnePassAreEachViewpointsGridOfTheTurnedCloud) {
+  Config config;
+  const auto cloud = test::streetScene(3);
+  // A gravity alignment of a few degrees in roll and pitch, applied while binning.
+  const Eigen::Matrix3f level = (Eigen::AngleAxisf(0.06f, Eigen::Vector3f::UnitX()) *
+                                 Eigen::AngleAxisf(-0.04f, Eigen::Vector3f::UnitY()))
+                                    .toRotationMatrix();
+  const pcl::PointCloud<pcl::PointXYZ> turned = rotatedCloud(viewOf(cloud), level);
+  const std::vector<Eigen::Vector2f> views = {Eigen::Vector2f::Zero(), Eigen::Vector2f(0.0f, 2.5f),
+                                              Eigen::Vector2f(0.0f, -2.5f)};
+  const std::vector<HeightGrid> grids = makeHeightGrids(viewOf(cloud), config, views, level);
+  ASSERT_EQ(grids.size(), views.size());
+  for (std::size_t v = 0; v < views.size(); ++v) {
+    const HeightGrid one = makeHeightGrid(turned, config, views[v]);
+    EXPECT_EQ(grids[v].points_used, one.points_used) << "view " << v;
+    EXPECT_LT((grids[v].heights - one.heights).cwiseAbs().maxCoeff(), 1e-4f) << "view " << v;
+    EXPECT_EQ(grids[v].occupied, one.occupied) << "view " << v;
+  }
+  // The turn is applied: the same views of the cloud as it is differ.
+  EXPECT_GT((grids[0].heights - makeHeightGrid(cloud, config).heights).cwiseAbs().maxCoeff(), 0.1f);
+  EXPECT_TRUE(makeHeightGrids(viewOf(cloud), config, {}, level).empty());
+}
+
 TEST(Viewpoints, LateralViewpointsAreNearestFirstOnBothSides) {
   Config config;
   EXPECT_EQ(lateralViewpoints(config).size(), 2u);  // one a side by default

@@ -50,6 +50,13 @@ struct HeightGrid {
 HeightGrid makeHeightGrid(const PointView& points, const Config& config,
                           const Eigen::Vector2f& viewpoint = Eigen::Vector2f::Zero());
 
+/// One grid per viewpoint, as makeHeightGrid would make each, of the points turned by `rotation` first
+/// (a gravity alignment; the identity turns nothing): the points are read once for all of them, and no
+/// rotated copy of the cloud is made.
+std::vector<HeightGrid> makeHeightGrids(const PointView& points, const Config& config,
+                                        const std::vector<Eigen::Vector2f>& viewpoints,
+                                        const Eigen::Matrix3f& rotation = Eigen::Matrix3f::Identity());
+
 /// What the distance and the database need, in float, about 5 KB at 20 x 60. Its arrays are on the
 /// heap unless the descriptor was made with another memory resource (a loaded database's keyframes
 /// share a BlockArena); a copy is always on the heap, and so is whatever is moved *assigned* into a

@@ -127,15 +127,16 @@ class LoopDetector {
   /// A cloud gravity-aligned (`aligned` holds the rotated points `points` views, when it was turned) and
   /// described.
   struct GravityAlignedScan {
-    Eigen::Matrix3f level = Eigen::Matrix3f::Identity();
-    pcl::PointCloud<pcl::PointXYZ> aligned;
-    PointView points;
+    Eigen::Matrix3f level = Eigen::Matrix3f::Identity();  ///< turns `points` into the gravity-aligned frame
+    PointView points;  ///< the cloud as given (not turned: binning and voxels turn each point as they read it)
     Descriptor descriptor;
   };
   /// Levels and describes `raw`, then queries the database from every viewpoint into detection->query.
   void describeAndQuery(const PointView& raw, const KeyframeInfo& info, GravityAlignedScan* out, Detection* detection);
-  /// Searches from the virtual viewpoints too and merges their candidates into detection->query.
-  void queryViewpoints(const PointView& points, const KeyframeInfo& info, Detection* detection);
+  /// Searches from the virtual viewpoints too (`grids`: their height grids) and merges their candidates
+  /// into detection->query.
+  void queryViewpoints(const std::vector<Eigen::Vector2f>& views, const std::vector<HeightGrid>& grids,
+                       const KeyframeInfo& info, Detection* detection);
   /// Registers the `tracked` candidate (loop tracking; may be null), then detection->query's candidates
   /// onto `cloud` (gravity-aligned by `level`; `query` its descriptor) until one is accepted. detection->index is
   /// the query's keyframe number; `query_stored` says whether the query is in the database (then the

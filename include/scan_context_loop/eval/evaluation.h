@@ -32,6 +32,9 @@ struct Evaluation {
   std::vector<VerificationAttempt> attempts;
   std::vector<QueryOutcome> outcomes;
   std::vector<double> descriptor_ms, query_ms, verify_ms;
+  /// CPU time of the process (user + system, every thread) spent scoring the sequence: reading its scans,
+  /// describing, querying and verifying them [s]; the pose graph after it is not included.
+  double cpu_seconds = 0.0;
   Metrics metrics;
   bool verification = false;  ///< Config::verify was on: verified_* fields and metrics are filled
   VerifiedMetrics verified;
@@ -68,6 +71,9 @@ struct EvaluationOptions {
   std::string save_database;
   bool save_clouds = false;
 };
+
+/// CPU time this process has used so far, user + system, every thread [s].
+double processCpuSeconds();
 
 /// Feeds every keyframe in order through KeyframePipeline (keyframes.h), the node's own code, and
 /// scores each query with the ground-truth protocol (isRevisit with the revisit radius). In a prior map,

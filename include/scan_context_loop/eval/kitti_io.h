@@ -8,12 +8,17 @@
 #include <pcl/point_cloud.h>
 #include <pcl/point_types.h>
 
+#include "scan_context_loop/core/descriptor.h"
+
 namespace scan_context_loop {
 namespace kitti {
 
 /// Reads a .bin scan (float32 x, y, z, intensity per point). Returns false with a reason when the file
 /// is missing or its size is not a multiple of 16 bytes.
 bool readScan(const std::string& path, pcl::PointCloud<pcl::PointXYZI>* cloud, std::string* error);
+/// The same, into `buffer` (four floats a point; reuse it from scan to scan, so its memory is touched
+/// once, not per scan) with `view` set to its points: no point cloud is built.
+bool readScan(const std::string& path, std::vector<float>* buffer, PointView* view, std::string* error);
 bool writeScan(const std::string& path, const pcl::PointCloud<pcl::PointXYZI>& cloud,
                std::string* error);
 
