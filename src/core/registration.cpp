@@ -21,8 +21,12 @@ struct Accumulator {
 
 /// Per-thread scratch: a dense grid of accumulator indices stamped with a generation.
 struct Scratch {
-  std::vector<std::uint32_t> stamp;
-  std::vector<std::int32_t> slot;
+  /// A cell's stamp and accumulator side by side: one cache line per point, not two.
+  struct Cell {
+    std::uint32_t stamp = 0;
+    std::int32_t slot = -1;
+  };
+  std::vector<Cell> cells;
   std::vector<Accumulator> acc;
   std::uint32_t generation = 0;
 };
@@ -60,13 +64,12 @@ VoxelCloud makeVoxelCloud(const PointView& points, const VoxelOptions& options, 
   const int nz = static_cast<int>(cellsUp(options));
   const std::size_t cells = static_cast<std::size_t>(nxy) * nxy * nz;
   thread_local Scratch s;
-  if (s.stamp.size() != cells) {
-    s.stamp.assign(cells, 0);
-    s.slot.assign(cells, -1);
+  if (s.cells.size() != cells) {
+    s.cells.assign(cells, Scratch::Cell());
     s.generation = 0;
   }
   if (++s.generation == 0) {  // wrapped: clear once every 4 billion clouds
-    std::fill(s.stamp.begin(), s.stamp.end(), 0);
+    std::fill(s.cells.begin(), s.cells.end(), Scratch::Cell());
     s.generation = 1;
   }
   s.acc.clear();
@@ -87,15 +90,15 @@ VoxelCloud makeVoxelCloud(const PointView& points, const VoxelOptions& options, 
     const int iz = static_cast<int>((v.z() - options.min_z) * inv);
     if (ix < 0 || iy < 0 || iz < 0 || ix >= nxy || iy >= nxy || iz >= nz) continue;
     const std::size_t c = (static_cast<std::size_t>(iz) * nxy + iy) * nxy + ix;
-    if (s.stamp[c] != s.generation) {
-      s.stamp[c] = s.generation;
-      s.slot[c] = static_cast<std::int32_t>(s.acc.size());
+    Scratch::Cell& cell = s.cells[c];
+    if (cell.stamp != s.generation) {
+      cell = {s.generation, static_cast<std::int32_t>(s.acc.size())};
       Accumulator a;
       a.corner = Eigen::Vector3f(ix * options.resolution - options.max_range, iy * options.resolution - options.max_range,
                                  iz * options.resolution + options.min_z);
       s.acc.push_back(a);
     }
-    Accumulator& a = s.acc[s.slot[c]];
+    Accumulator& a = s.acc[cell.slot];
     // Relative to the voxel's corner (under a metre), so float sums keep their precision.
     const float x = v.x() - a.corner.x(), y = v.y() - a.corner.y(), z = v.z() - a.corner.z();
     ++a.count;
@@ -157,13 +160,12 @@ void VoxelIndex::build(const VoxelCloud& cloud) {
   nx_ = static_cast<int>(std::ceil(2.0f * (cloud.max_range + cloud.resolution) * inv_res_)) + 1;
   nz_ = static_cast<int>(std::ceil(40.0f * inv_res_)) + 1;
   const std::size_t cells = static_cast<std::size_t>(nx_) * nx_ * nz_;
-  if (stamp_.size() != cells) {
-    stamp_.assign(cells, 0);
-    index_.assign(cells, -1);
+  if (slots_.size() != cells) {
+    slots_.assign(cells, Slot());
     generation_ = 0;
   }
   if (++generation_ == 0) {
-    std::fill(stamp_.begin(), stamp_.end(), 0);
+    std::fill(slots_.begin(), slots_.end(), Slot());
     generation_ = 1;
   }
   for (std::size_t i = 0; i < cloud.size(); ++i) {
@@ -173,14 +175,8 @@ void VoxelIndex::build(const VoxelCloud& cloud) {
     const int iz = gridCell((m.z() - min_z_) * inv_res_);
     const int c = cell(ix, iy, iz);
     if (c < 0) continue;
-    stamp_[c] = generation_;
-    index_[c] = static_cast<std::int32_t>(i);
+    slots_[c] = {generation_, static_cast<std::int32_t>(i)};
   }
-}
-
-int VoxelIndex::cell(int ix, int iy, int iz) const {
-  if (ix < 0 || iy < 0 || iz < 0 || ix >= nx_ || iy >= nx_ || iz >= nz_) return -1;
-  return (iz * nx_ + iy) * nx_ + ix;
 }
 
 int VoxelIndex::at(const Eigen::Vector3f& p) const {
@@ -188,7 +184,7 @@ int VoxelIndex::at(const Eigen::Vector3f& p) const {
   const int c = cell(gridCell((p.x() - min_xy_) * inv_res_),
                      gridCell((p.y() - min_xy_) * inv_res_),
                      gridCell((p.z() - min_z_) * inv_res_));
-  return c >= 0 && stamp_[c] == generation_ ? index_[c] : -1;
+  return voxelIn(c);
 }
 
 int VoxelIndex::nearest(const Eigen::Vector3f& p, float max_distance) const {
@@ -200,9 +196,8 @@ int VoxelIndex::nearest(const Eigen::Vector3f& p, float max_distance) const {
   int best = -1;
   float best2 = max_distance * max_distance;
   for (const auto& o : kOffsets) {
-    const int c = cell(ix + o[0], iy + o[1], iz + o[2]);
-    if (c < 0 || stamp_[c] != generation_) continue;
-    const int i = index_[c];
+    const int i = voxelIn(cell(ix + o[0], iy + o[1], iz + o[2]));
+    if (i < 0) continue;
     const float d2 = (cloud_->means[i] - p).squaredNorm();
     if (d2 < best2) {
       best2 = d2;
@@ -229,9 +224,8 @@ bool VoxelIndex::onPlane(const Eigen::Vector3f& p, const Eigen::Vector3f& n, flo
       const int dy = (step_y + 1) / 2 * (step_y % 2 == 0 ? 1 : -1);
       for (int step_x = 0; step_x <= 2 * reach_xy; ++step_x) {
         const int dx = (step_x + 1) / 2 * (step_x % 2 == 0 ? 1 : -1);
-        const int c = cell(ix + dx, iy + dy, iz + dz);
-        if (c < 0 || stamp_[c] != generation_) continue;
-        const int i = index_[c];
+        const int i = voxelIn(cell(ix + dx, iy + dy, iz + dz));
+        if (i < 0) continue;
         if (cloud_->shape(i) == VoxelCloud::kScatter) continue;
         const Eigen::Vector3f d = cloud_->means[i] - p;
         if (std::fabs(d.z()) > up) continue;
@@ -270,6 +264,9 @@ std::vector<int> sampleVoxels(const VoxelCloud& cloud, int max_count) {
   return picked;
 }
 
+/// Correspondences whose Hessian and gradient terms are summed in float before joining the double sums.
+constexpr int kGicpBlock = 32;
+
 GicpResult alignVoxels(const VoxelCloud& source, const VoxelIndex& target, const Eigen::Isometry3d& initial,
                        const GicpOptions& options) {
   GicpResult result;
@@ -289,6 +286,18 @@ GicpResult alignVoxels(const VoxelCloud& source, const VoxelIndex& target, const
     const Eigen::Vector3f t = T.translation().cast<float>();
     Eigen::Matrix<double, 6, 6> H = Eigen::Matrix<double, 6, 6>::Zero();
     Eigen::Matrix<double, 6, 1> g = Eigen::Matrix<double, 6, 1>::Zero();
+    // Summed in float over a block of correspondences, then into the double totals: each term is a
+    // float product anyway, and converting a 6 x 6 matrix per correspondence cost as much as forming it.
+    Eigen::Matrix<float, 6, 6> Hf = Eigen::Matrix<float, 6, 6>::Zero();
+    Eigen::Matrix<float, 6, 1> gf = Eigen::Matrix<float, 6, 1>::Zero();
+    int in_block = 0;
+    const auto flush = [&] {
+      H += Hf.cast<double>();
+      g += gf.cast<double>();
+      Hf.setZero();
+      gf.setZero();
+      in_block = 0;
+    };
     double cost = 0.0;
     int n = 0;
     for (std::size_t k = 0; k < sample.size(); ++k) {
@@ -305,11 +314,13 @@ GicpResult alignVoxels(const VoxelCloud& source, const VoxelIndex& target, const
       J.leftCols<3>() = skew(p);
       J.rightCols<3>() = -Eigen::Matrix3f::Identity();
       const Eigen::Matrix<float, 6, 3> JtM = J.transpose() * M;
-      H += (w * JtM * J).cast<double>();
-      g += (w * JtM * r).cast<double>();
+      Hf.noalias() += (w * JtM) * J;
+      gf.noalias() += (w * JtM) * r;
       cost += e;
       ++n;
+      if (++in_block == kGicpBlock) flush();
     }
+    flush();
     result.iterations = it + 1;
     result.correspondences = n;
     result.hessian = H;
