@@ -17,6 +17,21 @@ inline int wrapIndex(int i, int n) {
   return i < 0 ? i + n : i;
 }
 
+/// The dot product of two int8 arrays. Blocks are summed in int32, which the compiler vectorises
+/// (widening multiplies and adds); a block of 65,536 products of at most 128^2 stays below int32's limit
+/// whatever the arrays hold, and blocks add up in int64.
+inline std::int64_t dotInt8(const std::int8_t* a, const std::int8_t* b, int n) {
+  constexpr int kBlock = 1 << 16;
+  std::int64_t total = 0;
+  for (int i0 = 0; i0 < n; i0 += kBlock) {
+    const int i1 = std::min(n, i0 + kBlock);
+    std::int32_t sum = 0;
+    for (int i = i0; i < i1; ++i) sum += static_cast<std::int16_t>(a[i]) * static_cast<std::int16_t>(b[i]);
+    total += sum;
+  }
+  return total;
+}
+
 bool compatible(const Descriptor& a, const Descriptor& b) {
   return a.num_rings == b.num_rings && a.num_sectors == b.num_sectors && a.num_sectors > 0 &&
          a.num_rings > 0;
@@ -39,26 +54,27 @@ double distanceAtShift(const Descriptor& query, const Descriptor& match, int shi
   const int sectors = query.num_sectors;
   const int rings = query.num_rings;
   shift = wrapIndex(shift, sectors);
-  const float* q = query.unit_columns.data();
-  const float* m = match.unit_columns.data();
+  const std::int8_t* q = query.unit_columns.data();
+  const std::int8_t* m = match.unit_columns.data();
   const std::uint8_t* qo = query.column_occupied.data();
   const std::uint8_t* mo = match.column_occupied.data();
-  float similarity = 0.0f;
+  std::int64_t similarity = 0;  // in units of kUnitColumnScale^2
   int shared = 0;
   // Empty columns are zero vectors, so their dot products vanish on their own: no branch needed, and
   // the two contiguous runs of the shifted match (no modulo inside) vectorise as one long dot product.
   const auto run = [&](int j0, int j1, int k0) {
-    const float* a = q + static_cast<std::size_t>(j0) * rings;
-    const float* b = m + static_cast<std::size_t>(k0) * rings;
+    const std::int8_t* a = q + static_cast<std::size_t>(j0) * rings;
+    const std::int8_t* b = m + static_cast<std::size_t>(k0) * rings;
     const int length = (j1 - j0) * rings;
-    similarity += Eigen::Map<const Eigen::VectorXf>(a, length).dot(Eigen::Map<const Eigen::VectorXf>(b, length));
+    similarity += dotInt8(a, b, length);
     for (int j = j0; j < j1; ++j) shared += qo[j] & mo[j - j0 + k0];
   };
   run(shift, sectors, 0);  // query columns shift.. against match columns 0..
   run(0, shift, sectors - shift);
   if (shared_columns) *shared_columns = shared;
   if (shared == 0) return 1.0;
-  return 1.0 - static_cast<double>(similarity) / shared;
+  constexpr double kScale2 = double(kUnitColumnScale) * kUnitColumnScale;
+  return 1.0 - static_cast<double>(similarity) / (kScale2 * shared);
 }
 
 int coarseShift(const Descriptor& query, const Descriptor& match) {
