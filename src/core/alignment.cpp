@@ -5,6 +5,9 @@
 #include <limits>
 
 #include <Eigen/Core>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 namespace scan_context_loop {
 
@@ -17,18 +20,37 @@ inline int wrapIndex(int i, int n) {
   return i < 0 ? i + n : i;
 }
 
-/// The dot product of two int8 arrays. Blocks are summed in int32, which the compiler vectorises
-/// (widening multiplies and adds); a block of 65,536 products of at most 128^2 stays below int32's limit
-/// whatever the arrays hold, and blocks add up in int64.
-inline std::int64_t dotInt8(const std::int8_t* a, const std::int8_t* b, int n) {
-  constexpr int kBlock = 1 << 16;
-  std::int64_t total = 0;
-  for (int i0 = 0; i0 < n; i0 += kBlock) {
-    const int i1 = std::min(n, i0 + kBlock);
-    std::int32_t sum = 0;
-    for (int i = i0; i < i1; ++i) sum += static_cast<std::int16_t>(a[i]) * static_cast<std::int16_t>(b[i]);
-    total += sum;
+/// The dot product of two int8 arrays of at most kDotBlock entries, summed in int32: at most
+/// kDotBlock * 128^2 = 2^30, whatever the arrays hold.
+constexpr int kDotBlock = 1 << 16;
+inline std::int32_t dotInt8Block(const std::int8_t* a, const std::int8_t* b, int n) {
+  std::int32_t sum = 0;
+  int i = 0;
+#if defined(__SSE2__)
+  // 16 entries a step: each half sign-extended to int16 (the byte unpacked into both halves of a word,
+  // then shifted down) and multiplied pairwise into int32 lanes (pmaddwd). The compiler's own
+  // vectorisation of the scalar loop takes about twice the instructions.
+  const auto widen_low = [](__m128i v) { return _mm_srai_epi16(_mm_unpacklo_epi8(v, v), 8); };
+  const auto widen_high = [](__m128i v) { return _mm_srai_epi16(_mm_unpackhi_epi8(v, v), 8); };
+  __m128i low = _mm_setzero_si128(), high = _mm_setzero_si128();
+  for (; i + 16 <= n; i += 16) {
+    const __m128i x = _mm_loadu_si128(reinterpret_cast<const __m128i*>(a + i));
+    const __m128i y = _mm_loadu_si128(reinterpret_cast<const __m128i*>(b + i));
+    low = _mm_add_epi32(low, _mm_madd_epi16(widen_low(x), widen_low(y)));
+    high = _mm_add_epi32(high, _mm_madd_epi16(widen_high(x), widen_high(y)));
   }
+  alignas(16) std::int32_t lanes[4];
+  _mm_store_si128(reinterpret_cast<__m128i*>(lanes), _mm_add_epi32(low, high));
+  sum = lanes[0] + lanes[1] + lanes[2] + lanes[3];
+#endif
+  for (; i < n; ++i) sum += a[i] * b[i];
+  return sum;
+}
+
+/// The dot product of two int8 arrays: blocks summed in int32, added up in int64.
+inline std::int64_t dotInt8(const std::int8_t* a, const std::int8_t* b, int n) {
+  std::int64_t total = 0;
+  for (int i0 = 0; i0 < n; i0 += kDotBlock) total += dotInt8Block(a + i0, b + i0, std::min(kDotBlock, n - i0));
   return total;
 }
 

@@ -331,9 +331,9 @@ TEST(Database, EmptyDescriptorNeverMatchesAndMemoryStaysInBudget) {
   const Detection again = detector.process(viewOf(scene), at(2));
   ASSERT_TRUE(again.query.matched);
   EXPECT_EQ(again.query.best()->index, 0u);
-  EXPECT_NEAR(again.query.best()->alignment.distance, 0.0, 1e-5);
+  EXPECT_NEAR(again.query.best()->alignment.distance, 0.0, 2e-3);  // 0 up to the int8 rounding
   EXPECT_EQ(again.index, 2u);
-  EXPECT_LE(detector.database().bytesPerKeyframe(), 6u * 1024u);
+  EXPECT_LE(detector.database().bytesPerKeyframe(), 3u * 1024u);
 }
 
 /// Bytes the heap has handed out and not taken back (glibc's own count, mmapped chunks included).

@@ -405,7 +405,7 @@ TEST(DatabaseFile, CorrectedPosesAreSavedMarkedForTheirWholeSessionAndSurviveALo
     const std::size_t flag = at + 8 + 4 + 8 + 8;
     EXPECT_EQ(int(plain[flag]), a.keyframe(i).info.pose ? 1 : 0) << i;
     EXPECT_EQ(int(marked[flag]), !a.keyframe(i).info.pose ? 0 : i < 12 ? 1 : 2) << i;
-    at = flag + 1 + (plain[flag] ? 96 : 0) + 4 + 4 * 20 * 60 + 60 + 4 * 20 + 4 * 60;
+    at = flag + 1 + (plain[flag] ? 96 : 0) + kDescriptorBytes;
   }
   EXPECT_EQ(at, plain.size());
 }
