@@ -5,6 +5,9 @@
 #include <limits>
 
 #include <Eigen/Core>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 namespace scan_context_loop {
 
@@ -15,6 +18,40 @@ constexpr double kTwoPi = 6.28318530717958647692;
 inline int wrapIndex(int i, int n) {
   i %= n;
   return i < 0 ? i + n : i;
+}
+
+/// The dot product of two int8 arrays of at most kDotBlock entries, summed in int32: at most
+/// kDotBlock * 128^2 = 2^30, whatever the arrays hold.
+constexpr int kDotBlock = 1 << 16;
+inline std::int32_t dotInt8Block(const std::int8_t* a, const std::int8_t* b, int n) {
+  std::int32_t sum = 0;
+  int i = 0;
+#if defined(__SSE2__)
+  // 16 entries a step: each half sign-extended to int16 (the byte unpacked into both halves of a word,
+  // then shifted down) and multiplied pairwise into int32 lanes (pmaddwd). The compiler's own
+  // vectorisation of the scalar loop takes about twice the instructions.
+  const auto widen_low = [](__m128i v) { return _mm_srai_epi16(_mm_unpacklo_epi8(v, v), 8); };
+  const auto widen_high = [](__m128i v) { return _mm_srai_epi16(_mm_unpackhi_epi8(v, v), 8); };
+  __m128i low = _mm_setzero_si128(), high = _mm_setzero_si128();
+  for (; i + 16 <= n; i += 16) {
+    const __m128i x = _mm_loadu_si128(reinterpret_cast<const __m128i*>(a + i));
+    const __m128i y = _mm_loadu_si128(reinterpret_cast<const __m128i*>(b + i));
+    low = _mm_add_epi32(low, _mm_madd_epi16(widen_low(x), widen_low(y)));
+    high = _mm_add_epi32(high, _mm_madd_epi16(widen_high(x), widen_high(y)));
+  }
+  alignas(16) std::int32_t lanes[4];
+  _mm_store_si128(reinterpret_cast<__m128i*>(lanes), _mm_add_epi32(low, high));
+  sum = lanes[0] + lanes[1] + lanes[2] + lanes[3];
+#endif
+  for (; i < n; ++i) sum += a[i] * b[i];
+  return sum;
+}
+
+/// The dot product of two int8 arrays: blocks summed in int32, added up in int64.
+inline std::int64_t dotInt8(const std::int8_t* a, const std::int8_t* b, int n) {
+  std::int64_t total = 0;
+  for (int i0 = 0; i0 < n; i0 += kDotBlock) total += dotInt8Block(a + i0, b + i0, std::min(kDotBlock, n - i0));
+  return total;
 }
 
 bool compatible(const Descriptor& a, const Descriptor& b) {
@@ -39,26 +76,27 @@ double distanceAtShift(const Descriptor& query, const Descriptor& match, int shi
   const int sectors = query.num_sectors;
   const int rings = query.num_rings;
   shift = wrapIndex(shift, sectors);
-  const float* q = query.unit_columns.data();
-  const float* m = match.unit_columns.data();
+  const std::int8_t* q = query.unit_columns.data();
+  const std::int8_t* m = match.unit_columns.data();
   const std::uint8_t* qo = query.column_occupied.data();
   const std::uint8_t* mo = match.column_occupied.data();
-  float similarity = 0.0f;
+  std::int64_t similarity = 0;  // in units of kUnitColumnScale^2
   int shared = 0;
   // Empty columns are zero vectors, so their dot products vanish on their own: no branch needed, and
   // the two contiguous runs of the shifted match (no modulo inside) vectorise as one long dot product.
   const auto run = [&](int j0, int j1, int k0) {
-    const float* a = q + static_cast<std::size_t>(j0) * rings;
-    const float* b = m + static_cast<std::size_t>(k0) * rings;
+    const std::int8_t* a = q + static_cast<std::size_t>(j0) * rings;
+    const std::int8_t* b = m + static_cast<std::size_t>(k0) * rings;
     const int length = (j1 - j0) * rings;
-    similarity += Eigen::Map<const Eigen::VectorXf>(a, length).dot(Eigen::Map<const Eigen::VectorXf>(b, length));
+    similarity += dotInt8(a, b, length);
     for (int j = j0; j < j1; ++j) shared += qo[j] & mo[j - j0 + k0];
   };
   run(shift, sectors, 0);  // query columns shift.. against match columns 0..
   run(0, shift, sectors - shift);
   if (shared_columns) *shared_columns = shared;
   if (shared == 0) return 1.0;
-  return 1.0 - static_cast<double>(similarity) / shared;
+  constexpr double kScale2 = double(kUnitColumnScale) * kUnitColumnScale;
+  return 1.0 - static_cast<double>(similarity) / (kScale2 * shared);
 }
 
 int coarseShift(const Descriptor& query, const Descriptor& match) {

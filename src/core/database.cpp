@@ -148,7 +148,7 @@ bool allFinite(const std::pmr::vector<float>& values) {
 /// not finite (an infinite ring key would stay in the kd-tree for good); empty when it can.
 std::string descriptorProblem(const Descriptor& d, const Config& config) {
   if (!fitsGrid(d, config)) return "descriptor grid size differs from the database configuration";
-  if (!allFinite(d.ring_key) || !allFinite(d.sector_key) || !allFinite(d.unit_columns)) {
+  if (!allFinite(d.ring_key) || !allFinite(d.sector_key)) {  // unit_columns are int8, always finite
     return "descriptor values are not finite";
   }
   return "";
@@ -325,9 +325,8 @@ std::size_t Database::bytesPerKeyframe() const {
   if (!keyframes_.empty()) {
     descriptor_bytes = keyframes_.back().descriptor.bytes();
   } else {
-    descriptor_bytes = (static_cast<std::size_t>(config_.num_rings) * config_.num_sectors +
-                        config_.num_rings + config_.num_sectors) * sizeof(float) +
-                       config_.num_sectors;
+    descriptor_bytes = static_cast<std::size_t>(config_.num_rings) * config_.num_sectors * sizeof(std::int8_t) +
+                       (config_.num_rings + config_.num_sectors) * sizeof(float) + config_.num_sectors;
   }
   // FLANN's share: the single exact tree ~32 bytes a key; the randomized trees of a larger database a
   // point pointer plus, per tree, two 32-byte nodes (leaves hold one key) and an index.

@@ -198,7 +198,7 @@ void encodeKeyframe(const Keyframe& k, std::uint32_t session, const std::optiona
   }
   const Descriptor& d = k.descriptor;
   out->u32(static_cast<std::uint32_t>(d.occupied_columns));
-  out->f32s(d.unit_columns.data(), d.unit_columns.size());
+  out->bytes(d.unit_columns.data(), d.unit_columns.size());
   out->bytes(d.column_occupied.data(), d.column_occupied.size());
   out->f32s(d.ring_key.data(), d.ring_key.size());
   out->f32s(d.sector_key.data(), d.sector_key.size());
@@ -207,8 +207,11 @@ void encodeKeyframe(const Keyframe& k, std::uint32_t session, const std::optiona
 /// A keyframe record: stamp, session, tag, path length and the pose flag; the pose; the descriptor.
 constexpr std::size_t kKeyframeHeadBytes = 8 + 4 + 8 + 8 + 1;
 constexpr std::size_t kPoseBytes = kPoseRows * 4 * 8;
-std::size_t descriptorBytes(std::size_t rings, std::size_t sectors) {
-  return 4 + 4 * rings * sectors + sectors + 4 * rings + 4 * sectors;
+/// Version 1 stored the unit columns as f32, this version as i8 (Descriptor::unit_columns).
+constexpr std::uint32_t kFloatColumnsVersion = 1;
+std::size_t descriptorBytes(std::size_t rings, std::size_t sectors, std::uint32_t version = kDatabaseFileVersion) {
+  const std::size_t column_entry = version == kFloatColumnsVersion ? 4 : 1;
+  return 4 + column_entry * rings * sectors + sectors + 4 * rings + 4 * sectors;
 }
 /// What a decoded descriptor's arrays take in a BlockArena at most (each aligned as malloc aligns).
 std::size_t descriptorMemory(std::size_t rings, std::size_t sectors) {
@@ -247,8 +250,26 @@ class PayloadReader {
 
 const char* const kKeyframeOverrun = "the payload ends inside this keyframe's record: the counts and sizes disagree";
 
-/// Decodes one keyframe record; returns what is wrong with it, or "".
-std::string decodeKeyframe(PayloadReader* payload, int rings, int sectors, RingKeyType ring_key, Keyframe* k) {
+/// Reads a version-1 file's f32 unit columns into `d`'s int8 ones, quantised as makeDescriptor does;
+/// returns what is wrong with them, or "".
+std::string readFloatColumns(ByteReader* in, int rings, std::vector<float>* scratch, Descriptor* d) {
+  scratch->resize(d->unit_columns.size());
+  in->f32s(scratch->data(), scratch->size());
+  // A unit column's entries lie in [-1, 1]; anything else is refused before it is rounded to int8.
+  const double bound = 1.0 + kUnitColumnTolerance;
+  const auto bad = std::find_if(scratch->begin(), scratch->end(), [bound](float v) { return !(std::fabs(v) <= bound); });
+  if (bad != scratch->end()) {
+    return "unit column entry " + text(bad - scratch->begin()) + " is " + text(*bad) + ", not within [-1, 1]";
+  }
+  for (std::size_t i = 0; i < d->unit_columns.size(); i += static_cast<std::size_t>(rings)) {
+    quantiseUnitColumn(scratch->data() + i, rings, d->unit_columns.data() + i);
+  }
+  return "";
+}
+
+/// Decodes one keyframe record of a file of `version`; returns what is wrong with it, or "".
+std::string decodeKeyframe(PayloadReader* payload, std::uint32_t version, int rings, int sectors, RingKeyType ring_key,
+                           std::vector<float>* scratch, Keyframe* k) {
   ByteReader in(nullptr, 0);
   std::uint8_t has_pose = 0;
   if (!payload->take(kKeyframeHeadBytes, &in)) return kKeyframeOverrun;
@@ -267,7 +288,7 @@ std::string decodeKeyframe(PayloadReader* payload, int rings, int sectors, RingK
     }
     k->info.pose = pose;
   }
-  if (!payload->take(descriptorBytes(rings, sectors), &in)) return kKeyframeOverrun;
+  if (!payload->take(descriptorBytes(rings, sectors, version), &in)) return kKeyframeOverrun;
   Descriptor& d = k->descriptor;
   d.num_rings = rings;
   d.num_sectors = sectors;
@@ -276,7 +297,11 @@ std::string decodeKeyframe(PayloadReader* payload, int rings, int sectors, RingK
   d.sector_key.resize(sectors);
   std::uint32_t occupied = 0;
   in.u32(&occupied);
-  in.f32s(d.unit_columns.data(), d.unit_columns.size());
+  if (version == kFloatColumnsVersion) {
+    if (std::string problem = readFloatColumns(&in, rings, scratch, &d); !problem.empty()) return problem;
+  } else {
+    std::memcpy(d.unit_columns.data(), in.take(d.unit_columns.size()), d.unit_columns.size());
+  }
   const std::uint8_t* columns = in.take(sectors);
   d.column_occupied.assign(columns, columns + sectors);
   in.f32s(d.ring_key.data(), d.ring_key.size());
@@ -575,9 +600,9 @@ bool readDatabase(ByteSource* source, const std::string& name, const Config& con
   ByteReader in(head, head_bytes);
   std::uint32_t version = 0;
   if (!in.take(sizeof(kMagic)) || !in.u32(&version)) return fail(short_header);
-  if (version != kDatabaseFileVersion) {
-    return fail("format version " + text(version) + ", but this build reads version " +
-                text(kDatabaseFileVersion) + " only");
+  if (version != kDatabaseFileVersion && version != kFloatColumnsVersion) {
+    return fail("format version " + text(version) + ", but this build reads versions " + text(kFloatColumnsVersion) +
+                " and " + text(kDatabaseFileVersion) + " only");
   }
   if (head_bytes < kHeaderBytes) return fail(short_header);
   ByteReader stored_crc(head + kHeaderBytes - 4, 4);
@@ -600,7 +625,7 @@ bool readDatabase(ByteSource* source, const std::string& name, const Config& con
     return fail(problem);
   }
   const int rings = config.num_rings, sectors = config.num_sectors;
-  if (header.keyframes > payload_bytes / (kKeyframeHeadBytes + descriptorBytes(rings, sectors))) {
+  if (header.keyframes > payload_bytes / (kKeyframeHeadBytes + descriptorBytes(rings, sectors, version))) {
     return fail("the header counts " + text(header.keyframes) + " keyframes, more than the " + text(payload_bytes) +
                 "-byte payload can hold");
   }
@@ -626,9 +651,12 @@ bool readDatabase(ByteSource* source, const std::string& name, const Config& con
   loaded.keyframes.reserve(header.keyframes);
   // The descriptors' arrays, most of the memory, in one arena: far fewer page faults in a new process.
   const BlockArena::Handle arena = BlockArena::create(header.keyframes * descriptorMemory(rings, sectors));
+  std::vector<float> float_columns;  // a version-1 record's unit columns before they are quantised
   for (std::size_t i = 0; i < header.keyframes; ++i) {
     Keyframe& k = loaded.keyframes.emplace_back(Keyframe{KeyframeInfo(), Descriptor(arena.get()), 0.0, 0, false});
-    if (const std::string problem = decodeKeyframe(&payload, rings, sectors, header.settings.ring_key, &k); !problem.empty()) {
+    if (const std::string problem =
+            decodeKeyframe(&payload, version, rings, sectors, header.settings.ring_key, &float_columns, &k);
+        !problem.empty()) {
       return checked("keyframe " + text(i) + ": " + problem);
     }
   }

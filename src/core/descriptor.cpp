@@ -196,7 +196,7 @@ Descriptor makeDescriptor(const HeightGrid& grid, const Config& config) {
   Descriptor d;
   d.num_rings = rings;
   d.num_sectors = sectors;
-  d.unit_columns.assign(static_cast<std::size_t>(rings) * sectors, 0.0f);
+  d.unit_columns.assign(static_cast<std::size_t>(rings) * sectors, 0);
   d.column_occupied.assign(sectors, 0);
   d.ring_key.assign(rings, 0.0f);
   d.sector_key.assign(sectors, 0.0f);
@@ -206,11 +206,9 @@ Descriptor makeDescriptor(const HeightGrid& grid, const Config& config) {
     const bool occupied = grid.occupied.col(s).any();
     d.column_occupied[s] = occupied ? 1 : 0;
     d.occupied_columns += occupied ? 1 : 0;
-    const float norm = grid.heights.col(s).norm();
     d.sector_key[s] = grid.heights.col(s).mean();
-    if (!occupied || !(norm > 0.0f)) continue;
-    float* column = &d.unit_columns[static_cast<std::size_t>(s) * rings];
-    for (int r = 0; r < rings; ++r) column[r] = grid.heights(r, s) / norm;
+    if (!occupied) continue;
+    quantiseUnitColumn(grid.heights.col(s).data(), rings, &d.unit_columns[static_cast<std::size_t>(s) * rings]);
   }
   for (int r = 0; r < rings; ++r) {
     d.ring_key[r] = config.ring_key == RingKeyType::kOccupancy
@@ -224,27 +222,44 @@ Descriptor makeDescriptor(const PointView& points, const Config& config, const E
   return makeDescriptor(makeHeightGrid(points, config, viewpoint), config);
 }
 
+void quantiseUnitColumn(const float* heights, int rings, std::int8_t* out) {
+  const float norm = Eigen::Map<const Eigen::VectorXf>(heights, rings).norm();
+  if (!(norm > 0.0f)) {
+    std::fill(out, out + rings, std::int8_t(0));
+    return;
+  }
+  // |height| <= norm, so every entry lies in [-kUnitColumnScale, kUnitColumnScale].
+  const float scale = kUnitColumnScale / norm;
+  for (int r = 0; r < rings; ++r) out[r] = static_cast<std::int8_t>(std::lround(heights[r] * scale));
+}
+
+double quantisedColumnTolerance(int rings) {
+  return 0.5 * std::sqrt(static_cast<double>(std::max(rings, 0))) / kUnitColumnScale + kUnitColumnTolerance;
+}
+
 std::string descriptorImplausibility(const Descriptor& d, RingKeyType ring_key) {
   const auto finite = [](const std::pmr::vector<float>& v) {
     return std::all_of(v.begin(), v.end(), [](float x) { return std::isfinite(x); });
   };
-  if (!finite(d.unit_columns) || !finite(d.ring_key) || !finite(d.sector_key)) {
+  if (!finite(d.ring_key) || !finite(d.sector_key)) {
     return "the descriptor holds a value that is not finite";
   }
   const int rings = d.num_rings;
+  const double column_tolerance = quantisedColumnTolerance(rings);
   int occupied = 0;
   for (int s = 0; s < d.num_sectors; ++s) {
     const std::uint8_t flag = d.column_occupied[s];
     if (flag > 1) return "column " + std::to_string(s) + "'s occupancy flag is neither 0 nor 1";
     occupied += flag;
-    const float* column = &d.unit_columns[static_cast<std::size_t>(s) * rings];
-    double length2 = 0.0;
-    for (int r = 0; r < rings; ++r) length2 += static_cast<double>(column[r]) * column[r];
-    const double length = std::sqrt(length2);
+    const std::int8_t* column = &d.unit_columns[static_cast<std::size_t>(s) * rings];
+    std::int64_t steps2 = 0;
+    for (int r = 0; r < rings; ++r) steps2 += column[r] * column[r];
+    const double length2 = static_cast<double>(steps2);
+    const double length = std::sqrt(length2) / kUnitColumnScale;
     if (flag == 0 && (length2 != 0.0 || d.sector_key[s] != 0.0f)) {
       return "column " + std::to_string(s) + " is flagged empty but holds values";
     }
-    if (flag == 1 && length2 != 0.0 && std::fabs(length - 1.0) > kUnitColumnTolerance) {
+    if (flag == 1 && length2 != 0.0 && std::fabs(length - 1.0) > column_tolerance) {
       return "column " + std::to_string(s) + " has length " + number(length) + ", not 1";
     }
   }
@@ -272,7 +287,7 @@ std::string descriptorImplausibility(const Descriptor& d, RingKeyType ring_key) 
 }
 
 std::size_t Descriptor::bytes() const {
-  return unit_columns.capacity() * sizeof(float) + column_occupied.capacity() +
+  return unit_columns.capacity() + column_occupied.capacity() +
          ring_key.capacity() * sizeof(float) + sector_key.capacity() * sizeof(float);
 }
 

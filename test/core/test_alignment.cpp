@@ -28,7 +28,7 @@ TEST(Alignment, WholeSectorRotationsGiveShiftAndSignedYaw) {
     const Descriptor query = makeDescriptor(rotateTranslate(cloud, k * sector), config);
     const Alignment a = align(query, match, config);
     EXPECT_EQ(a.shift, k);
-    EXPECT_NEAR(a.distance, 0.0, 1e-5);
+    EXPECT_NEAR(a.distance, 0.0, 2e-3);  // 0 up to the int8 rounding of the unit columns
     EXPECT_LT(angleError(a.yaw, k * sector), 0.25 * sector) << "k = " << k;
     // Swapping query and match flips the sign.
     EXPECT_EQ(align(match, query, config).shift, -k);

@@ -25,8 +25,11 @@ Descriptor descriptorWithKey(const std::vector<float>& key, const Config& config
   d.sector_key.assign(config.num_sectors, 1.0f);
   d.column_occupied.assign(config.num_sectors, 1);
   d.occupied_columns = config.num_sectors;
-  d.unit_columns.assign(static_cast<std::size_t>(config.num_rings) * config.num_sectors,
-                        1.0f / std::sqrt(static_cast<float>(config.num_rings)));
+  d.unit_columns.resize(static_cast<std::size_t>(config.num_rings) * config.num_sectors);
+  const std::vector<float> heights(config.num_rings, 1.0f);
+  for (int s = 0; s < config.num_sectors; ++s) {
+    quantiseUnitColumn(heights.data(), config.num_rings, &d.unit_columns[static_cast<std::size_t>(s) * config.num_rings]);
+  }
   return d;
 }
 
@@ -303,9 +306,9 @@ TEST(Database, NeverIndexesANonFiniteDescriptor) {
   std::string error;
   EXPECT_FALSE(db.add(at(2.0), descriptorWithKey(overflowed, config), &error));
   EXPECT_NE(error.find("not finite"), std::string::npos) << error;
-  Descriptor nan_column = descriptorWithKey(key, config);
-  nan_column.unit_columns[7] = NAN;
-  EXPECT_FALSE(db.add(at(2.0), nan_column, &error));
+  Descriptor nan_sector = descriptorWithKey(key, config);
+  nan_sector.sector_key[7] = NAN;
+  EXPECT_FALSE(db.add(at(2.0), nan_sector, &error));
   EXPECT_EQ(db.size(), 1u);
   // Nor is one a query: it finds nothing, and a good query still finds keyframe 0.
   EXPECT_TRUE(db.query(descriptorWithKey(overflowed, config), at(3.0)).candidates.empty());
@@ -328,9 +331,9 @@ TEST(Database, EmptyDescriptorNeverMatchesAndMemoryStaysInBudget) {
   const Detection again = detector.process(viewOf(scene), at(2));
   ASSERT_TRUE(again.query.matched);
   EXPECT_EQ(again.query.best()->index, 0u);
-  EXPECT_NEAR(again.query.best()->alignment.distance, 0.0, 1e-5);
+  EXPECT_NEAR(again.query.best()->alignment.distance, 0.0, 2e-3);  // 0 up to the int8 rounding
   EXPECT_EQ(again.index, 2u);
-  EXPECT_LE(detector.database().bytesPerKeyframe(), 6u * 1024u);
+  EXPECT_LE(detector.database().bytesPerKeyframe(), 3u * 1024u);
 }
 
 /// Bytes the heap has handed out and not taken back (glibc's own count, mmapped chunks included).

@@ -11,6 +11,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <future>
 #include <limits>
 #include <memory>
@@ -39,9 +40,11 @@ namespace fs = std::filesystem;
 constexpr std::size_t kVersionAt = 5, kSectorsAt = 17, kKeyframesAt = 63, kSessionsAt = 71, kPayloadSizeAt = 75,
                       kPayloadCrcAt = 83, kHeaderCrcAt = 87, kHeaderBytes = 91;
 // The verified drive's files: four keyframe records with poses (29 + 96 bytes and the 20 x 60
-// descriptor's 5,184), then the registration data; in the first keyframe's, its gravity alignment (9 f32),
-// the flag, the voxel count, the compressed size, the LZ4 data.
-constexpr std::size_t kRecordBytes = 29 + 96 + 5184, kDescriptorAt = kHeaderBytes + 29 + 96,
+// descriptor's 1,584: occupied_columns, 20 x 60 i8 unit columns, 60 flags, 20 + 60 f32 keys), then the
+// registration data; in the first keyframe's, its gravity alignment (9 f32), the flag, the voxel count,
+// the compressed size, the LZ4 data.
+constexpr std::size_t kColumnBytes = 20 * 60, kDescriptorBytes = 4 + kColumnBytes + 60 + 4 * (20 + 60);
+constexpr std::size_t kRecordBytes = 29 + 96 + kDescriptorBytes, kDescriptorAt = kHeaderBytes + 29 + 96,
                       kCloudsAt = kHeaderBytes + 4 * kRecordBytes, kCloudFlagAt = kCloudsAt + 36;
 
 using test::TempDir;
@@ -402,7 +405,7 @@ TEST(DatabaseFile, CorrectedPosesAreSavedMarkedForTheirWholeSessionAndSurviveALo
     const std::size_t flag = at + 8 + 4 + 8 + 8;
     EXPECT_EQ(int(plain[flag]), a.keyframe(i).info.pose ? 1 : 0) << i;
     EXPECT_EQ(int(marked[flag]), !a.keyframe(i).info.pose ? 0 : i < 12 ? 1 : 2) << i;
-    at = flag + 1 + (plain[flag] ? 96 : 0) + 4 + 4 * 20 * 60 + 60 + 4 * 20 + 4 * 60;
+    at = flag + 1 + (plain[flag] ? 96 : 0) + kDescriptorBytes;
   }
   EXPECT_EQ(at, plain.size());
 }
@@ -495,8 +498,72 @@ TEST_F(DamagedFile, WrongMagic) {
 
 TEST_F(DamagedFile, FutureVersion) {
   std::vector<std::uint8_t> bytes = good_;
-  put(&bytes, kVersionAt, std::uint32_t(2));
-  expectRefused(bytes, {"format version 2", "reads version 1"});
+  put(&bytes, kVersionAt, std::uint32_t(3));
+  expectRefused(bytes, {"format version 3", "reads versions 1 and 2"});
+}
+
+/// `v2` (a file of four keyframe records with poses, without registration data) as format version 1
+/// wrote it: each unit column as f32, `column_value` of its int8 entries (the float unit column).
+std::vector<std::uint8_t> asVersion1(const std::vector<std::uint8_t>& v2,
+                                     const std::function<std::vector<float>(const std::int8_t*)>& column_value) {
+  std::vector<std::uint8_t> v1(v2.begin(), v2.begin() + kHeaderBytes);
+  for (std::size_t k = 0; k < 4; ++k) {
+    const std::size_t record = kHeaderBytes + k * kRecordBytes, columns = record + 29 + 96 + 4;
+    v1.insert(v1.end(), v2.begin() + record, v2.begin() + columns);
+    for (std::size_t c = 0; c < kColumnBytes; c += 20) {
+      for (float f : column_value(reinterpret_cast<const std::int8_t*>(v2.data() + columns + c))) {
+        v1.resize(v1.size() + 4);
+        put(&v1, v1.size() - 4, f);
+      }
+    }
+    v1.insert(v1.end(), v2.begin() + columns + kColumnBytes, v2.begin() + record + kRecordBytes);
+  }
+  EXPECT_EQ(v2.size(), kHeaderBytes + 4 * kRecordBytes);
+  put(&v1, kVersionAt, std::uint32_t(1));
+  rewriteChecksums(&v1);
+  return v1;
+}
+
+/// A column's int8 entries as the unit-length float column they stand for.
+std::vector<float> unitFloats(const std::int8_t* q) {
+  Eigen::VectorXf v(20);
+  for (int r = 0; r < 20; ++r) v[r] = q[r];
+  if (v.norm() > 0.0f) v.normalize();
+  return std::vector<float>(v.data(), v.data() + 20);
+}
+
+TEST_F(DamagedFile, AVersion1FileLoadsItsFloatColumnsQuantised) {
+  writeBytes(dir_.file("v1.scl"), asVersion1(plain_, unitFloats));
+  auto v1 = running(), v2 = running();
+  std::string error;
+  ASSERT_TRUE(loadDatabase(dir_.file("v1.scl"), v1.get(), &error)) << error;
+  ASSERT_TRUE(loadDatabase(dir_.file("plain.scl"), v2.get(), &error)) << error;
+  ASSERT_EQ(v1->database().size(), 7u);
+  for (std::size_t i = 3; i < 7; ++i) {
+    const Descriptor& a = v1->database().keyframe(i).descriptor;
+    const Descriptor& b = v2->database().keyframe(i).descriptor;
+    EXPECT_EQ(a.ring_key, b.ring_key);
+    EXPECT_EQ(a.column_occupied, b.column_occupied);
+    // Quantised again from floats: each entry within a step of the version-2 file's.
+    for (std::size_t e = 0; e < a.unit_columns.size(); ++e) ASSERT_LE(std::abs(a.unit_columns[e] - b.unit_columns[e]), 1);
+    EXPECT_EQ(descriptorImplausibility(a, verifiedConfig().ring_key), "");
+  }
+  // The loaded keyframes answer a query as the version-2 file's do.
+  const auto query = test::rotateTranslate(test::streetScene(21), 0.05, 0.5);
+  const Detection a = v1->process(viewOf(query), at(10.0, 0.0));
+  const Detection b = v2->process(viewOf(query), at(10.0, 0.0));
+  ASSERT_EQ(a.query.matched, b.query.matched);
+  if (a.query.matched) {
+    EXPECT_EQ(a.query.best()->index, b.query.best()->index);
+    EXPECT_NEAR(a.query.best()->alignment.distance, b.query.best()->alignment.distance, 0.005);
+  }
+  // A version-1 column entry beyond [-1, 1] is refused before it is rounded.
+  std::vector<std::uint8_t> beyond = asVersion1(plain_, [](const std::int8_t* q) {
+    std::vector<float> v = unitFloats(q);
+    v[0] = 300.0f;
+    return v;
+  });
+  expectRefused(beyond, {"keyframe 0", "unit column entry 0 is 300"});
 }
 
 TEST_F(DamagedFile, OtherDescriptorSettingsAreNamedWithBothValues) {
@@ -592,14 +659,14 @@ TEST_F(DamagedFile, APoseFlagOtherThanNoneOdometryOrCorrected) {
 
 TEST_F(DamagedFile, ValuesThatAreNotFinite) {
   // The first keyframe's record begins with its stamp; with a pose (12 doubles), its descriptor's first
-  // unit-column value follows 8 + 4 + 8 + 8 + 1 + 96 + 4 bytes in.
+  // ring key follows 8 + 4 + 8 + 8 + 1 + 96 bytes, occupied_columns, the unit columns and the flags in.
   const double nan = std::numeric_limits<double>::quiet_NaN();
   std::vector<std::uint8_t> stamp = plain_;
   put(&stamp, kHeaderBytes, nan);
   rewriteChecksums(&stamp);
   expectRefused(stamp, {"keyframe 0", "stamp is not finite"});
   std::vector<std::uint8_t> column = plain_;
-  put(&column, kHeaderBytes + 8 + 4 + 8 + 8 + 1 + 96 + 4, std::numeric_limits<float>::infinity());
+  put(&column, kHeaderBytes + 8 + 4 + 8 + 8 + 1 + 96 + 4 + kColumnBytes + 60, std::numeric_limits<float>::infinity());
   rewriteChecksums(&column);
   expectRefused(column, {"keyframe 0", "not finite"});
   std::vector<std::uint8_t> pose = plain_;
@@ -609,9 +676,9 @@ TEST_F(DamagedFile, ValuesThatAreNotFinite) {
 }
 
 TEST_F(DamagedFile, BadRegistrationData) {
-  // Four keyframe records with poses (29 + 96 bytes and the 20 x 60 descriptor's 5,184), then the first
-  // keyframe's registration data: its gravity alignment (9 f32), the flag, the voxel count, the compressed size.
-  const std::size_t clouds = kHeaderBytes + 4 * (29 + 96 + 5184), flag = clouds + 36;
+  // Four keyframe records, then the first keyframe's registration data: its gravity alignment (9 f32),
+  // the flag, the voxel count, the compressed size.
+  const std::size_t clouds = kCloudsAt, flag = kCloudFlagAt;
   std::vector<std::uint8_t> gravity_alignment = good_;
   put(&gravity_alignment, clouds, std::numeric_limits<float>::quiet_NaN());
   rewriteChecksums(&gravity_alignment);
@@ -653,14 +720,15 @@ TEST_F(DamagedFile, ANamedPipeIsRefusedWithoutBlocking) {
 }
 
 TEST_F(DamagedFile, DescriptorValuesNoDescriptorCanHold) {
-  // Keyframe 1's first unit column all 1000s: its distance to any query would be hugely negative.
+  // Keyframe 1's first unit column all 127s (4.5 times unit length): its distance to any query would be
+  // negative.
   std::vector<std::uint8_t> column = plain_;
-  for (int r = 0; r < 20; ++r) put(&column, kDescriptorAt + kRecordBytes + 4 + 4 * r, 1000.0f);
+  for (int r = 0; r < 20; ++r) put(&column, kDescriptorAt + kRecordBytes + 4 + r, std::int8_t(127));
   rewriteChecksums(&column);
   expectRefused(column, {"keyframe 1", "column 0"});
   // A column flagged empty (its flag 0 and occupied_columns one less) that holds values.
   std::vector<std::uint8_t> empty = plain_;
-  const std::size_t flags = kDescriptorAt + 4 + 4 * 20 * 60;
+  const std::size_t flags = kDescriptorAt + 4 + kColumnBytes;
   ASSERT_EQ(plain_[flags + 5], 1) << "keyframe 0's column 5 is occupied";
   empty[flags + 5] = 0;
   std::uint32_t occupied = 0;

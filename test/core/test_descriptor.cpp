@@ -91,11 +91,18 @@ TEST(Descriptor, KeysAndUnitColumns) {
       EXPECT_NEAR(d.ring_key[r], expected, 1e-5f);
     }
     for (int s = 0; s < config.num_sectors; ++s) {
-      Eigen::Map<const Eigen::VectorXf> column(&d.unit_columns[s * config.num_rings], config.num_rings);
+      Eigen::Map<const Eigen::Matrix<std::int8_t, Eigen::Dynamic, 1>> column(&d.unit_columns[s * config.num_rings],
+                                                                             config.num_rings);
+      const float length = column.cast<float>().norm() / kUnitColumnScale;
       if (d.column_occupied[s]) {
-        EXPECT_NEAR(column.norm(), 1.0f, 1e-5f);
+        EXPECT_NEAR(length, 1.0f, quantisedColumnTolerance(config.num_rings));
+        // Each entry is its height's share of the column's length, rounded to a 127th.
+        const float norm = grid.heights.col(s).norm();
+        for (int r = 0; r < config.num_rings; ++r) {
+          EXPECT_NEAR(column[r], grid.heights(r, s) / norm * kUnitColumnScale, 0.5f + 1e-4f);
+        }
       } else {
-        EXPECT_EQ(column.norm(), 0.0f);
+        EXPECT_EQ(length, 0.0f);
       }
       EXPECT_NEAR(d.sector_key[s], grid.heights.col(s).mean(), 1e-5f);
     }
@@ -126,7 +133,8 @@ TEST(Descriptor, SameResultForEveryPointTypeAndFitsTheMemoryBudget) {
   EXPECT_EQ(a.unit_columns, b.unit_columns);
   EXPECT_EQ(a.unit_columns, c.unit_columns);
   EXPECT_EQ(a.ring_key, b.ring_key);
-  EXPECT_LE(a.bytes(), 6u * 1024u);
+  // int8 unit columns (1,200 bytes at 20 x 60), the occupancy and the float keys: about 1.6 KB.
+  EXPECT_LE(a.bytes(), 1700u);
 }
 
 }  // namespace

@@ -59,7 +59,8 @@ TEST(KeyframePipeline, RegisteredCloudsDescribeLikeSensorFrameClouds) {
   const Descriptor& db = b.detector().database().keyframe(0).descriptor;
   ASSERT_EQ(da.ring_key.size(), db.ring_key.size());
   for (std::size_t i = 0; i < da.ring_key.size(); ++i) EXPECT_NEAR(da.ring_key[i], db.ring_key[i], 1e-3) << i;
-  EXPECT_LT(align(da, db, sensor_frame).distance, 1e-3);
+  // Heights differing in the last float bits can round a unit-column entry the other way.
+  EXPECT_LT(align(da, db, sensor_frame).distance, 5e-3);
 
   // Without its pose a registered cloud cannot be brought back: refused, nothing added.
   KeyframeInfo no_pose;

@@ -17,9 +17,10 @@
 
 namespace scan_context_loop {
 
-/// The format version this build writes and the only one it reads. It changes whenever the layout or
-/// the way descriptors are computed changes.
-constexpr std::uint32_t kDatabaseFileVersion = 1;
+/// The format version this build writes. It changes whenever the layout or the way descriptors are
+/// computed changes. Version 1 files (unit columns as f32) are still read, their columns quantised as
+/// they are read.
+constexpr std::uint32_t kDatabaseFileVersion = 2;
 
 struct SaveOptions {
   /// Also save each keyframe's gravity alignment rotation and registration data (the cloud store's

@@ -57,7 +57,13 @@ std::vector<HeightGrid> makeHeightGrids(const PointView& points, const Config& c
                                         const std::vector<Eigen::Vector2f>& viewpoints,
                                         const Eigen::Matrix3f& rotation = Eigen::Matrix3f::Identity());
 
-/// What the distance and the database need, in float, about 5 KB at 20 x 60. Its arrays are on the
+/// A unit column's entries are stored as int8: the entry times kUnitColumnScale, rounded. Its length is
+/// then kUnitColumnScale within the rounding, and a dot product of two columns, summed in integers and
+/// divided by kUnitColumnScale^2, is their cosine within about 0.01 (a whole descriptor's distance, a
+/// mean over the shared columns, much closer).
+constexpr int kUnitColumnScale = 127;
+
+/// What the distance and the database need, about 1.6 KB at 20 x 60. Its arrays are on the
 /// heap unless the descriptor was made with another memory resource (a loaded database's keyframes
 /// share a BlockArena); a copy is always on the heap, and so is whatever is moved *assigned* into a
 /// descriptor of another resource (std::pmr copies then), so make descriptors in place or move-construct
@@ -69,9 +75,10 @@ struct Descriptor {
 
   int num_rings = 0;
   int num_sectors = 0;
-  /// num_sectors columns of num_rings floats each (column-major), every column scaled to unit length;
-  /// an empty column, or one whose heights are all exactly 0, is all zeros.
-  std::pmr::vector<float> unit_columns;
+  /// num_sectors columns of num_rings entries each (column-major), every column scaled to unit length
+  /// and quantised (quantiseUnitColumn); an empty column, or one whose heights are all exactly 0, is all
+  /// zeros.
+  std::pmr::vector<std::int8_t> unit_columns;
   /// 1 where the column holds at least one point.
   std::pmr::vector<std::uint8_t> column_occupied;
   /// Rotation-invariant key per ring (Config::ring_key), the kd-tree coordinates.
@@ -90,12 +97,20 @@ Descriptor makeDescriptor(const HeightGrid& grid, const Config& config);
 Descriptor makeDescriptor(const PointView& points, const Config& config,
                           const Eigen::Vector2f& viewpoint = Eigen::Vector2f::Zero());
 
-/// How far a unit column's length may be off 1 (float rounding leaves about 1e-6).
+/// Writes the column `heights` (`rings` values) scaled to unit length and quantised to `out`: each
+/// entry times kUnitColumnScale, rounded to the nearest integer; all zeros when the heights are.
+void quantiseUnitColumn(const float* heights, int rings, std::int8_t* out);
+
+/// Slack for float rounding (a key against its bound, a column's length).
 constexpr double kUnitColumnTolerance = 1e-3;
+/// How far a quantised unit column's length, in units of kUnitColumnScale, may be off 1: each entry is
+/// off by at most half a step, so the length by at most sqrt(rings) / 2 steps; plus
+/// kUnitColumnTolerance (0.019 in all at 20 rings).
+double quantisedColumnTolerance(int rings);
 
 /// What in `d` (whose arrays have its grid's sizes) makeDescriptor cannot produce with `ring_key`, or ""
 /// when nothing: a value that is not finite; an occupied column whose length is neither 1 (within
-/// kUnitColumnTolerance) nor 0 (heights all exactly 0); an empty column with a value or a sector key that
+/// quantisedColumnTolerance) nor 0 (heights all exactly 0); an empty column with a value or a sector key that
 /// is not 0; occupied_columns other than the occupied flags' count; a sector key or mean-height ring key
 /// beyond kMaxPointHeight, an occupancy ring key outside [0, 1] (each with kUnitColumnTolerance of slack
 /// for rounding). A file's descriptors are checked with it, so that none can match every query.
