@@ -50,6 +50,7 @@ if(CATKIN_ENABLE_TESTING)
     test/core/test_descriptor.cpp
     test/core/test_alignment.cpp
     test/core/test_database.cpp
+    test/core/test_database_index.cpp
     test/core/test_bad_input.cpp
     test/core/test_real_data.cpp
     test/core/test_scenes.cpp

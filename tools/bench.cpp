@@ -66,8 +66,8 @@ int main(int argc, char** argv) {
   std::size_t max_size = 100000;
   scl::cli::Parser cli("scan_context_bench",
                        "Prints the core's benchmark table as Markdown: descriptor time on six real KITTI scans (raw "
-                       "and 0.4 m voxels), gravity alignment, pair distance, online query + insert at 1k, 10k and 100k "
-                       "keyframes (up to MAX_DATABASE_SIZE), verification, and bytes per keyframe.");
+                       "and 0.4 m voxels), gravity alignment, pair distance, online query + insert at 1k, 10k, 100k and "
+                       "1M keyframes (up to MAX_DATABASE_SIZE), verification, and bytes per keyframe.");
   cli.positional("DATA_DIR", "the real data, holding kitti/00 and kitti/08 (default ../shared/data)", &data, false)
       .positional("MAX_DATABASE_SIZE", "largest database size for the online rows (default 100000)",
                   [&max_size](const std::string& v, std::string* error) {
@@ -196,7 +196,7 @@ int main(int argc, char** argv) {
   std::vector<double> step;
   std::size_t blind = 0;
   const std::size_t rss_before = residentBytes();
-  const std::vector<std::size_t> marks = {1000, 10000, 100000};
+  const std::vector<std::size_t> marks = {1000, 10000, 100000, 1000000};
   for (std::size_t n = 0; n < max_size; ++n) {
     scl::KeyframeInfo info;
     info.stamp = 0.1 * n;
@@ -215,9 +215,15 @@ int main(int argc, char** argv) {
     }
   }
   const std::size_t rss_after = residentBytes();
-  std::printf("\nworst single step over the whole run (includes the kd-tree rebuilds): %.3f ms\n",
-              *std::max_element(step.begin(), step.end()) / 1000.0);
+  // Every step counts, the first ones included; the kd-tree is rebuilt on the database's own thread,
+  // so a step pays a rebuild only when it has to wait for one (Database::Tree in database.cpp).
+  const auto worst = std::max_element(step.begin(), step.end());
+  std::printf("\nworst single step over the whole run: %.3f ms (keyframe %zu)\n", *worst / 1000.0,
+              static_cast<std::size_t>(worst - step.begin()) + 1);
   std::printf("keyframes eligible but not searchable at query time: %zu\n", blind);
+  const scl::Database::IndexBuilds builds = db.indexBuilds();
+  std::printf("kd-tree builds: %zu on the database's thread (%zu waited for), %zu on the caller's\n",
+              builds.background, builds.waited, builds.at_once);
   std::printf("bytes per keyframe: %zu accounted (descriptor, keys, record, tree); %.0f measured RSS growth\n",
               db.bytesPerKeyframe(), static_cast<double>(rss_after - rss_before) / db.size());
   return 0;

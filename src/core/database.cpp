@@ -1,67 +1,145 @@
 #include "scan_context_loop/core/database.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
+#include <mutex>
 #include <sstream>
+#include <thread>
 
 #include <flann/flann.hpp>
 
 namespace scan_context_loop {
 
 /// k-nearest ring keys over a growing prefix of the database: a FLANN index over the keys it was last
-/// built with, plus a brute-force scan over the keys added since. When that tail reaches
-/// max(kMinTail, built / 16) keys the index is rebuilt over everything, so a query never scans more than
-/// a small tail and a rebuild happens once every few thousand keyframes at 100k (its cost shows in the
-/// benchmark's max column). The tail is a contiguous copy of its keys: scanned through the keyframes'
-/// own descriptors, each key on a page of its own, a 5,000-key tail cost a TLB miss a key and raised
-/// the describe + query median by about a millisecond before each rebuild at 100k keyframes in
-/// scripts/measure/soak. Up to `exact_limit` keys the index is one balanced kd-tree (leaves of up to 10 keys)
-/// searched exactly; above it, kTrees randomized kd-trees searched until kChecks keys have been
-/// compared, a cost that no longer grows with the database. The randomized trees are built from a
-/// fixed seed, so a run gives the same candidates every time.
+/// built with, plus a brute-force scan over the keys added since (the tail). Up to `exact_limit` keys
+/// the index is one balanced kd-tree (leaves of up to 10 keys) searched exactly; above it, kTrees
+/// randomized kd-trees searched until kChecks keys have been compared, a cost that no longer grows
+/// with the database.
+///
+/// Rebuilds run off the caller's thread. When the tail reaches startAt() keys, a builder thread
+/// copies the index's keys and that tail prefix (the snapshot) and builds a new index over them; the
+/// caller keeps answering from the old index and the whole tail meanwhile. The new index is swapped in
+/// when the tail is about to pass swapAt() = 2 startAt() keys, the caller waiting for the builder only
+/// if it has not finished by then (at 1,000,000 keys a build takes about a second; the tail's second
+/// half takes thousands of keyframes to fill). Both points are counts of keys, so which index answers a
+/// query never depends on timing, and the randomized trees are built from a fixed seed under one
+/// process-wide lock (FLANN draws from std::rand): a run gives the same candidates every time. A batch
+/// that would carry the tail past swapAt() with no build in flight (a loaded database joining) is
+/// built at once on the caller's thread.
+///
+/// Ownership while a build is in flight: the builder reads `current.keys` and the first `snapshot`
+/// keys of `tail` and writes only `next`. The caller only reads `current` then, and appends to `tail`
+/// within the capacity reserved at the start (swapAt() keys: its first keys never move); it touches
+/// `next` only after joining the builder (in finishBuild() or the destructor), which orders the
+/// builder's writes before its reads. No mutex is needed.
+///
+/// The tail is a contiguous copy of its keys: scanned through the keyframes' own descriptors, each key
+/// on a page of its own, a 5,000-key tail cost a TLB miss a key. It stays below 2 kMaxStart keys, so
+/// its scan costs a fraction of a millisecond at any database size.
 struct Database::Tree {
-  static constexpr std::size_t kMinTail = 1024;
+  static constexpr std::size_t kMinStart = 1024;
+  static constexpr std::size_t kMaxStart = 8192;
   static constexpr int kTrees = 2;
   static constexpr int kChecks = 128;
 
+  /// An index and the keys it was built over (it keeps pointers into them).
+  struct Built {
+    std::vector<float> keys;  // contiguous, in database order
+    std::size_t count = 0;
+    std::unique_ptr<flann::Index<flann::L2<float>>> index;
+  };
+
   Tree(int dims, std::size_t exact_limit) : dims(dims), exact_limit(exact_limit) {}
-
-  std::size_t size() const { return built + tail.size() / static_cast<std::size_t>(dims); }
-
-  /// Takes the keys of the keyframes now eligible; rebuilds at most once, whether one key came or many.
-  void add(const std::vector<const float*>& added) {
-    for (const float* key : added) tail.insert(tail.end(), key, key + dims);
-    if (size() - built >= std::max(kMinTail, built / 16)) rebuild();
+  ~Tree() {
+    if (builder.joinable()) builder.join();
   }
 
-  bool approximate() const { return built > exact_limit; }
+  std::size_t tailCount() const { return tail.size() / static_cast<std::size_t>(dims); }
+  std::size_t size() const { return current.count + tailCount(); }
+  /// The tail size at which a build starts, and the one it must not pass before the build is swapped in.
+  std::size_t startAt() const { return std::clamp(current.count / 32, kMinStart, kMaxStart); }
+  std::size_t swapAt() const { return 2 * startAt(); }
+  bool building() const { return builder.joinable(); }
 
-  void rebuild() {
-    // The index keeps pointers into `data`: it is replaced right after, before any search.
-    data.insert(data.end(), tail.begin(), tail.end());
-    tail.clear();
-    built = data.size() / static_cast<std::size_t>(dims);
-    flann::Matrix<float> matrix(data.data(), built, dims);
-    if (approximate()) {
-      flann::seed_random(1);  // the trees' random split choices (std::rand)
-      index.reset(new flann::Index<flann::L2<float>>(matrix, flann::KDTreeIndexParams(kTrees)));
-    } else {
-      index.reset(new flann::Index<flann::L2<float>>(matrix, flann::KDTreeSingleIndexParams(10)));
+  /// Takes the keys of the keyframes now eligible.
+  void add(const std::vector<const float*>& added) {
+    if (building() && tailCount() + added.size() > swap_at) finishBuild();
+    if (!building() && tailCount() + added.size() > swapAt()) {
+      // A batch (a loaded database joining, a wide query window): one build, here and now.
+      for (const float* key : added) tail.insert(tail.end(), key, key + dims);
+      ++builds.at_once;
+      Built built;
+      built.keys.swap(current.keys);
+      built.keys.insert(built.keys.end(), tail.begin(), tail.end());
+      tail.clear();
+      buildIndex(&built);
+      current = std::move(built);
+      return;
     }
-    index->buildIndex();
+    for (const float* key : added) tail.insert(tail.end(), key, key + dims);
+    if (!building() && tailCount() >= startAt()) startBuild();
+  }
+
+  void startBuild() {
+    swap_at = swapAt();
+    tail.reserve(swap_at * static_cast<std::size_t>(dims));
+    snapshot = tailCount();
+    const float* from = tail.data();
+    const std::size_t values = snapshot * static_cast<std::size_t>(dims);
+    ++builds.background;
+    built_yet = false;
+    builder = std::thread([this, from, values] {
+      next.keys.reserve(current.keys.size() + values);
+      next.keys.assign(current.keys.begin(), current.keys.end());
+      next.keys.insert(next.keys.end(), from, from + values);
+      buildIndex(&next);
+      built_yet = true;
+    });
+  }
+
+  /// Waits for the builder and swaps its index in; the tail keeps the keys that came after the snapshot.
+  void finishBuild() {
+    if (!built_yet) ++builds.waited;
+    builder.join();
+    current = std::move(next);
+    next = Built();
+    tail.erase(tail.begin(), tail.begin() + static_cast<long>(snapshot) * dims);
+  }
+
+  bool approximate(std::size_t count) const { return count > exact_limit; }
+  bool approximate() const { return approximate(current.count); }
+
+  void buildIndex(Built* built) const {
+    built->count = built->keys.size() / static_cast<std::size_t>(dims);
+    built->index.reset();
+    if (built->count == 0) return;
+    flann::Matrix<float> matrix(built->keys.data(), built->count, dims);
+    if (approximate(built->count)) {
+      static std::mutex seeded;  // std::rand's state is the process's: one seeded build at a time
+      std::lock_guard<std::mutex> lock(seeded);
+      flann::seed_random(1);  // the trees' random split choices
+      built->index.reset(new flann::Index<flann::L2<float>>(matrix, flann::KDTreeIndexParams(kTrees)));
+      built->index->buildIndex();
+    } else {
+      built->index.reset(new flann::Index<flann::L2<float>>(matrix, flann::KDTreeSingleIndexParams(10)));
+      built->index->buildIndex();
+    }
   }
 
   /// The `want` nearest keys as (squared distance, index), nearest first.
   std::vector<std::pair<float, std::size_t>> nearest(const float* query, std::size_t want) const {
     std::vector<std::pair<float, std::size_t>> found;
     found.reserve(want + 1);
-    if (index && built > 0) {
+    const std::size_t built = current.count;
+    if (current.index && built > 0) {
       std::vector<std::vector<std::size_t>> indices;
       std::vector<std::vector<float>> dists;
       std::vector<float> q(query, query + dims);
       flann::SearchParams params(approximate() ? kChecks : flann::FLANN_CHECKS_UNLIMITED);
       params.sorted = true;
-      index->knnSearch(flann::Matrix<float>(q.data(), 1, dims), indices, dists, std::min(want, built), params);
+      current.index->knnSearch(flann::Matrix<float>(q.data(), 1, dims), indices, dists, std::min(want, built),
+                               params);
       for (std::size_t i = 0; i < indices[0].size(); ++i) found.emplace_back(dists[0][i], indices[0][i]);
     }
     // The tail streams through a max-heap of the `want` nearest so far (by distance, then index: the
@@ -92,10 +170,14 @@ struct Database::Tree {
 
   int dims;
   std::size_t exact_limit;
-  std::vector<float> data;  // the keys the index was built over, contiguous, in database order
-  std::vector<float> tail;  // the keys added since, contiguous, in database order
-  std::size_t built = 0;
-  std::unique_ptr<flann::Index<flann::L2<float>>> index;
+  Built current;            // the index queries use
+  std::vector<float> tail;  // the keys added since `current` was built, contiguous, in database order
+  std::thread builder;      // joinable while a build is in flight
+  std::size_t snapshot = 0; // tail keys the build in flight covers
+  std::size_t swap_at = 0;  // the tail size it is swapped in before passing
+  Built next;               // the builder's result; the caller reads it only after joining
+  std::atomic<bool> built_yet{true};  // the builder has finished (it may not have returned yet)
+  IndexBuilds builds;
 };
 
 Database::Database(const Config& config)
@@ -318,9 +400,16 @@ bool Database::withinOdometryGate(const KeyframeInfo& info, double path, std::si
   return predicted.anchored && predicted.relative.translation().norm() <= gateRadius(config_, trust_, predicted.path);
 }
 
+Database::IndexBuilds Database::indexBuilds() const {
+  IndexBuilds builds = tree_->builds;
+  builds.in_flight = tree_->building();
+  return builds;
+}
+
 std::size_t Database::bytesPerKeyframe() const {
   // Descriptor heap storage plus the Keyframe record itself, plus the tree's share: the contiguous key
-  // copy and FLANN's per-point index and node share.
+  // copy and FLANN's per-point index and node share, twice: while a build is in flight (at 1,000,000
+  // keyframes, most of the time) the new index and its key copy exist beside the old ones.
   std::size_t descriptor_bytes = 0;
   if (!keyframes_.empty()) {
     descriptor_bytes = keyframes_.back().descriptor.bytes();
@@ -332,8 +421,8 @@ std::size_t Database::bytesPerKeyframe() const {
   // point pointer plus, per tree, two 32-byte nodes (leaves hold one key) and an index.
   const std::size_t index_bytes =
       tree_->approximate() ? sizeof(float*) + Tree::kTrees * (2 * 32 + sizeof(int)) : 32;
-  return descriptor_bytes + sizeof(Keyframe) + static_cast<std::size_t>(config_.num_rings) * sizeof(float) +
-         index_bytes;
+  const std::size_t key_bytes = static_cast<std::size_t>(config_.num_rings) * sizeof(float);
+  return descriptor_bytes + sizeof(Keyframe) + 2 * (key_bytes + index_bytes);
 }
 
 }  // namespace scan_context_loop

@@ -59,7 +59,9 @@ struct Keyframe {
   bool corrected_pose = false;
 };
 
-/// Not thread-safe: one owner thread (the ROS adapter's worker) calls every member.
+/// Not thread-safe: one owner thread (the ROS adapter's worker) calls every member. The kd-tree is
+/// rebuilt on a thread the database owns (joined by the destructor), over a copy of the keys, while the
+/// owner's queries use the previous index and scan the keys added since; see Tree in database.cpp.
 ///
 /// Keyframes enter the ring-key index the moment they leave the exclusion windows (all three rules are
 /// monotonic in arrival order, so the eligible keyframes are always a prefix of the database). The index
@@ -118,7 +120,16 @@ class Database {
   void reconfigure(const Config& config) { config_ = config; }
   /// Keyframes currently in the kd-tree.
   std::size_t indexedCount() const { return indexed_; }
-  /// Approximate memory per keyframe: descriptor, keys, bookkeeping and kd-tree share.
+  /// How the kd-tree has been rebuilt so far.
+  struct IndexBuilds {
+    std::size_t background = 0;  ///< builds started on the database's thread
+    std::size_t waited = 0;      ///< of those, swapped in only after the owner waited for the thread
+    std::size_t at_once = 0;     ///< built on the owner's thread: a batch of keys (appendSessions)
+    bool in_flight = false;      ///< a build has started and is not swapped in yet
+  };
+  IndexBuilds indexBuilds() const;
+  /// Approximate memory per keyframe: descriptor, keys, bookkeeping and kd-tree share, the keys and
+  /// kd-tree counted twice (a rebuild in flight holds a second copy).
   std::size_t bytesPerKeyframe() const;
   /// A confirmed loop T_query<-match = `relative`: the odometry checks trust the odometry from it on
   /// (odometry_trust.h).
