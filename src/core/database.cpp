@@ -23,8 +23,8 @@ namespace scan_context_loop {
 /// when the tail is about to pass swapAt() = 2 startAt() keys, the caller waiting for the builder only
 /// if it has not finished by then (at 1,000,000 keys a build takes about a second; the tail's second
 /// half takes thousands of keyframes to fill). Both points are counts of keys, so which index answers a
-/// query never depends on timing, and the randomized trees are built from a fixed seed under one
-/// process-wide lock (FLANN draws from std::rand): a run gives the same candidates every time. A batch
+/// query never depends on timing: below exact_limit a run gives the same candidates every time (above
+/// it, the randomized trees of Debian's FLANN shuffle with std::random_device whatever the seed). A batch
 /// that would carry the tail past swapAt() with no build in flight (a loaded database joining) is
 /// built at once on the caller's thread.
 ///
