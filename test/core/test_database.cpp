@@ -16,23 +16,6 @@
 namespace scan_context_loop {
 namespace {
 
-/// A non-empty descriptor whose ring key is given; its columns are all alike.
-Descriptor descriptorWithKey(const std::vector<float>& key, const Config& config) {
-  Descriptor d;
-  d.num_rings = config.num_rings;
-  d.num_sectors = config.num_sectors;
-  d.ring_key.assign(key.begin(), key.end());
-  d.sector_key.assign(config.num_sectors, 1.0f);
-  d.column_occupied.assign(config.num_sectors, 1);
-  d.occupied_columns = config.num_sectors;
-  d.unit_columns.resize(static_cast<std::size_t>(config.num_rings) * config.num_sectors);
-  const std::vector<float> heights(config.num_rings, 1.0f);
-  for (int s = 0; s < config.num_sectors; ++s) {
-    quantiseUnitColumn(heights.data(), config.num_rings, &d.unit_columns[static_cast<std::size_t>(s) * config.num_rings]);
-  }
-  return d;
-}
-
 std::vector<float> randomKey(std::mt19937* rng, int dims) {
   std::uniform_real_distribution<float> u(0.0f, 1.0f);
   std::vector<float> key(dims);
@@ -66,7 +49,7 @@ std::set<std::size_t> candidateSet(const QueryResult& result) {
 TEST(Database, ExcludesTheMostRecentFramesAndSeesEachOneTheMomentItLeaves) {
   const Config config = windows(3, 0.0, 0.0);
   Database db(config);
-  const Descriptor d = descriptorWithKey(std::vector<float>(20, 0.5f), config);
+  const Descriptor d = test::descriptorWithKey(std::vector<float>(20, 0.5f), config);
   for (int n = 0; n < 12; ++n) {
     const QueryResult r = db.query(d, at(n));
     // Query n (before being added) may see keyframes 0 .. n - 4, every one of them.
@@ -83,7 +66,7 @@ TEST(Database, ExcludesTheMostRecentFramesAndSeesEachOneTheMomentItLeaves) {
 TEST(Database, ExcludesByTimeGap) {
   const Config config = windows(0, 2.5, 0.0);
   Database db(config);
-  const Descriptor d = descriptorWithKey(std::vector<float>(20, 0.5f), config);
+  const Descriptor d = test::descriptorWithKey(std::vector<float>(20, 0.5f), config);
   for (int n = 0; n < 10; ++n) ASSERT_TRUE(db.add(at(0.5 * n), d));  // stamps 0 .. 4.5 s
   // A query at 5.0 s may see stamps <= 2.5 s: keyframes 0..5.
   const QueryResult r = db.query(d, at(5.0));
@@ -96,7 +79,7 @@ TEST(Database, ExcludesByTimeGap) {
 TEST(Database, ExcludesByTravelledDistance) {
   const Config config = windows(0, 0.0, 10.0);
   Database db(config);
-  const Descriptor d = descriptorWithKey(std::vector<float>(20, 0.5f), config);
+  const Descriptor d = test::descriptorWithKey(std::vector<float>(20, 0.5f), config);
   // Drive 3 m per keyframe, then turn back: path length keeps growing while the position returns.
   const double xs[] = {0, 3, 6, 9, 12, 9, 6, 3};
   for (int n = 0; n < 8; ++n) ASSERT_TRUE(db.add(at(n, xs[n]), d));
@@ -133,7 +116,7 @@ TEST(Database, KdTreeReturnsTheBruteForceNearestRingKeys) {
       std::sort(brute.begin(), brute.end());
       std::set<std::size_t> expected;
       for (std::size_t i = 0; i < std::min<std::size_t>(10, brute.size()); ++i) expected.insert(brute[i].second);
-      const QueryResult r = db.query(descriptorWithKey(query_key, config), at(n));
+      const QueryResult r = db.query(test::descriptorWithKey(query_key, config), at(n));
       EXPECT_EQ(candidateSet(r), expected) << "database size " << n;
       for (const auto& c : r.candidates) {
         const auto it = std::find_if(brute.begin(), brute.end(), [&](const auto& b) { return b.second == c.index; });
@@ -141,7 +124,7 @@ TEST(Database, KdTreeReturnsTheBruteForceNearestRingKeys) {
       }
     }
     keys.push_back(randomKey(&rng, config.num_rings));
-    ASSERT_TRUE(db.add(at(n), descriptorWithKey(keys.back(), config)));
+    ASSERT_TRUE(db.add(at(n), test::descriptorWithKey(keys.back(), config)));
   }
   EXPECT_EQ(db.size(), 3000u);
 }
@@ -175,7 +158,7 @@ TEST(Database, ApproximateSearchAboveTheLimitFindsWhatTheExactOneFinds) {
   const auto keys = revisitedKeys(300, 40, exact_config.num_rings, &rng);
   for (std::size_t i = 0; i < keys.size(); ++i) {
     for (Database* db : {&exact, &approximate, &again}) {
-      ASSERT_TRUE(db->add(at(static_cast<double>(i)), descriptorWithKey(keys[i], exact_config)));
+      ASSERT_TRUE(db->add(at(static_cast<double>(i)), test::descriptorWithKey(keys[i], exact_config)));
     }
   }
   std::normal_distribution<float> noise(0.0f, 0.02f);
@@ -185,9 +168,9 @@ TEST(Database, ApproximateSearchAboveTheLimitFindsWhatTheExactOneFinds) {
     std::vector<float> key = keys[static_cast<std::size_t>(q)];
     for (float& value : key) value += noise(rng);
     const KeyframeInfo info = at(static_cast<double>(keys.size() + q));
-    const QueryResult e = exact.query(descriptorWithKey(key, exact_config), info);
-    const QueryResult a = approximate.query(descriptorWithKey(key, exact_config), info);
-    const QueryResult b = again.query(descriptorWithKey(key, exact_config), info);
+    const QueryResult e = exact.query(test::descriptorWithKey(key, exact_config), info);
+    const QueryResult a = approximate.query(test::descriptorWithKey(key, exact_config), info);
+    const QueryResult b = again.query(test::descriptorWithKey(key, exact_config), info);
     ASSERT_EQ(e.candidates.size(), 10u);
     ASSERT_EQ(a.candidates.size(), 10u);
     EXPECT_EQ(candidateSet(a), candidateSet(b)) << "the same keys gave other candidates (query " << q << ")";
@@ -214,7 +197,7 @@ TEST(Database, ApproximateSearchAboveTheLimitFindsWhatTheExactOneFinds) {
 TEST(Database, OdometryGateDropsFarCandidates) {
   Config config = windows(0, 0.0, 0.0);
   config.gate_odometry_drift = 0.0;  // a fixed radius here; the drift allowance has its own test
-  const Descriptor d = descriptorWithKey(std::vector<float>(20, 0.5f), config);
+  const Descriptor d = test::descriptorWithKey(std::vector<float>(20, 0.5f), config);
   for (double gate : {0.0, 50.0}) {
     config.gate_odometry_distance = gate;
     Database db(config);
@@ -235,7 +218,7 @@ TEST(Database, OdometryGateDropsFarCandidates) {
 
 TEST(Database, OdometryGateAllowsForDriftAlongThePathBetween) {
   Config config = windows(0, 0.0, 0.0);
-  const Descriptor d = descriptorWithKey(std::vector<float>(20, 0.5f), config);
+  const Descriptor d = test::descriptorWithKey(std::vector<float>(20, 0.5f), config);
   for (double drift : {0.5, 1.1}) {
     config.gate_odometry_drift = drift;
     Database db(config);
@@ -255,7 +238,7 @@ TEST(Database, OdometryGateAllowsForDriftAlongThePathBetween) {
 TEST(Database, RejectsBadKeyframesAndKeepsItsContents) {
   Config config;
   Database db(config);
-  const Descriptor d = descriptorWithKey(std::vector<float>(20, 0.5f), config);
+  const Descriptor d = test::descriptorWithKey(std::vector<float>(20, 0.5f), config);
   ASSERT_TRUE(db.add(at(10.0), d));
   std::string error;
   EXPECT_FALSE(db.add(at(9.0), d, &error));
@@ -266,7 +249,7 @@ TEST(Database, RejectsBadKeyframesAndKeepsItsContents) {
   EXPECT_FALSE(db.add(bad_pose, d, &error));
   Config other = config;
   other.num_sectors = 30;
-  EXPECT_FALSE(db.add(at(11.0), descriptorWithKey(std::vector<float>(20, 0.5f), other), &error));
+  EXPECT_FALSE(db.add(at(11.0), test::descriptorWithKey(std::vector<float>(20, 0.5f), other), &error));
   EXPECT_EQ(db.size(), 1u);
   EXPECT_TRUE(db.add(at(10.0), d)) << "equal stamps are allowed";
   EXPECT_EQ(db.size(), 2u);
@@ -275,7 +258,7 @@ TEST(Database, RejectsBadKeyframesAndKeepsItsContents) {
 TEST(Database, RefusesAPoseWhoseRotationIsNotARotation) {
   Config config;
   Database db(config);
-  const Descriptor d = descriptorWithKey(std::vector<float>(20, 0.5f), config);
+  const Descriptor d = test::descriptorWithKey(std::vector<float>(20, 0.5f), config);
   ASSERT_TRUE(db.add(at(1.0), d));
   const Eigen::Matrix3d yaw = Eigen::AngleAxisd(0.4, Eigen::Vector3d::UnitZ()).toRotationMatrix();
   // An unnormalised quaternion's matrix, an all-zero quaternion's, a mirror: none is a rotation.
@@ -300,19 +283,19 @@ TEST(Database, NeverIndexesANonFiniteDescriptor) {
   config.exclude_recent_frames = 0;
   Database db(config);
   const std::vector<float> key(20, 0.5f);
-  ASSERT_TRUE(db.add(at(1.0), descriptorWithKey(key, config)));
+  ASSERT_TRUE(db.add(at(1.0), test::descriptorWithKey(key, config)));
   std::vector<float> overflowed = key;
   overflowed[3] = std::numeric_limits<float>::infinity();
   std::string error;
-  EXPECT_FALSE(db.add(at(2.0), descriptorWithKey(overflowed, config), &error));
+  EXPECT_FALSE(db.add(at(2.0), test::descriptorWithKey(overflowed, config), &error));
   EXPECT_NE(error.find("not finite"), std::string::npos) << error;
-  Descriptor nan_sector = descriptorWithKey(key, config);
+  Descriptor nan_sector = test::descriptorWithKey(key, config);
   nan_sector.sector_key[7] = NAN;
   EXPECT_FALSE(db.add(at(2.0), nan_sector, &error));
   EXPECT_EQ(db.size(), 1u);
   // Nor is one a query: it finds nothing, and a good query still finds keyframe 0.
-  EXPECT_TRUE(db.query(descriptorWithKey(overflowed, config), at(3.0)).candidates.empty());
-  const QueryResult good = db.query(descriptorWithKey(key, config), at(3.0));
+  EXPECT_TRUE(db.query(test::descriptorWithKey(overflowed, config), at(3.0)).candidates.empty());
+  const QueryResult good = db.query(test::descriptorWithKey(key, config), at(3.0));
   ASSERT_FALSE(good.candidates.empty());
   EXPECT_EQ(good.best()->index, 0u);
 }

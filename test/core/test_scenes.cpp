@@ -12,6 +12,22 @@
 namespace scan_context_loop {
 namespace test {
 
+Descriptor descriptorWithKey(const std::vector<float>& key, const Config& config) {
+  Descriptor d;
+  d.num_rings = config.num_rings;
+  d.num_sectors = config.num_sectors;
+  d.ring_key.assign(key.begin(), key.end());
+  d.sector_key.assign(config.num_sectors, 1.0f);
+  d.column_occupied.assign(config.num_sectors, 1);
+  d.occupied_columns = config.num_sectors;
+  d.unit_columns.resize(static_cast<std::size_t>(config.num_rings) * config.num_sectors);
+  const std::vector<float> heights(config.num_rings, 1.0f);
+  for (int s = 0; s < config.num_sectors; ++s) {
+    quantiseUnitColumn(heights.data(), config.num_rings, &d.unit_columns[static_cast<std::size_t>(s) * config.num_rings]);
+  }
+  return d;
+}
+
 namespace {
 
 /// Vertical faces of an axis-aligned box, sampled on a regular grid (about `step` metres apart) as a

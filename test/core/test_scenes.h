@@ -3,16 +3,24 @@
 
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include <Eigen/Geometry>
 #include <pcl/point_cloud.h>
 #include <pcl/point_types.h>
+
+#include "scan_context_loop/core/config.h"
+#include "scan_context_loop/core/descriptor.h"
 
 namespace scan_context_loop {
 namespace test {
 
 /// Where ../shared/data is (SCL_SHARED_DATA in the environment wins over the compiled-in path).
 std::string sharedData();
+
+/// A non-empty descriptor whose ring key is given; its columns are all alike (unit columns of equal
+/// heights).
+Descriptor descriptorWithKey(const std::vector<float>& key, const Config& config);
 
 /// A street-like scene in the sensor frame: ground 1.7 m below the sensor, building facades of varied
 /// height on both sides, poles and boxy cars, all sampled as surface points. Different seeds give
