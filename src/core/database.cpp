@@ -177,8 +177,8 @@ struct Database::Tree {
     if (found.size() > want) found.resize(want);
     std::make_heap(found.begin(), found.end());
     // Eight keys at a time, each summed in ring order as one at a time would: eight independent sums
-    // instead of one chain of dependent additions, about six times faster (a loaded batch's tail of a
-    // million keys is scanned in a few milliseconds while its kd-tree is built).
+    // instead of one chain of dependent additions. A loaded batch's tail of a million keys (80 MB, read
+    // at memory speed) takes about 6.5 ms a query while its kd-tree is built.
     constexpr std::size_t kBlock = 8;
     const std::size_t d = static_cast<std::size_t>(dims);
     const float* key = tail.data();
