@@ -162,6 +162,9 @@ long minorFaults() {
 struct LoadTimes {
   double read = 0.0, join = 0.0;
   long read_faults = 0, join_faults = 0;
+  /// After the join: until the kd-tree built in the background was done (queries scan meanwhile) [s].
+  double index_behind = 0.0;
+  long peak_rss_kb = 0;
   double total() const { return read + join; }
 };
 
@@ -177,13 +180,17 @@ int loadOnce(const std::string& path, const scl::Config& config) {
   const auto t1 = Clock::now();
   const long f1 = minorFaults();
   ok = ok && detector.appendSessions(std::move(sessions), &error);
-  const double join = secondsSince(t1);
+  const auto t2 = Clock::now();
+  const long f2 = minorFaults();
   if (!ok) {
     std::fprintf(stderr, "%s\n", error.c_str());
     return 1;
   }
-  std::printf("%.6f %.6f %ld %ld\n", std::chrono::duration<double>(t1 - t0).count(), join, f1 - f0,
-              minorFaults() - f1);
+  while (!detector.database().indexBuilds().finished) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  rusage usage{};
+  ::getrusage(RUSAGE_SELF, &usage);
+  std::printf("%.6f %.6f %ld %ld %.6f %ld\n", std::chrono::duration<double>(t1 - t0).count(),
+              std::chrono::duration<double>(t2 - t1).count(), f1 - f0, f2 - f1, secondsSince(t2), usage.ru_maxrss);
   return 0;
 }
 
@@ -195,7 +202,8 @@ bool loadInNewProcesses(const char* what, const std::string& path, int runs) {
   for (int run = 0; run < runs; ++run) {
     LoadTimes t;
     FILE* pipe = ::popen(command.c_str(), "r");
-    const bool read = pipe && std::fscanf(pipe, "%lf %lf %ld %ld", &t.read, &t.join, &t.read_faults, &t.join_faults) == 4;
+    const bool read = pipe && std::fscanf(pipe, "%lf %lf %ld %ld %lf %ld", &t.read, &t.join, &t.read_faults,
+                                          &t.join_faults, &t.index_behind, &t.peak_rss_kb) == 6;
     if (pipe == nullptr || ::pclose(pipe) != 0 || !read) {
       std::fprintf(stderr, "loading %s in a new process failed\n", path.c_str());
       return false;
@@ -206,9 +214,9 @@ bool loadInNewProcesses(const char* what, const std::string& path, int runs) {
   const LoadTimes best = *std::min_element(times.begin(), times.end(), by_total);
   const LoadTimes worst = *std::max_element(times.begin(), times.end(), by_total);
   const auto split = [](const LoadTimes& t) {
-    char text[128];
-    std::snprintf(text, sizeof(text), "%.3f s (%ld page faults) + %.3f s (%ld page faults)", t.read, t.read_faults,
-                  t.join, t.join_faults);
+    char text[256];
+    std::snprintf(text, sizeof(text), "%.3f s (%ld page faults) + %.3f s (%ld page faults) | %.3f s | %.0f MB", t.read,
+                  t.read_faults, t.join, t.join_faults, t.index_behind, t.peak_rss_kb / 1024.0);
     return std::string(text);
   };
   std::printf("| %s | %.3f s | %.3f s | %s | %s |\n", what, best.total(), worst.total(), split(best).c_str(),
@@ -248,7 +256,7 @@ int main(int argc, char** argv) {
                   false)
       .option("--dir", "DIR", "where the files are written (and removed afterwards; default the temporary directory)",
               &directory)
-      .option("--load", "FILE", "only load FILE once and print the seconds reading and joining took and their page faults", &load);
+      .option("--load", "FILE", "only load FILE once and print the seconds reading and joining took, their page faults, the seconds until the kd-tree built in the background was done, and the peak RSS [KB]", &load);
   if (const int status = cli.parse(argc, argv); status >= 0) return status;
 
   const scl::Config config;
@@ -271,8 +279,10 @@ int main(int argc, char** argv) {
   // A new process touches every page of the keyframes' memory for the first time.
   constexpr int kFreshRuns = 3;
   if (ok) {
-    std::printf("\nload in a new process (nothing allocated before), %d runs:\n\n| file | best | worst | best run: read "
-                "and check + join and index | worst run |\n|---|---|---|---|---|\n",
+    std::printf("\nload in a new process (nothing allocated before), %d runs; above exact_search_limit the kd-tree is "
+                "built in the background after the join, queries scanning every key meanwhile:\n\n| file | best | worst "
+                "| best run: read and check + join | kd-tree done after | peak RSS | worst run: read and check + join "
+                "| kd-tree done after | peak RSS |\n|---|---|---|---|---|---|---|---|---|\n",
                 kFreshRuns);
   }
   ok = ok && loadInNewProcesses("descriptors, stamps, poses", plain, kFreshRuns) &&

@@ -26,7 +26,10 @@ namespace scan_context_loop {
 /// query never depends on timing: below exact_limit a run gives the same candidates every time (above
 /// it, the randomized trees of Debian's FLANN shuffle with std::random_device whatever the seed). A batch
 /// that would carry the tail past swapAt() with no build in flight (a loaded database joining) is
-/// built at once on the caller's thread.
+/// built at once on the caller's thread while the index stays exact; a batch that makes it approximate
+/// is built by the builder like any other, the caller scanning the whole tail meanwhile (exact answers,
+/// a few milliseconds a query at 1,000,000 keys) and swapping the index in at its first call after the
+/// build is done: a node that loads a large database starts answering before its kd-tree is built.
 ///
 /// Ownership while a build is in flight: the builder reads `current.keys` and the first `snapshot`
 /// keys of `tail` and writes only `next`. The caller only reads `current` then, and appends to `tail`
@@ -36,7 +39,8 @@ namespace scan_context_loop {
 ///
 /// The tail is a contiguous copy of its keys: scanned through the keyframes' own descriptors, each key
 /// on a page of its own, a 5,000-key tail cost a TLB miss a key. It stays below 2 kMaxStart keys, so
-/// its scan costs a fraction of a millisecond at any database size.
+/// its scan costs a fraction of a millisecond at any database size, except while a large batch's
+/// build runs (above).
 struct Database::Tree {
   static constexpr std::size_t kMinStart = 1024;
   static constexpr std::size_t kMaxStart = 8192;
@@ -64,9 +68,25 @@ struct Database::Tree {
 
   /// Takes the keys of the keyframes now eligible.
   void add(const std::vector<const float*>& added) {
+    poll();
     if (building() && tailCount() + added.size() > swap_at) finishBuild();
+    if (!building() && tailCount() + added.size() > swapAt() && approximate(size() + added.size())) {
+      // A batch that makes the index approximate (a large database joining): built on the builder's
+      // thread like any other, swapped in at the first call after it is done (runs above the exact
+      // limit may differ anyway); meanwhile queries scan the whole tail, exactly.
+      const std::size_t batch_swap_at = tailCount() + added.size() + swapAt();
+      tail.reserve(batch_swap_at * static_cast<std::size_t>(dims));
+      adviseHugePages(tail.data(), tail.capacity() * sizeof(float));
+      for (const float* key : added) tail.insert(tail.end(), key, key + dims);
+      ++builds.batches_behind;
+      swap_when_built = true;
+      startBuild(batch_swap_at);
+      return;
+    }
     if (!building() && tailCount() + added.size() > swapAt()) {
-      // A batch (a loaded database joining, a wide query window): one build, here and now.
+      // A batch below the exact limit (a small database joining, a wide query window): one build, here
+      // and now, so that which index answers never depends on timing.
+      tail.reserve(tail.size() + added.size() * static_cast<std::size_t>(dims));
       for (const float* key : added) tail.insert(tail.end(), key, key + dims);
       ++builds.at_once;
       Built built;
@@ -78,11 +98,17 @@ struct Database::Tree {
       return;
     }
     for (const float* key : added) tail.insert(tail.end(), key, key + dims);
-    if (!building() && tailCount() >= startAt()) startBuild();
+    if (!building() && tailCount() >= startAt()) startBuild(swapAt());
   }
 
-  void startBuild() {
-    swap_at = swapAt();
+  /// A batch's build that has finished is swapped in (the caller's every call: add, query).
+  void poll() {
+    if (building() && swap_when_built && built_yet) finishBuild();
+  }
+
+  /// Starts a build over the whole tail, to be swapped in before the tail passes `swap_at_count` keys.
+  void startBuild(std::size_t swap_at_count) {
+    swap_at = swap_at_count;
     tail.reserve(swap_at * static_cast<std::size_t>(dims));
     snapshot = tailCount();
     const float* from = tail.data();
@@ -105,6 +131,9 @@ struct Database::Tree {
     current = std::move(next);
     next = Built();
     tail.erase(tail.begin(), tail.begin() + static_cast<long>(snapshot) * dims);
+    swap_when_built = false;
+    // A batch's tail held every key of it; keep no more room than the usual builds need.
+    if (tail.capacity() > 2 * swapAt() * static_cast<std::size_t>(dims)) tail.shrink_to_fit();
   }
 
   bool approximate(std::size_t count) const { return count > exact_limit; }
@@ -147,25 +176,47 @@ struct Database::Tree {
     // query at a 6,000-key tail.
     if (found.size() > want) found.resize(want);
     std::make_heap(found.begin(), found.end());
+    // Eight keys at a time, each summed in ring order as one at a time would: eight independent sums
+    // instead of one chain of dependent additions. A loaded batch's tail of a million keys (80 MB, read
+    // at memory speed) takes about 6.5 ms a query while its kd-tree is built.
+    constexpr std::size_t kBlock = 8;
+    const std::size_t d = static_cast<std::size_t>(dims);
     const float* key = tail.data();
-    for (std::size_t i = built; i < size(); ++i, key += dims) {
-      float d2 = 0.0f;
-      for (int r = 0; r < dims; ++r) {
-        const float d = key[r] - query[r];
-        d2 += d * d;
+    for (std::size_t i = built; i < size(); i += kBlock, key += kBlock * d) {
+      const std::size_t n = std::min(kBlock, size() - i);
+      float d2[kBlock] = {};
+      if (n == kBlock) {
+        for (std::size_t r = 0; r < d; ++r) {
+          for (std::size_t j = 0; j < kBlock; ++j) {
+            const float diff = key[j * d + r] - query[r];
+            d2[j] += diff * diff;
+          }
+        }
+      } else {
+        for (std::size_t j = 0; j < n; ++j) {
+          for (std::size_t r = 0; r < d; ++r) {
+            const float diff = key[j * d + r] - query[r];
+            d2[j] += diff * diff;
+          }
+        }
       }
-      const std::pair<float, std::size_t> entry(d2, i);
-      if (found.size() < want) {
-        found.push_back(entry);
-        std::push_heap(found.begin(), found.end());
-      } else if (want > 0 && entry < found.front()) {
-        std::pop_heap(found.begin(), found.end());
-        found.back() = entry;
-        std::push_heap(found.begin(), found.end());
-      }
+      for (std::size_t j = 0; j < n; ++j) offer({d2[j], i + j}, want, &found);
     }
     std::sort_heap(found.begin(), found.end());
     return found;
+  }
+
+  /// Keeps `entry` in the max-heap `found` of the `want` nearest (by distance, then index).
+  static void offer(const std::pair<float, std::size_t>& entry, std::size_t want,
+                    std::vector<std::pair<float, std::size_t>>* found) {
+    if (found->size() < want) {
+      found->push_back(entry);
+      std::push_heap(found->begin(), found->end());
+    } else if (want > 0 && entry < found->front()) {
+      std::pop_heap(found->begin(), found->end());
+      found->back() = entry;
+      std::push_heap(found->begin(), found->end());
+    }
   }
 
   int dims;
@@ -177,6 +228,7 @@ struct Database::Tree {
   std::size_t swap_at = 0;  // the tail size it is swapped in before passing
   Built next;               // the builder's result; the caller reads it only after joining
   std::atomic<bool> built_yet{true};  // the builder has finished (it may not have returned yet)
+  bool swap_when_built = false;       // the build in flight is a batch's: swapped in once it is done
   IndexBuilds builds;
 };
 
@@ -200,18 +252,19 @@ bool isRotation(const Eigen::Matrix3d& r) {
 /// Why a keyframe with `info` cannot follow `previous` (its session's last keyframe, or null) in a
 /// session; empty when it can.
 std::string infoProblem(const KeyframeInfo& info, const KeyframeInfo* previous) {
-  std::ostringstream why;
-  if (!std::isfinite(info.stamp)) {
-    why << "keyframe stamp is not finite";
-  } else if (previous && info.stamp < previous->stamp) {
+  // The text is made only for a problem, not a stream for every keyframe checked.
+  if (!std::isfinite(info.stamp)) return "keyframe stamp is not finite";
+  if (previous && info.stamp < previous->stamp) {
+    std::ostringstream why;
     why.precision(17);
     why << "keyframe stamp " << info.stamp << " is earlier than the previous keyframe's " << previous->stamp;
-  } else if (info.pose && !info.pose->matrix().allFinite()) {
-    why << "keyframe pose is not finite";
-  } else if (info.pose && !isRotation(info.pose->linear())) {
-    why << "keyframe pose's rotation is not a rotation (not orthonormal, or a mirror)";
+    return why.str();
   }
-  return why.str();
+  if (info.pose && !info.pose->matrix().allFinite()) return "keyframe pose is not finite";
+  if (info.pose && !isRotation(info.pose->linear())) {
+    return "keyframe pose's rotation is not a rotation (not orthonormal, or a mirror)";
+  }
+  return "";
 }
 
 bool fitsGrid(const Descriptor& d, const Config& config) {
@@ -260,7 +313,7 @@ bool Database::add(const KeyframeInfo& info, Descriptor descriptor, std::string*
   return true;
 }
 
-bool Database::appendSessions(std::vector<Keyframe> keyframes, std::string* error) {
+bool Database::appendSessions(std::vector<Keyframe> keyframes, std::string* error, bool values_checked) {
   for (std::size_t i = 0; i < keyframes.size(); ++i) {
     const Keyframe& k = keyframes[i];
     const Keyframe* previous = i > 0 ? &keyframes[i - 1] : nullptr;
@@ -274,7 +327,9 @@ bool Database::appendSessions(std::vector<Keyframe> keyframes, std::string* erro
     } else if (!(std::isfinite(k.path_length) && k.path_length >= 0.0)) {
       problem = "path length is not a finite non-negative number";
     } else {
-      problem = descriptorProblem(k.descriptor, config_);
+      problem = !values_checked                  ? descriptorProblem(k.descriptor, config_)
+                : fitsGrid(k.descriptor, config_) ? ""
+                                                  : "descriptor grid size differs from the database configuration";
       if (problem.empty()) problem = infoProblem(k.info, continues ? &previous->info : nullptr);
     }
     if (!problem.empty()) {
@@ -287,6 +342,9 @@ bool Database::appendSessions(std::vector<Keyframe> keyframes, std::string* erro
     return true;
   }
   const std::uint32_t first = keyframes_.size() == session_start_ ? session_ : session_ + 1;
+  // The records' new memory is set up on another thread while they move in (a deque takes a Keyframe
+  // a node, here from records_).
+  const PageWarmer warmer({records_->reserve(keyframes.size() * (sizeof(Keyframe) + alignof(std::max_align_t)))});
   for (Keyframe& k : keyframes) {
     k.session += first;
     keyframes_.push_back(std::move(k));
@@ -355,6 +413,7 @@ void Database::indexUpTo(std::size_t count) {
 QueryResult Database::query(const Descriptor& descriptor, const KeyframeInfo& info) {
   QueryResult result;
   if (descriptor.empty() || !descriptorProblem(descriptor, config_).empty()) return result;
+  tree_->poll();
   const std::size_t eligible = eligibleCount(info);
   result.eligible = eligible;
   if (eligible == 0) return result;
@@ -403,6 +462,7 @@ bool Database::withinOdometryGate(const KeyframeInfo& info, double path, std::si
 Database::IndexBuilds Database::indexBuilds() const {
   IndexBuilds builds = tree_->builds;
   builds.in_flight = tree_->building();
+  builds.finished = tree_->built_yet;
   return builds;
 }
 

@@ -292,15 +292,17 @@ std::string decodeKeyframe(PayloadReader* payload, std::uint32_t version, int ri
   Descriptor& d = k->descriptor;
   d.num_rings = rings;
   d.num_sectors = sectors;
-  d.unit_columns.resize(static_cast<std::size_t>(rings) * sectors);
+  const std::size_t cells = static_cast<std::size_t>(rings) * sectors;
   d.ring_key.resize(rings);
   d.sector_key.resize(sectors);
   std::uint32_t occupied = 0;
   in.u32(&occupied);
   if (version == kFloatColumnsVersion) {
+    d.unit_columns.resize(cells);
     if (std::string problem = readFloatColumns(&in, rings, scratch, &d); !problem.empty()) return problem;
   } else {
-    std::memcpy(d.unit_columns.data(), in.take(d.unit_columns.size()), d.unit_columns.size());
+    const auto* columns = reinterpret_cast<const std::int8_t*>(in.take(cells));
+    d.unit_columns.assign(columns, columns + cells);  // no zeroing first
   }
   const std::uint8_t* columns = in.take(sectors);
   d.column_occupied.assign(columns, columns + sectors);
@@ -649,8 +651,14 @@ bool readDatabase(ByteSource* source, const std::string& name, const Config& con
   };
   PriorSessions loaded;
   loaded.keyframes.reserve(header.keyframes);
+  adviseHugePages(loaded.keyframes.data(), header.keyframes * sizeof(Keyframe));
   // The descriptors' arrays, most of the memory, in one arena: far fewer page faults in a new process.
-  const BlockArena::Handle arena = BlockArena::create(header.keyframes * descriptorMemory(rings, sectors));
+  // Both it and the records are set up by the kernel on another thread while the records are decoded
+  // into them (PageWarmer).
+  const std::size_t arena_bytes = header.keyframes * descriptorMemory(rings, sectors);
+  const BlockArena::Handle arena = BlockArena::create(arena_bytes);
+  const PageWarmer warmer({arena->reserve(arena_bytes),
+                           {reinterpret_cast<char*>(loaded.keyframes.data()), header.keyframes * sizeof(Keyframe)}});
   std::vector<float> float_columns;  // a version-1 record's unit columns before they are quantised
   for (std::size_t i = 0; i < header.keyframes; ++i) {
     Keyframe& k = loaded.keyframes.emplace_back(Keyframe{KeyframeInfo(), Descriptor(arena.get()), 0.0, 0, false});
@@ -679,6 +687,7 @@ bool readDatabase(ByteSource* source, const std::string& name, const Config& con
     return checked(text(payload.left()) + " bytes of the payload follow the last record: the counts and sizes disagree");
   }
   if (!checked("")) return false;
+  loaded.descriptors_checked = true;
   *sessions = std::move(loaded);
   return true;
 }

@@ -68,7 +68,8 @@ bool LoopDetector::appendSessions(PriorSessions sessions, std::string* error) {
   // Room first, so that once the database holds the keyframes, extending the side array cannot fail and
   // leave every later keyframe's gravity alignment one off.
   gravity_alignment_.reserve(first + n);
-  if (!database_.appendSessions(std::move(sessions.keyframes), error)) return false;
+  adviseHugePages(gravity_alignment_.data(), gravity_alignment_.capacity() * sizeof(Eigen::Matrix3f));
+  if (!database_.appendSessions(std::move(sessions.keyframes), error, sessions.descriptors_checked)) return false;
   if (sessions.gravity_alignment.empty()) {
     gravity_alignment_.resize(first + n, Eigen::Matrix3f::Identity());
   } else {

@@ -51,5 +51,32 @@ TEST(BlockArena, CopiesOfItsContainersAreOnTheDefaultResource) {
   EXPECT_EQ(moved.get_allocator().resource(), arena.get());
 }
 
+TEST(BlockArena, ReservedRoomHoldsTheNextPiecesAndAWarmerChangesNoByte) {
+  const BlockArena::Handle arena = BlockArena::create(std::size_t(2) << 20);
+  std::pmr::vector<std::uint8_t> first(100, 1, arena.get());
+  // 40 MB: more than the block holds, so a block of its own, which the next pieces are taken from.
+  const std::size_t bytes = std::size_t(40) << 20;
+  const BlockArena::Range room = arena->reserve(bytes);
+  ASSERT_NE(room.begin, nullptr);
+  EXPECT_EQ(room.size, bytes);
+  std::pmr::vector<std::uint8_t> filled(bytes / 2, 0, arena.get());
+  EXPECT_EQ(reinterpret_cast<char*>(filled.data()), room.begin);
+  for (std::size_t i = 0; i < filled.size(); i += 4096) filled[i] = static_cast<std::uint8_t>(i / 4096);
+  std::vector<std::uint8_t> heap(bytes / 2, 7);
+  {
+    // While the warmer runs (on a kernel without MADV_POPULATE_WRITE it does nothing), the memory keeps
+    // what was written and what is written meanwhile.
+    const PageWarmer warmer({room, {reinterpret_cast<char*>(heap.data()), heap.size()}});
+    for (std::size_t i = 1; i < filled.size(); i += 4096) filled[i] = 9;
+  }
+  for (std::size_t i = 0; i < filled.size(); i += 4096) {
+    ASSERT_EQ(filled[i], static_cast<std::uint8_t>(i / 4096)) << i;
+    ASSERT_EQ(filled[i + 1], 9) << i;
+    ASSERT_EQ(filled[i + 2], 0) << i;
+  }
+  for (std::size_t i = 0; i < heap.size(); i += 4096) ASSERT_EQ(heap[i], 7) << i;
+  EXPECT_EQ(first[99], 1);
+}
+
 }  // namespace
 }  // namespace scan_context_loop

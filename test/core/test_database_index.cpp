@@ -139,6 +139,36 @@ TEST(DatabaseIndex, EveryEligibleKeyIsFoundWithApproximateSearch) {
   EXPECT_EQ(db.indexedCount(), keys.size());
 }
 
+TEST(DatabaseIndex, ALoadedBatchIsSearchedExactlyUntilItsIndexIsBuilt) {
+  // 30,000 loaded keys above a 10,000-key exact limit: appendSessions returns before the kd-tree is
+  // built; every query meanwhile scans all keys, so the nearest key is the stored one itself.
+  const Config config = everyKeyframeEligible(5, 10000);
+  const auto keys = randomKeys(30000, config.num_rings, 41);
+  std::vector<Keyframe> prior(keys.size());
+  for (std::size_t i = 0; i < keys.size(); ++i) {
+    prior[i].info.stamp = static_cast<double>(i);
+    prior[i].descriptor = descriptorWithKey(keys[i], config);
+  }
+  Database db(config);
+  ASSERT_TRUE(db.appendSessions(std::move(prior)));
+  EXPECT_EQ(db.indexBuilds().batches_behind, 1u);
+  EXPECT_EQ(db.indexBuilds().at_once, 0u);
+  EXPECT_EQ(db.indexedCount(), keys.size());
+  std::size_t missed = 0;
+  for (std::size_t i = 0; i < keys.size(); i += 97) {
+    const QueryResult r = db.query(descriptorWithKey(keys[i], config), at(1.0));
+    if (r.candidates.empty() || r.candidates[0].ring_key_distance != 0.0) ++missed;
+  }
+  EXPECT_EQ(missed, 0u);
+  // Once the build is done, the next call swaps it in.
+  while (!db.indexBuilds().finished) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  db.query(descriptorWithKey(keys[0], config), at(1.0));
+  EXPECT_FALSE(db.indexBuilds().in_flight);
+  const QueryResult r = db.query(descriptorWithKey(keys[123], config), at(1.0));
+  ASSERT_FALSE(r.candidates.empty());
+  EXPECT_EQ(r.candidates[0].ring_key_distance, 0.0);
+}
+
 TEST(DatabaseIndex, DestructorJoinsARebuildInFlight) {
   const Config config = everyKeyframeEligible(5, 0);
   const auto keys = randomKeys(60000, config.num_rings, 31);
@@ -152,7 +182,9 @@ TEST(DatabaseIndex, DestructorJoinsARebuildInFlight) {
     {
       Database db(config);
       ASSERT_TRUE(db.appendSessions(std::move(prior)));
-      EXPECT_EQ(db.indexBuilds().at_once, loaded > 0 ? 1u : 0u);
+      // Above the exact limit (0 here) a loaded batch's index is built in the background.
+      EXPECT_EQ(db.indexBuilds().at_once, 0u);
+      EXPECT_EQ(db.indexBuilds().batches_behind, loaded > 0 ? 1u : 0u);
       // Add keys until a build starts, and leave at once.
       for (std::size_t n = loaded; n < keys.size() && !db.indexBuilds().in_flight; ++n) {
         ASSERT_TRUE(db.add(at(static_cast<double>(n)), test::descriptorWithKey(keys[n], config)));

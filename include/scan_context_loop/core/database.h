@@ -103,7 +103,12 @@ class Database {
   /// false and changes nothing when a descriptor does not fit the configuration, the session numbers
   /// are not as above, or a keyframe breaks what add() checks within its session (finite stamps and
   /// poses that are rotations, stamps that never decrease, finite descriptors); `error` then names the keyframe and the problem.
-  bool appendSessions(std::vector<Keyframe> keyframes, std::string* error = nullptr);
+  ///
+  /// With `values_checked` (PriorSessions::descriptors_checked: a database file's reader has checked each
+  /// descriptor's values, descriptorImplausibility) the descriptors' grid sizes are checked but not their
+  /// values again. A batch above Config::exact_search_limit keys has its kd-tree built on the database's
+  /// thread; queries scan its keys meanwhile (see Tree in database.cpp).
+  bool appendSessions(std::vector<Keyframe> keyframes, std::string* error = nullptr, bool values_checked = false);
   /// The current session's number, and its first keyframe.
   std::uint32_t session() const { return session_; }
   std::size_t sessionStart() const { return session_start_; }
@@ -124,8 +129,11 @@ class Database {
   struct IndexBuilds {
     std::size_t background = 0;  ///< builds started on the database's thread
     std::size_t waited = 0;      ///< of those, swapped in only after the owner waited for the thread
-    std::size_t at_once = 0;     ///< built on the owner's thread: a batch of keys (appendSessions)
+    std::size_t at_once = 0;     ///< built on the owner's thread: a batch of keys within the exact limit
+    std::size_t batches_behind = 0;  ///< of the background builds, a larger batch's (appendSessions): the
+                                     ///< owner scanned its keys until the build was done
     bool in_flight = false;      ///< a build has started and is not swapped in yet
+    bool finished = true;        ///< no build is running (one in flight may have finished, not swapped in)
   };
   IndexBuilds indexBuilds() const;
   /// Approximate memory per keyframe: descriptor, keys, bookkeeping and kd-tree share, the keys and

@@ -20,6 +20,10 @@ struct PriorSessions {
   std::vector<Eigen::Matrix3f> gravity_alignment;
   /// The registration data of each keyframe (null where none was kept), or empty for none at all.
   std::vector<std::unique_ptr<VoxelCloud>> clouds;
+  /// Set by readDatabase only: every descriptor has passed descriptorImplausibility for the grid of the
+  /// configuration the file was read with, so appendSessions checks their grid sizes but not their
+  /// values again. Keyframes from anywhere else leave it false and are checked in full.
+  bool descriptors_checked = false;
 };
 
 }  // namespace scan_context_loop
