@@ -147,7 +147,7 @@ TEST(DatabaseIndex, ALoadedBatchIsSearchedExactlyUntilItsIndexIsBuilt) {
   std::vector<Keyframe> prior(keys.size());
   for (std::size_t i = 0; i < keys.size(); ++i) {
     prior[i].info.stamp = static_cast<double>(i);
-    prior[i].descriptor = descriptorWithKey(keys[i], config);
+    prior[i].descriptor = test::descriptorWithKey(keys[i], config);
   }
   Database db(config);
   ASSERT_TRUE(db.appendSessions(std::move(prior)));
@@ -156,15 +156,15 @@ TEST(DatabaseIndex, ALoadedBatchIsSearchedExactlyUntilItsIndexIsBuilt) {
   EXPECT_EQ(db.indexedCount(), keys.size());
   std::size_t missed = 0;
   for (std::size_t i = 0; i < keys.size(); i += 97) {
-    const QueryResult r = db.query(descriptorWithKey(keys[i], config), at(1.0));
+    const QueryResult r = db.query(test::descriptorWithKey(keys[i], config), at(1.0));
     if (r.candidates.empty() || r.candidates[0].ring_key_distance != 0.0) ++missed;
   }
   EXPECT_EQ(missed, 0u);
   // Once the build is done, the next call swaps it in.
   while (!db.indexBuilds().finished) std::this_thread::sleep_for(std::chrono::milliseconds(1));
-  db.query(descriptorWithKey(keys[0], config), at(1.0));
+  db.query(test::descriptorWithKey(keys[0], config), at(1.0));
   EXPECT_FALSE(db.indexBuilds().in_flight);
-  const QueryResult r = db.query(descriptorWithKey(keys[123], config), at(1.0));
+  const QueryResult r = db.query(test::descriptorWithKey(keys[123], config), at(1.0));
   ASSERT_FALSE(r.candidates.empty());
   EXPECT_EQ(r.candidates[0].ring_key_distance, 0.0);
 }
