@@ -3,6 +3,7 @@
 // The descriptors are synthetic: real KITTI scans' grids, turned, with height noise and bins that
 // come and go (bench_data.h). The registration data are the six real scans' voxel clouds, in turn.
 // Usage: scan_context_bench_database [DATA_DIR [KEYFRAMES [CLOUD_KEYFRAMES]]]  (--help lists the arguments)
+// With --write FILE it only writes the KEYFRAMES synthetic keyframes to FILE (the 1M soak's map).
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -224,6 +225,23 @@ bool loadInNewProcesses(const char* what, const std::string& path, int runs) {
   return true;
 }
 
+/// Writes `count` synthetic keyframes without registration data to `path` (replacing it). 0 on success.
+int writeOnly(const std::string& path, std::size_t count, const std::vector<scl::HeightGrid>& grids,
+              const scl::Config& config) {
+  scl::LoopDetector detector(config);
+  std::string error;
+  const auto t0 = Clock::now();
+  bool ok = detector.appendSessions(makeKeyframes(count, grids, {}, config), &error);
+  ok = ok && scl::writeDatabase(scl::DatabaseSnapshot(detector, false), path, false, &error);
+  if (!ok) {
+    std::fprintf(stderr, "%s\n", error.c_str());
+    return 1;
+  }
+  std::printf("wrote %zu keyframes to %s (%.1f MB) in %.1f s\n", count, path.c_str(),
+              static_cast<double>(fs::file_size(path)) / 1e6, secondsSince(t0));
+  return 0;
+}
+
 bool positiveCount(const std::string& v, std::size_t* out, std::string* error) {
   std::uint64_t n = 0;
   if (scl::cli::toUnsigned(v, &n) && n > 0) {
@@ -238,7 +256,7 @@ bool positiveCount(const std::string& v, std::size_t* out, std::string* error) {
 
 int main(int argc, char** argv) {
   std::string data = "../shared/data";
-  std::string directory = fs::temp_directory_path().string(), load;
+  std::string directory = fs::temp_directory_path().string(), load, write;
   std::size_t keyframes = 100000, cloud_keyframes = 2000;
   scl::cli::Parser cli("scan_context_bench_database",
                        "Prints save and load time and file size per keyframe of the database file as Markdown: "
@@ -256,7 +274,9 @@ int main(int argc, char** argv) {
                   false)
       .option("--dir", "DIR", "where the files are written (and removed afterwards; default the temporary directory)",
               &directory)
-      .option("--load", "FILE", "only load FILE once and print the seconds reading and joining took, their page faults, the seconds until the kd-tree built in the background was done, and the peak RSS [KB]", &load);
+      .option("--load", "FILE", "only load FILE once and print the seconds reading and joining took, their page faults, the seconds until the kd-tree built in the background was done, and the peak RSS [KB]", &load)
+      .option("--write", "FILE", "only write the KEYFRAMES synthetic keyframes (no registration data) to FILE, as a map to load",
+              &write);
   if (const int status = cli.parse(argc, argv); status >= 0) return status;
 
   const scl::Config config;
@@ -269,6 +289,7 @@ int main(int argc, char** argv) {
     grids.push_back(scl::makeHeightGrid(scl::viewOf(c), config));
     clouds.push_back(scl::prepareCloud(scl::viewOf(c), config.verification));
   }
+  if (!write.empty()) return writeOnly(write, keyframes, grids, config);
   const std::string plain = (fs::path(directory) / "scan_context_bench_database.scl").string();
   const std::string with_clouds = (fs::path(directory) / "scan_context_bench_database_clouds.scl").string();
   std::printf("| file | keyframes | size | bytes / keyframe | snapshot (the worker's part) | write (with fsync) | a "

@@ -32,10 +32,15 @@ def rotation(qx, qy, qz, qw):
 
 
 def main():
-    if len(sys.argv) < 3:
+    argv = sys.argv[1:]
+    first_id = 0
+    if len(argv) >= 2 and argv[0] == "--first-id":
+        first_id = int(argv[1])
+        argv = argv[2:]
+    if len(argv) < 2:
         print(__doc__, file=sys.stderr)
         return 2
-    laps = [read_poses(os.path.join(folder, "poses.txt")) for folder in sys.argv[2:]]
+    laps = [read_poses(os.path.join(folder, "poses.txt")) for folder in argv[1:]]
     cycle = sum(len(l) for l in laps)
     starts = np.cumsum([0] + [len(l) for l in laps])
 
@@ -44,11 +49,16 @@ def main():
         lap = int(np.searchsorted(starts, offset, side="right")) - 1
         return laps[lap][offset - starts[lap]]
 
-    with open(sys.argv[1]) as f:
+    with open(argv[0]) as f:
         rows = list(csv.DictReader(f))
     true_loops, false_loops, errors, angles, apart = 0, [], [], [], []
+    into_map = 0
     for r in rows:
-        q, m = int(r["query_id"]), int(r["match_id"])
+        q, m = int(r["query_id"]) - first_id, int(r["match_id"]) - first_id
+        if q < 0 or m < 0:
+            into_map += 1
+            false_loops.append((q + first_id, m + first_id, float("nan")))
+            continue
         t = np.linalg.inv(truth(q)) @ truth(m)
         apart.append(np.linalg.norm(t[:3, 3]))
         if int(r["verified"]):
@@ -67,6 +77,8 @@ def main():
     print("loops: %d" % len(rows))
     print("true: %d" % true_loops)
     print("false: %d" % len(false_loops))
+    if first_id:
+        print("into the map loaded at start: %d" % into_map)
     for q, m, d in false_loops[:20]:
         print("  false loop %d -> %d, %.1f m apart" % (q, m, d))
     if errors:

@@ -90,6 +90,8 @@ class Monitor:
         self.diag = {}
         self.processed = 0
         self.last_id = -1
+        # The first keyframe's id: 0, or the number of keyframes a map loaded at start holds.
+        self.first_id = None
         self.out_of_order = 0
         # (queue_ms, processing_ms, describe_query_ms, verify_ms, queue_length, cpu_ms, preemptions, page_faults)
         self.window = []
@@ -162,6 +164,9 @@ class Monitor:
 
     def on_timing(self, msg):
         with self.lock:
+            if self.first_id is None:
+                self.first_id = msg.keyframe_id
+                self.last_id = msg.keyframe_id - 1
             if msg.keyframe_id != self.last_id + 1:
                 self.out_of_order += 1
             self.last_id = msg.keyframe_id
@@ -263,6 +268,7 @@ class Monitor:
                 "feed_seconds": "%.1f" % feed_seconds,
                 "feed_rate_hz": "%.2f" % (fed / feed_seconds if feed_seconds > 0 else 0.0),
                 "processed": self.processed,
+                "first_keyframe_id": self.first_id if self.first_id is not None else "",
                 "keyframe_ids_out_of_order": self.out_of_order,
                 "dropped": self.diag_int("keyframes dropped"),
                 "rejected": self.diag_int("keyframes rejected"),
