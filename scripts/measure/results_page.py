@@ -7,6 +7,7 @@ import argparse
 import json
 import os
 import platform
+import re
 import shutil
 import sys
 
@@ -141,6 +142,26 @@ def trajectory_table(rows):
     return out
 
 
+def cost_table(rows):
+    """Per sequence, the CPU a keyframe costs the whole evaluator process (reading the scan, describing it,
+    searching, verifying), with the defaults and with plain Scan Context in the same run."""
+    out = ["| sequence | defaults: CPU a keyframe [ms] | descriptors, all viewpoints: median / p99 [ms] | search and insert: "
+           "median / p99 [ms] | "
+           "plain Scan Context: CPU a keyframe [ms] | defaults / plain |", "|---|---|---|---|---|---|"]
+    for r in rows:
+        d, p = r["default"], r["plain"]
+        if not d or "cpu_ms_per_keyframe" not in d:
+            out.append("| %s | not measured | | | | |" % r["name"])
+            continue
+        ours = d["cpu_ms_per_keyframe"]
+        theirs = p.get("cpu_ms_per_keyframe") if p else None
+        out.append("| %s | %s | %s / %s | %s / %s | %s | %s |" % (
+            r["name"], fmt(ours, 2), fmt(d["descriptor_ms"]["median"]), fmt(d["descriptor_ms"]["p99"]),
+            fmt(d["query_ms"]["median"]), fmt(d["query_ms"]["p99"]), fmt(theirs, 2),
+            "%.1fx" % (ours / theirs) if theirs else "n/a"))
+    return out
+
+
 def summary_table(rows):
     out = ["| sequences | plain Scan Context: recall @100% precision | this package, defaults: verified "
            "precision / recall |", "|---|---|---|"]
@@ -178,6 +199,20 @@ def recall_plot(rows, path):
     plt.close(fig)
 
 
+def soak_title(folder):
+    """What the soak in `folder` (scripts/measure/soak's output, named K_Rhz[_on_map_N]) was."""
+    match = re.match(r"(\d+)_([\d.]+)hz(?:_on_map_(\d+))?$", os.path.basename(os.path.normpath(folder)))
+    if not match:
+        return "`scripts/measure/soak` (see [testing](testing.md#soak)):"
+    keyframes, rate, map_size = match.groups()
+    title = "`scripts/measure/soak` (see [testing](testing.md#soak)): %s keyframes fed at %s Hz" % (
+        "{:,}".format(int(keyframes)), rate)
+    if map_size:
+        title += (", the node started on a map of %s keyframes (`SCL_SOAK_MAP=%s`, loaded from its file; the fed "
+                  "keyframes' ids start after it)" % ("{:,}".format(int(map_size)), map_size))
+    return title + ":"
+
+
 def replace_between(path, begin, end, lines):
     text = open(path).read()
     start, stop = text.find(begin), text.find(end)
@@ -192,6 +227,7 @@ def main():
     a = argparse.ArgumentParser(description=__doc__)
     a.add_argument("--baseline", required=True)
     a.add_argument("--bench", required=True)
+    a.add_argument("--bench-database", default="")
     a.add_argument("--soak", default="")
     a.add_argument("--repo", required=True)
     a.add_argument("sequences", nargs="+")
@@ -216,14 +252,27 @@ def main():
             "to the truth) of the odometry's keyframe poses and of the path the reference pose graph corrects with "
             "the verified loops (`trajectory_error.json`; [pose graph](pose_graph.md)), beside plain Scan "
             "Context's loops (each best candidate under the threshold, the yaw prior only) and the verified loops "
-            "with one false loop 40-100 m long added as sure as a verified one.", ""] + trajectory_table(rows)
+            "with one false loop 40-100 m long added as sure as a verified one.", ""] + trajectory_table(rows) + [
+            "", "## Cost per keyframe", "",
+            "The CPU time (user + system) of the whole evaluator process over the sequence, divided by its "
+            "keyframes: reading the scan from disk, gravity alignment, the descriptors of the three viewpoints, the "
+            "search, the registration data and verification, with the defaults; and the same process with plain "
+            "Scan Context's stages only, in the same run. The descriptor and search columns are wall times per "
+            "keyframe with the defaults (the real viewpoint and both lateral ones). The published Scan Context code and Contour Context are not run by "
+            "this harness, so no ratio to them is given here. [Performance](performance.md) says where the time "
+            "goes.", ""] + cost_table(rows)
     bench = open(args.bench).read().strip() if os.path.exists(args.bench) else ""
     page += ["", "## Benchmark", "",
              "`scripts/measure/bench` on the real KITTI scans in `../shared/data`: one thread, the database grown "
              "online to the largest size.", ""]
     page += [bench] if bench else ["Not run (`scripts/measure/bench`)."]
+    if args.bench_database and os.path.exists(args.bench_database):
+        page += ["", "## Database file", "",
+                 "`scripts/measure/bench_database`: saving and loading the database file ([database file]"
+                 "(database_file.md)) of the benchmark's largest size, synthetic descriptors from the real scans.", "",
+                 open(args.bench_database).read().strip()]
     if args.soak and os.path.exists(os.path.join(args.soak, "summary.txt")):
-        page += ["", "## Soak", "", "`scripts/measure/soak` (see [testing](testing.md)):", "", "```",
+        page += ["", "## Soak", "", soak_title(args.soak), "", "```",
                  open(os.path.join(args.soak, "summary.txt")).read().strip(), "```"]
         if os.path.exists(os.path.join(args.soak, "soak.png")):
             shutil.copyfile(os.path.join(args.soak, "soak.png"), os.path.join(doc, "soak.png"))
