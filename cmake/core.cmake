@@ -73,6 +73,7 @@ if(CATKIN_ENABLE_TESTING)
     test/core/test_pose_corrections.cpp
     test/core/test_file_io.cpp
     test/core/test_block_arena.cpp
+    test/core/test_chunked_log.cpp
     test/core/test_team_matcher.cpp
     test/core/test_task_thread.cpp
     test/core/test_team_consistency.cpp

@@ -116,6 +116,7 @@ struct Database::Tree {
     ++builds.background;
     built_yet = false;
     builder = std::thread([this, from, values] {
+      retired = Built();  // the index the last swap replaced, freed here rather than on the owner's thread
       next.keys.reserve(current.keys.size() + values);
       next.keys.assign(current.keys.begin(), current.keys.end());
       next.keys.insert(next.keys.end(), from, from + values);
@@ -128,6 +129,9 @@ struct Database::Tree {
   void finishBuild() {
     if (!built_yet) ++builds.waited;
     builder.join();
+    // The old index and its keys (at a million keyframes, 80 MB and the trees' nodes) are freed by the
+    // next build's thread: unmapping them here cost the step that swapped.
+    retired = std::move(current);
     current = std::move(next);
     next = Built();
     tail.erase(tail.begin(), tail.begin() + static_cast<long>(snapshot) * dims);
@@ -227,6 +231,7 @@ struct Database::Tree {
   std::size_t snapshot = 0; // tail keys the build in flight covers
   std::size_t swap_at = 0;  // the tail size it is swapped in before passing
   Built next;               // the builder's result; the caller reads it only after joining
+  Built retired;            // swapped out by finishBuild; the next builder frees it (touched by one at a time)
   std::atomic<bool> built_yet{true};  // the builder has finished (it may not have returned yet)
   bool swap_when_built = false;       // the build in flight is a batch's: swapped in once it is done
   IndexBuilds builds;
@@ -309,7 +314,9 @@ bool Database::add(const KeyframeInfo& info, Descriptor descriptor, std::string*
   keyframe.path_length = pathLengthAt(info);
   keyframe.session = session_;
   keyframe.descriptor = std::move(descriptor);
+  addresses_.reserve(keyframes_.size() + 1);  // first: once the keyframe is in, its address must be too
   keyframes_.push_back(std::move(keyframe));
+  addresses_.push_back(&keyframes_.back());
   return true;
 }
 
@@ -345,9 +352,11 @@ bool Database::appendSessions(std::vector<Keyframe> keyframes, std::string* erro
   // The records' new memory is set up on another thread while they move in (a deque takes a Keyframe
   // a node, here from records_).
   const PageWarmer warmer({records_->reserve(keyframes.size() * (sizeof(Keyframe) + alignof(std::max_align_t)))});
+  addresses_.reserve(keyframes_.size() + keyframes.size());
   for (Keyframe& k : keyframes) {
     k.session += first;
     keyframes_.push_back(std::move(k));
+    addresses_.push_back(&keyframes_.back());
   }
   session_ = keyframes_.back().session + 1;
   session_start_ = keyframes_.size();
@@ -467,7 +476,7 @@ Database::IndexBuilds Database::indexBuilds() const {
 }
 
 std::size_t Database::bytesPerKeyframe() const {
-  // Descriptor heap storage plus the Keyframe record itself, plus the tree's share: the contiguous key
+  // Descriptor heap storage plus the Keyframe record itself and its address, plus the tree's share: the contiguous key
   // copy and FLANN's per-point index and node share, twice: while a build is in flight (at 1,000,000
   // keyframes, most of the time) the new index and its key copy exist beside the old ones.
   std::size_t descriptor_bytes = 0;
@@ -482,7 +491,7 @@ std::size_t Database::bytesPerKeyframe() const {
   const std::size_t index_bytes =
       tree_->approximate() ? sizeof(float*) + Tree::kTrees * (2 * 32 + sizeof(int)) : 32;
   const std::size_t key_bytes = static_cast<std::size_t>(config_.num_rings) * sizeof(float);
-  return descriptor_bytes + sizeof(Keyframe) + 2 * (key_bytes + index_bytes);
+  return descriptor_bytes + sizeof(Keyframe) + sizeof(const Keyframe*) + 2 * (key_bytes + index_bytes);
 }
 
 }  // namespace scan_context_loop

@@ -510,20 +510,16 @@ DatabaseSnapshot::DatabaseSnapshot(const LoopDetector& detector, bool include_cl
   const Database& database = detector.database();
   const std::size_t begin = std::min(first, database.size());
   const std::size_t end = begin + std::min(count, database.size() - begin);
-  keyframes_.reserve(end - begin);
-  for (std::size_t i = begin; i < end; ++i) keyframes_.push_back(&database.keyframe(i));
+  keyframes_ = database.keyframesView(begin, end);
   if (!include_clouds) return;
-  gravity_alignment_.reserve(end - begin);
-  clouds_.reserve(end - begin);
-  for (std::size_t i = begin; i < end; ++i) {
-    gravity_alignment_.push_back(detector.gravityAlignment(i));
-    clouds_.push_back(detector.cloudStore().share(i));
-  }
+  gravity_alignment_ = detector.gravityAlignments(begin, end);
+  clouds_ = detector.cloudStore().share(begin, end);
+  for (auto& cloud : clouds_) cloud.first -= begin;
 }
 
 template <typename Sink>
 bool writeImage(const DatabaseSnapshot& snapshot, Sink* file, std::string* error) {
-  const std::vector<const Keyframe*>& keyframes = snapshot.keyframes_;
+  const ChunkedLog<const Keyframe*>::View& keyframes = snapshot.keyframes_;
   Header header;
   header.settings = settingsOf(snapshot.config_, snapshot.include_clouds_);
   header.keyframes = keyframes.size();
@@ -532,7 +528,7 @@ bool writeImage(const DatabaseSnapshot& snapshot, Sink* file, std::string* error
   PayloadWriter<Sink> payload(file);
   // Empty without corrections; else a pose or none per keyframe.
   const std::vector<std::optional<Eigen::Isometry3d>> corrected =
-      snapshot.corrections_ ? correctedSessionPoses(keyframes, *snapshot.corrections_)
+      snapshot.corrections_ ? correctedSessionPoses(keyframes.toVector(), *snapshot.corrections_)
                             : std::vector<std::optional<Eigen::Isometry3d>>();
   const std::optional<Eigen::Isometry3d> uncorrected;
   // Sessions are numbered 0, 1, ... in the file, whatever their numbers in the database.
@@ -541,8 +537,11 @@ bool writeImage(const DatabaseSnapshot& snapshot, Sink* file, std::string* error
     encodeKeyframe(*keyframes[i], header.sessions - 1, corrected.empty() ? uncorrected : corrected[i], payload.out());
     if (!payload.flushIfFull(error)) return false;
   }
+  auto stored = snapshot.clouds_.begin();
   for (std::size_t i = 0; snapshot.include_clouds_ && i < keyframes.size(); ++i) {
-    encodeCloud(snapshot.gravity_alignment_[i], snapshot.clouds_[i].get(), payload.out());
+    const VoxelCloud* cloud = nullptr;
+    if (stored != snapshot.clouds_.end() && stored->first == i) cloud = (stored++)->second.get();
+    encodeCloud(snapshot.gravity_alignment_[i], cloud, payload.out());
     if (!payload.flushIfFull(error)) return false;
   }
   if (!payload.flush(error)) return false;

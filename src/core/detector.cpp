@@ -5,6 +5,8 @@
 #include <chrono>
 #include <cmath>
 #include <cstring>
+#include <stdexcept>
+#include <string>
 
 #include "scan_context_loop/core/gravity_alignment.h"
 
@@ -68,13 +70,11 @@ bool LoopDetector::appendSessions(PriorSessions sessions, std::string* error) {
   // Room first, so that once the database holds the keyframes, extending the side array cannot fail and
   // leave every later keyframe's gravity alignment one off.
   gravity_alignment_.reserve(first + n);
-  adviseHugePages(gravity_alignment_.data(), gravity_alignment_.capacity() * sizeof(Eigen::Matrix3f));
   if (!database_.appendSessions(std::move(sessions.keyframes), error, sessions.descriptors_checked)) return false;
   if (sessions.gravity_alignment.empty()) {
     gravity_alignment_.resize(first + n, Eigen::Matrix3f::Identity());
   } else {
-    gravity_alignment_.insert(gravity_alignment_.end(), sessions.gravity_alignment.begin(),
-                              sessions.gravity_alignment.end());
+    for (const Eigen::Matrix3f& g : sessions.gravity_alignment) gravity_alignment_.push_back(g);
   }
   for (std::size_t i = 0; i < sessions.clouds.size(); ++i) {
     if (sessions.clouds[i]) store_.add(first + i, std::move(*sessions.clouds[i]));
@@ -99,10 +99,9 @@ Detection LoopDetector::process(const PointView& raw, const KeyframeInfo& info) 
   const PointView& points = described.points;  // the raw cloud: level turns it
   const auto t2 = Clock::now();
   detection.index = database_.size();
-  // Room first: once the database holds the keyframe, its gravity alignment must be stored too.
-  if (gravity_alignment_.capacity() == gravity_alignment_.size()) {
-    gravity_alignment_.reserve(2 * gravity_alignment_.size() + 64);
-  }
+  // Room first: once the database holds the keyframe, its gravity alignment must be stored too. The
+  // alignments grow by chunks: growing never copies those of a million keyframes into new memory.
+  gravity_alignment_.reserve(gravity_alignment_.size() + 1);
   detection.accepted = database_.add(info, std::move(described.descriptor), &detection.error);
   detection.query_seconds += secondsSince(t2);
   if (!detection.accepted) return detection;
@@ -174,9 +173,17 @@ bool LoopDetector::attachCloud(std::size_t index, const Eigen::Matrix3f& gravity
     if (error) *error = problem;
     return false;
   }
-  gravity_alignment_.at(index) = gravity_alignment;
+  gravity_alignment_.set(index, gravity_alignment);
   store_.add(index, cloud);
   return true;
+}
+
+const Eigen::Matrix3f& LoopDetector::gravityAlignment(std::size_t index) const {
+  if (index >= gravity_alignment_.size()) {
+    throw std::out_of_range("gravity alignment of keyframe " + std::to_string(index) + " of " +
+                            std::to_string(gravity_alignment_.size()));
+  }
+  return gravity_alignment_[index];
 }
 
 Detection LoopDetector::locate(const PointView& raw) {

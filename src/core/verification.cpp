@@ -376,28 +376,32 @@ void CloudStore::add(std::size_t index, const VoxelCloud& cloud) {
     // lives until the last of them is gone.
     const auto dropped_level = static_cast<std::size_t>(levelOf(stride_));
     stride_ *= 2;
-    for (std::size_t i = 0; i < clouds_.size(); ++i) {
-      if (clouds_[i] && i % stride_ != 0) {
-        bytes_ -= clouds_[i]->bytes();
-        releasing_.push_back(std::move(clouds_[i]));
+    for (auto it = clouds_.begin(); it != clouds_.end();) {
+      if (it->first % stride_ != 0) {
+        bytes_ -= it->second->bytes();
+        releasing_.push_back(std::move(it->second));
+        it = clouds_.erase(it);
         ++dropped_;
         --stored_;
+      } else {
+        ++it;
       }
     }
     if (dropped_level < levels_.size()) levels_[dropped_level].reset();
     if (index % stride_ != 0) return;
   }
-  if (clouds_.size() <= index) clouds_.resize(index + 1);
   const auto level = static_cast<std::size_t>(levelOf(index));
   if (levels_.size() <= level) levels_.resize(level + 1);
   if (!levels_[level]) levels_[level] = BlockArena::create(kLevelBlockBytes, BlockArena::Pages::kOrdinary);
   // The copy's arrays are exactly as long as the voxels, so the budget counts what they take.
-  if (clouds_[index]) {
-    bytes_ -= clouds_[index]->bytes();  // stored again: the new data replace the old
+  auto copy = std::make_shared<const VoxelCloud>(cloud, levels_[level].get());
+  std::shared_ptr<const VoxelCloud>& slot = clouds_[index];
+  if (slot) {
+    bytes_ -= slot->bytes();  // stored again: the new data replace the old
   } else {
     ++stored_;
   }
-  clouds_[index] = std::make_shared<const VoxelCloud>(cloud, levels_[level].get());
+  slot = std::move(copy);
   bytes_ += size;
 }
 
@@ -420,11 +424,20 @@ std::size_t CloudStore::memoryBytes() const {
 }
 
 const VoxelCloud* CloudStore::get(std::size_t index) const {
-  return index < clouds_.size() ? clouds_[index].get() : nullptr;
+  const auto it = clouds_.find(index);
+  return it != clouds_.end() ? it->second.get() : nullptr;
 }
 
 std::shared_ptr<const VoxelCloud> CloudStore::share(std::size_t index) const {
-  return index < clouds_.size() ? clouds_[index] : nullptr;
+  const auto it = clouds_.find(index);
+  return it != clouds_.end() ? it->second : nullptr;
+}
+
+std::vector<std::pair<std::size_t, std::shared_ptr<const VoxelCloud>>> CloudStore::share(std::size_t begin,
+                                                                                         std::size_t end) const {
+  std::vector<std::pair<std::size_t, std::shared_ptr<const VoxelCloud>>> shared;
+  for (auto it = clouds_.lower_bound(begin); it != clouds_.end() && it->first < end; ++it) shared.push_back(*it);
+  return shared;
 }
 
 Eigen::Isometry3d priorPose(double yaw, const Eigen::Vector2d& viewpoint) {

@@ -84,6 +84,36 @@ TEST(DatabaseSnapshot, WrittenLaterItHoldsTheDatabaseAsItWasTaken) {
   EXPECT_EQ(readAll(dir.file("busy_later.scl")), readAll(dir.file("busy_now.scl")));
 }
 
+TEST(DatabaseSnapshot, AKeyframeGivenNewDataAfterwardsIsWrittenAsItWasTaken) {
+  TempDir dir;
+  LoopDetector detector(budgetFor(4, 100));
+  addStreets(&detector, 0, 4);
+  std::string error;
+  SaveOptions with_clouds;
+  with_clouds.include_clouds = true;
+  ASSERT_TRUE(saveDatabase(detector, dir.file("now.scl"), with_clouds, &error)) << error;
+  const DatabaseSnapshot snapshot(detector, true);
+
+  // Keyframe 1 gets another gravity alignment and other data (as a team's fetched data replace a
+  // keyframe's): the snapshot shares the chunk that held its alignment, which must be copied first.
+  const Eigen::Matrix3f turned = Eigen::AngleAxisf(0.1f, Eigen::Vector3f::UnitX()).toRotationMatrix();
+  ASSERT_NE(detector.cloudStore().get(2), nullptr);
+  const VoxelCloud other = *detector.cloudStore().get(2);
+  ASSERT_TRUE(detector.attachCloud(1, turned, other, &error)) << error;
+  ASSERT_TRUE(detector.gravityAlignment(1).isApprox(turned));
+  ASSERT_TRUE(writeDatabase(snapshot, dir.file("later.scl"), false, &error)) << error;
+  EXPECT_EQ(readAll(dir.file("later.scl")), readAll(dir.file("now.scl")));
+
+  // A snapshot taken after the change writes it.
+  ASSERT_TRUE(writeDatabase(DatabaseSnapshot(detector, true), dir.file("after.scl"), false, &error)) << error;
+  EXPECT_NE(readAll(dir.file("after.scl")), readAll(dir.file("now.scl")));
+  PriorSessions read;
+  ASSERT_TRUE(readDatabaseFile(dir.file("after.scl"), detector.config(), &read, &error)) << error;
+  ASSERT_EQ(read.gravity_alignment.size(), 4u);
+  EXPECT_TRUE(read.gravity_alignment[1].isApprox(turned, 1e-6f));
+  EXPECT_TRUE(read.gravity_alignment[0].isApprox(detector.gravityAlignment(0), 1e-6f));
+}
+
 TEST(DatabaseSnapshot, ItsOwnerKeepsTheKeyframesAliveAfterTheDetectorIsReplaced) {
   TempDir dir;
   auto detector = std::make_shared<LoopDetector>(budgetFor(1, 100));

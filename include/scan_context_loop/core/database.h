@@ -13,6 +13,7 @@
 
 #include "scan_context_loop/core/alignment.h"
 #include "scan_context_loop/core/block_arena.h"
+#include "scan_context_loop/core/chunked_log.h"
 #include "scan_context_loop/core/config.h"
 #include "scan_context_loop/core/descriptor.h"
 #include "scan_context_loop/core/odometry_trust.h"
@@ -119,6 +120,11 @@ class Database {
 
   std::size_t size() const { return keyframes_.size(); }
   const Keyframe& keyframe(std::size_t index) const { return keyframes_.at(index); }
+  /// The keyframes [begin, end) (clamped) as they are now, readable on any thread while this database
+  /// goes on adding (stored keyframes never change; the view shares the chunks of their addresses).
+  ChunkedLog<const Keyframe*>::View keyframesView(std::size_t begin, std::size_t end) const {
+    return addresses_.view(begin, end);
+  }
   const Config& config() const { return config_; }
   /// Takes new values of the live settings (Setting::live; KeyframePipeline::reconfigure checks that
   /// nothing else changed).
@@ -137,7 +143,8 @@ class Database {
   };
   IndexBuilds indexBuilds() const;
   /// Approximate memory per keyframe: descriptor, keys, bookkeeping and kd-tree share, the keys and
-  /// kd-tree counted twice (a rebuild in flight holds a second copy).
+  /// kd-tree counted twice (a rebuild in flight holds a second copy; between builds, the copy the last
+  /// one replaced waits for the next build's thread to free it).
   std::size_t bytesPerKeyframe() const;
   /// A confirmed loop T_query<-match = `relative`: the odometry checks trust the odometry from it on
   /// (odometry_trust.h).
@@ -160,6 +167,9 @@ class Database {
   // process joining 100,000 loaded keyframes takes a few page faults for them instead of thousands.
   BlockArena::Handle records_ = BlockArena::create(std::size_t(32) << 20);
   std::pmr::deque<Keyframe> keyframes_{records_.get()};  // deque: a Keyframe never moves
+  // The records' addresses in chunks a snapshot shares (keyframesView) instead of copying a pointer a
+  // keyframe on the caller's thread.
+  ChunkedLog<const Keyframe*> addresses_;
   std::size_t indexed_ = 0;
   std::uint32_t session_ = 0;
   std::size_t session_start_ = 0;  // index of the current session's first keyframe

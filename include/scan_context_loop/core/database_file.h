@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "scan_context_loop/core/config.h"
@@ -33,9 +34,11 @@ struct SaveOptions {
 
 /// What a save writes, taken in a moment on the detector's thread and written later on any thread while
 /// the detector goes on (a save that never holds up detection). Stored keyframes never change and only
-/// new ones are appended, so the snapshot points at them; it copies the gravity alignments and shares
-/// the registration data (CloudStore::share), which a later halving of the store cannot free under it.
-/// Taking one copies a pointer, a 3x3 rotation and a share per keyframe (about 5 ms at 100,000 keyframes).
+/// new ones are appended, so the snapshot shares the chunks holding their addresses and gravity
+/// alignments (ChunkedLog: appending goes on beside it, and a changed alignment is copied first) and the
+/// registration data of the stored keyframes (CloudStore::share), which a later halving of the store
+/// cannot free under it. Taking one costs a share per 2 MB chunk and per stored cloud, whatever the
+/// database's size (a million keyframes: about twenty chunk shares plus the clouds the store holds).
 ///
 /// The keyframes must live until the snapshot is written: either the caller keeps the detector alive, or
 /// `owner` (a share of whatever owns the detector) does, so that replacing the detector (a reset) while a
@@ -61,9 +64,10 @@ class DatabaseSnapshot {
   friend bool writeImage(const DatabaseSnapshot& snapshot, Sink* sink, std::string* error);
   Config config_;
   bool include_clouds_ = false;
-  std::vector<const Keyframe*> keyframes_;
-  std::vector<Eigen::Matrix3f> gravity_alignment_;         // with clouds: per keyframe
-  std::vector<std::shared_ptr<const VoxelCloud>> clouds_;  // with clouds: per keyframe, null when none
+  ChunkedLog<const Keyframe*>::View keyframes_;
+  ChunkedLog<Eigen::Matrix3f>::View gravity_alignment_;  // with clouds: per keyframe
+  // With clouds: the stored keyframes' data, by index in the snapshot, in order.
+  std::vector<std::pair<std::size_t, std::shared_ptr<const VoxelCloud>>> clouds_;
   std::shared_ptr<const void> owner_;
   std::shared_ptr<const PoseCorrections> corrections_;  // null: none
 };

@@ -120,7 +120,12 @@ class LoopDetector {
   const Config& config() const { return database_.config(); }
   const CloudStore& cloudStore() const { return store_; }
   /// L_R_sensor of keyframe `index`: the gravity alignment its descriptor and registration data were made in.
-  const Eigen::Matrix3f& gravityAlignment(std::size_t index) const { return gravity_alignment_.at(index); }
+  const Eigen::Matrix3f& gravityAlignment(std::size_t index) const;
+  /// The gravity alignments of keyframes [begin, end) (clamped) as they are now, readable on any thread
+  /// while this detector goes on (attachCloud copies a shared chunk before changing it).
+  ChunkedLog<Eigen::Matrix3f>::View gravityAlignments(std::size_t begin, std::size_t end) const {
+    return gravity_alignment_.view(begin, end);
+  }
   const ConsistencyFilter& consistency() const { return consistency_; }
 
  private:
@@ -176,7 +181,7 @@ class LoopDetector {
   CloudStore store_;
   VerificationConfig verification_;
   Verifier verifier_;
-  std::vector<Eigen::Matrix3f> gravity_alignment_;  // L_R_sensor per keyframe
+  ChunkedLog<Eigen::Matrix3f> gravity_alignment_;  // L_R_sensor per keyframe; a snapshot shares its chunks
   WorldTilt world_tilt_;                     // of the current session's odometry frame
   std::uint32_t world_tilt_session_ = 0;     // the session it is of
   std::size_t posed_keyframes_ = 0;          // keyframes with a pose since the world's tilt is known

@@ -4,8 +4,10 @@
 // accept/reject decision with its reason, the refined relative pose and its covariance.
 #pragma once
 
+#include <map>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Geometry>
@@ -111,6 +113,9 @@ class CloudStore {
   /// keeps it (and the arena memory it holds) alive after the store dropped it, on any thread
   /// (DatabaseSnapshot writes clouds while the store goes on).
   std::shared_ptr<const VoxelCloud> share(std::size_t index) const;
+  /// Shares of the data of every stored keyframe in [begin, end), by index, in order.
+  std::vector<std::pair<std::size_t, std::shared_ptr<const VoxelCloud>>> share(std::size_t begin,
+                                                                               std::size_t end) const;
   /// Bytes of the voxels kept (what the budget counts).
   std::size_t bytes() const { return bytes_; }
   /// Bytes of memory the kept keyframes' arenas hold (bytes() plus each level's unused block end).
@@ -139,7 +144,9 @@ class CloudStore {
   std::size_t dropped_ = 0;
   std::size_t stored_ = 0;
   std::size_t stride_ = 1;  // data are kept for keyframe numbers that are multiples of this
-  std::vector<std::shared_ptr<const VoxelCloud>> clouds_;  // by keyframe index; null = none
+  // By keyframe index, the stored ones only: a store holds a few thousand of a database's keyframes,
+  // and a save shares them without walking a slot for each of a million keyframes.
+  std::map<std::size_t, std::shared_ptr<const VoxelCloud>> clouds_;
   std::vector<BlockArena::Handle> levels_;  // by level; null before its first cloud and once dropped
   std::vector<std::shared_ptr<const VoxelCloud>> releasing_;  // dropped, memory not yet freed
 };
