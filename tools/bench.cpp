@@ -220,7 +220,16 @@ int main(int argc, char** argv) {
   const auto worst = std::max_element(step.begin(), step.end());
   std::printf("\nworst single step over the whole run: %.3f ms (keyframe %zu)\n", *worst / 1000.0,
               static_cast<std::size_t>(worst - step.begin()) + 1);
-  std::printf("keyframes eligible but not searchable at query time: %zu\n", blind);
+  std::vector<std::size_t> order(step.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+  const std::size_t shown = std::min<std::size_t>(5, order.size());
+  std::partial_sort(order.begin(), order.begin() + static_cast<long>(shown), order.end(),
+                    [&step](std::size_t a, std::size_t b) { return step[a] > step[b]; });
+  std::printf("the %zu slowest steps:", shown);
+  for (std::size_t i = 0; i < shown; ++i) {
+    std::printf("%s %.3f ms (keyframe %zu)", i ? "," : "", step[order[i]] / 1000.0, order[i] + 1);
+  }
+  std::printf("\nkeyframes eligible but not searchable at query time: %zu\n", blind);
   const scl::Database::IndexBuilds builds = db.indexBuilds();
   std::printf("kd-tree builds: %zu on the database's thread (%zu waited for), %zu on the caller's\n",
               builds.background, builds.waited, builds.at_once);

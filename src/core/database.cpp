@@ -4,7 +4,10 @@
 #include <atomic>
 #include <cmath>
 #include <mutex>
+#include <new>
 #include <sstream>
+#include <stdexcept>
+#include <string>
 #include <thread>
 
 #include <flann/flann.hpp>
@@ -20,11 +23,15 @@ namespace scan_context_loop {
 /// Rebuilds run off the caller's thread. When the tail reaches startAt() keys, a builder thread
 /// copies the index's keys and that tail prefix (the snapshot) and builds a new index over them; the
 /// caller keeps answering from the old index and the whole tail meanwhile. The new index is swapped in
-/// when the tail is about to pass swapAt() = 2 startAt() keys, the caller waiting for the builder only
-/// if it has not finished by then (at 1,000,000 keys a build takes about a second; the tail's second
-/// half takes thousands of keyframes to fill). Both points are counts of keys, so which index answers a
-/// query never depends on timing: below exact_limit a run gives the same candidates every time (above
-/// it, the randomized trees of Debian's FLANN shuffle with std::random_device whatever the seed). A batch
+/// when the tail is about to pass swapAt() = 2 startAt() keys. Below exact_limit the caller waits for
+/// the builder if it has not finished by then, so which index answers a query never depends on timing
+/// and a run gives the same candidates every time. Above it (where the randomized trees of Debian's
+/// FLANN shuffle with std::random_device whatever the seed, so runs may differ anyway) a late build is
+/// not waited for: the tail grows on into the room reserved for it (2 swapAt() keys) and the index is
+/// swapped in at the first call after it is done; only a build still unfinished when that room is full
+/// is waited for. At 1,000,000 keys a build takes about two seconds: a node adding 20 keyframes a
+/// second fills the tail's second half in minutes, the benchmark's loop adding thousands a second in
+/// about one and a half seconds (one step waited 66 ms for a build before late builds went on). A batch
 /// that would carry the tail past swapAt() with no build in flight (a loaded database joining) is
 /// built at once on the caller's thread while the index stays exact; a batch that makes it approximate
 /// is built by the builder like any other, the caller scanning the whole tail meanwhile (exact answers,
@@ -33,12 +40,12 @@ namespace scan_context_loop {
 ///
 /// Ownership while a build is in flight: the builder reads `current.keys` and the first `snapshot`
 /// keys of `tail` and writes only `next`. The caller only reads `current` then, and appends to `tail`
-/// within the capacity reserved at the start (swapAt() keys: its first keys never move); it touches
+/// within the capacity reserved at the start (`tail_room` keys: its first keys never move); it touches
 /// `next` only after joining the builder (in finishBuild() or the destructor), which orders the
 /// builder's writes before its reads. No mutex is needed.
 ///
 /// The tail is a contiguous copy of its keys: scanned through the keyframes' own descriptors, each key
-/// on a page of its own, a 5,000-key tail cost a TLB miss a key. It stays below 2 kMaxStart keys, so
+/// on a page of its own, a 5,000-key tail cost a TLB miss a key. It stays below 4 kMaxStart keys, so
 /// its scan costs a fraction of a millisecond at any database size, except while a large batch's
 /// build runs (above).
 struct Database::Tree {
@@ -69,7 +76,15 @@ struct Database::Tree {
   /// Takes the keys of the keyframes now eligible.
   void add(const std::vector<const float*>& added) {
     poll();
-    if (building() && tailCount() + added.size() > swap_at) finishBuild();
+    if (building() && tailCount() + added.size() > swap_at) {
+      // Late: above the exact limit the tail grows on into its room and the index is swapped in once
+      // it is done; below it, or with the room full, the caller waits.
+      if (approximate(size() + added.size()) && tailCount() + added.size() <= tail_room) {
+        swap_when_built = true;
+      } else {
+        finishBuild();
+      }
+    }
     if (!building() && tailCount() + added.size() > swapAt() && approximate(size() + added.size())) {
       // A batch that makes the index approximate (a large database joining): built on the builder's
       // thread like any other, swapped in at the first call after it is done (runs above the exact
@@ -80,7 +95,7 @@ struct Database::Tree {
       for (const float* key : added) tail.insert(tail.end(), key, key + dims);
       ++builds.batches_behind;
       swap_when_built = true;
-      startBuild(batch_swap_at);
+      startBuild(batch_swap_at, batch_swap_at);
       return;
     }
     if (!building() && tailCount() + added.size() > swapAt()) {
@@ -98,7 +113,7 @@ struct Database::Tree {
       return;
     }
     for (const float* key : added) tail.insert(tail.end(), key, key + dims);
-    if (!building() && tailCount() >= startAt()) startBuild(swapAt());
+    if (!building() && tailCount() >= startAt()) startBuild(swapAt(), 2 * swapAt());
   }
 
   /// A batch's build that has finished is swapped in (the caller's every call: add, query).
@@ -106,17 +121,21 @@ struct Database::Tree {
     if (building() && swap_when_built && built_yet) finishBuild();
   }
 
-  /// Starts a build over the whole tail, to be swapped in before the tail passes `swap_at_count` keys.
-  void startBuild(std::size_t swap_at_count) {
+  /// Starts a build over the whole tail, to be swapped in before the tail passes `swap_at_count` keys
+  /// (when late, above the exact limit, before it passes `room_count`, the room reserved for the tail).
+  void startBuild(std::size_t swap_at_count, std::size_t room_count) {
     swap_at = swap_at_count;
-    tail.reserve(swap_at * static_cast<std::size_t>(dims));
+    tail_room = room_count;
+    tail.reserve(tail_room * static_cast<std::size_t>(dims));
     snapshot = tailCount();
     const float* from = tail.data();
     const std::size_t values = snapshot * static_cast<std::size_t>(dims);
     ++builds.background;
     built_yet = false;
     builder = std::thread([this, from, values] {
-      retired = Built();  // the index the last swap replaced, freed here rather than on the owner's thread
+      // What the last swap replaced, freed here rather than on the owner's thread.
+      retired = Built();
+      std::vector<float>().swap(retired_tail);
       next.keys.reserve(current.keys.size() + values);
       next.keys.assign(current.keys.begin(), current.keys.end());
       next.keys.insert(next.keys.end(), from, from + values);
@@ -137,7 +156,11 @@ struct Database::Tree {
     tail.erase(tail.begin(), tail.begin() + static_cast<long>(snapshot) * dims);
     swap_when_built = false;
     // A batch's tail held every key of it; keep no more room than the usual builds need.
-    if (tail.capacity() > 2 * swapAt() * static_cast<std::size_t>(dims)) tail.shrink_to_fit();
+    if (tail.capacity() > 2 * swapAt() * static_cast<std::size_t>(dims)) {
+      std::vector<float> kept(tail.begin(), tail.end());
+      retired_tail.swap(tail);  // the batch's room (80 MB at a million keys), freed by the next build
+      tail.swap(kept);
+    }
   }
 
   bool approximate(std::size_t count) const { return count > exact_limit; }
@@ -229,9 +252,11 @@ struct Database::Tree {
   std::vector<float> tail;  // the keys added since `current` was built, contiguous, in database order
   std::thread builder;      // joinable while a build is in flight
   std::size_t snapshot = 0; // tail keys the build in flight covers
-  std::size_t swap_at = 0;  // the tail size it is swapped in before passing
+  std::size_t swap_at = 0;  // the tail size it is swapped in before passing (below the exact limit)
+  std::size_t tail_room = 0;  // the tail's reserved capacity [keys] while a build runs: never passed
   Built next;               // the builder's result; the caller reads it only after joining
   Built retired;            // swapped out by finishBuild; the next builder frees it (touched by one at a time)
+  std::vector<float> retired_tail;  // a batch's tail room, likewise
   std::atomic<bool> built_yet{true};  // the builder has finished (it may not have returned yet)
   bool swap_when_built = false;       // the build in flight is a batch's: swapped in once it is done
   IndexBuilds builds;
@@ -240,7 +265,25 @@ struct Database::Tree {
 Database::Database(const Config& config)
     : config_(config), tree_(new Tree(config.num_rings, static_cast<std::size_t>(config.exact_search_limit))) {}
 
-Database::~Database() = default;
+Database::~Database() {
+  for (std::size_t i = 0; i < keyframes_.size(); ++i) {
+    Keyframe* keyframe = const_cast<Keyframe*>(keyframes_[i]);  // placed by place(), owned here
+    keyframe->~Keyframe();
+    records_->deallocate(keyframe, sizeof(Keyframe), alignof(Keyframe));
+  }
+}
+
+const Keyframe& Database::keyframe(std::size_t index) const {
+  if (index >= keyframes_.size()) {
+    throw std::out_of_range("keyframe " + std::to_string(index) + " of " + std::to_string(keyframes_.size()));
+  }
+  return *keyframes_[index];
+}
+
+const Keyframe* Database::place(Keyframe&& keyframe) {
+  void* memory = records_->allocate(sizeof(Keyframe), alignof(Keyframe));
+  return new (memory) Keyframe(std::move(keyframe));
+}
 
 namespace {
 
@@ -297,7 +340,7 @@ std::string descriptorProblem(const Descriptor& d, const Config& config) {
 }  // namespace
 
 bool Database::acceptable(const KeyframeInfo& info, std::string* error) const {
-  const std::string text = infoProblem(info, keyframes_.size() > session_start_ ? &keyframes_.back().info : nullptr);
+  const std::string text = infoProblem(info, keyframes_.size() > session_start_ ? &keyframes_.back()->info : nullptr);
   if (error) *error = text;
   return text.empty();
 }
@@ -314,9 +357,8 @@ bool Database::add(const KeyframeInfo& info, Descriptor descriptor, std::string*
   keyframe.path_length = pathLengthAt(info);
   keyframe.session = session_;
   keyframe.descriptor = std::move(descriptor);
-  addresses_.reserve(keyframes_.size() + 1);  // first: once the keyframe is in, its address must be too
-  keyframes_.push_back(std::move(keyframe));
-  addresses_.push_back(&keyframes_.back());
+  keyframes_.reserve(keyframes_.size() + 1);  // first: appending the placed record then cannot fail
+  keyframes_.push_back(place(std::move(keyframe)));
   return true;
 }
 
@@ -349,16 +391,15 @@ bool Database::appendSessions(std::vector<Keyframe> keyframes, std::string* erro
     return true;
   }
   const std::uint32_t first = keyframes_.size() == session_start_ ? session_ : session_ + 1;
-  // The records' new memory is set up on another thread while they move in (a deque takes a Keyframe
-  // a node, here from records_).
-  const PageWarmer warmer({records_->reserve(keyframes.size() * (sizeof(Keyframe) + alignof(std::max_align_t)))});
-  addresses_.reserve(keyframes_.size() + keyframes.size());
+  // The records' new memory is set up on another thread while they move in (place() takes each from
+  // records_).
+  const PageWarmer warmer({records_->reserve(keyframes.size() * sizeof(Keyframe) + alignof(std::max_align_t))});
+  keyframes_.reserve(keyframes_.size() + keyframes.size());
   for (Keyframe& k : keyframes) {
     k.session += first;
-    keyframes_.push_back(std::move(k));
-    addresses_.push_back(&keyframes_.back());
+    keyframes_.push_back(place(std::move(k)));
   }
-  session_ = keyframes_.back().session + 1;
+  session_ = keyframes_.back()->session + 1;
   session_start_ = keyframes_.size();
   indexUpTo(keyframes_.size());
   return true;
@@ -372,14 +413,14 @@ void Database::startSession() {
 
 double Database::pathLengthAt(const KeyframeInfo& info) const {
   if (keyframes_.size() == session_start_) return 0.0;
-  double length = keyframes_.back().path_length;
+  double length = keyframes_.back()->path_length;
   // Walk back to the session's latest keyframe with a pose, so keyframes without one do not break the
   // chain.
   if (info.pose) {
-    const auto session_begin = keyframes_.rbegin() + static_cast<long>(keyframes_.size() - session_start_);
-    for (auto it = keyframes_.rbegin(); it != session_begin; ++it) {
-      if (it->info.pose) {
-        length += (info.pose->translation() - it->info.pose->translation()).norm();
+    for (std::size_t i = keyframes_.size(); i > session_start_; --i) {
+      const Keyframe& k = *keyframes_[i - 1];
+      if (k.info.pose) {
+        length += (info.pose->translation() - k.info.pose->translation()).norm();
         break;
       }
     }
@@ -394,18 +435,25 @@ std::size_t Database::eligibleCount(const KeyframeInfo& info) const {
   const std::size_t in_session = keyframes_.size() - session_start_;
   const std::size_t frames = static_cast<std::size_t>(config_.exclude_recent_frames);
   std::size_t eligible = session_start_ + (in_session > frames ? in_session - frames : 0);
-  const auto session_begin = keyframes_.begin() + static_cast<long>(session_start_);
+  // The first keyframe in [session_start_, eligible) whose value passes `latest` (upper bound).
+  const auto firstAfter = [this, &eligible](double latest, double (*value)(const Keyframe&)) {
+    std::size_t lo = session_start_, hi = eligible;
+    while (lo < hi) {
+      const std::size_t mid = lo + (hi - lo) / 2;
+      if (latest < value(*keyframes_[mid])) {
+        hi = mid;
+      } else {
+        lo = mid + 1;
+      }
+    }
+    return lo;
+  };
   if (config_.exclude_recent_seconds > 0.0) {
-    const double latest = info.stamp - config_.exclude_recent_seconds;
-    auto end = std::upper_bound(session_begin, keyframes_.begin() + eligible, latest,
-                                [](double t, const Keyframe& k) { return t < k.info.stamp; });
-    eligible = static_cast<std::size_t>(end - keyframes_.begin());
+    eligible = firstAfter(info.stamp - config_.exclude_recent_seconds, [](const Keyframe& k) { return k.info.stamp; });
   }
   if (config_.exclude_recent_distance > 0.0) {
-    const double latest = pathLengthAt(info) - config_.exclude_recent_distance;
-    auto end = std::upper_bound(session_begin, keyframes_.begin() + eligible, latest,
-                                [](double s, const Keyframe& k) { return s < k.path_length; });
-    eligible = static_cast<std::size_t>(end - keyframes_.begin());
+    eligible = firstAfter(pathLengthAt(info) - config_.exclude_recent_distance,
+                          [](const Keyframe& k) { return k.path_length; });
   }
   return eligible;
 }
@@ -414,7 +462,7 @@ void Database::indexUpTo(std::size_t count) {
   if (count <= indexed_) return;
   std::vector<const float*> keys;
   keys.reserve(count - indexed_);
-  for (std::size_t i = indexed_; i < count; ++i) keys.push_back(keyframes_[i].descriptor.ring_key.data());
+  for (std::size_t i = indexed_; i < count; ++i) keys.push_back(keyframes_[i]->descriptor.ring_key.data());
   tree_->add(keys);
   indexed_ = count;
 }
@@ -441,7 +489,7 @@ QueryResult Database::query(const Descriptor& descriptor, const KeyframeInfo& in
     Candidate c;
     c.index = index;
     c.ring_key_distance = std::sqrt(std::max(0.0f, d2));
-    c.alignment = align(descriptor, keyframes_[index].descriptor, config_);
+    c.alignment = align(descriptor, keyframes_[index]->descriptor, config_);
     result.candidates.push_back(c);
   }
   std::stable_sort(result.candidates.begin(), result.candidates.end(),
@@ -455,7 +503,7 @@ QueryResult Database::query(const Descriptor& descriptor, const KeyframeInfo& in
 
 bool Database::withinOdometryGate(const KeyframeInfo& info, double path, std::size_t index) const {
   if (!(config_.gate_odometry_distance > 0.0 || config_.gate_odometry_drift > 0.0)) return true;
-  const Keyframe& candidate = keyframes_[index];
+  const Keyframe& candidate = *keyframes_[index];
   // Nothing to gate on: no pose, or another session's odometry frame.
   if (!info.pose || !candidate.info.pose || candidate.session != session_) return true;
   // Where the odometry puts the candidate directly, or through the nearest confirmed loop: either will
@@ -481,7 +529,7 @@ std::size_t Database::bytesPerKeyframe() const {
   // keyframes, most of the time) the new index and its key copy exist beside the old ones.
   std::size_t descriptor_bytes = 0;
   if (!keyframes_.empty()) {
-    descriptor_bytes = keyframes_.back().descriptor.bytes();
+    descriptor_bytes = keyframes_.back()->descriptor.bytes();
   } else {
     descriptor_bytes = static_cast<std::size_t>(config_.num_rings) * config_.num_sectors * sizeof(std::int8_t) +
                        (config_.num_rings + config_.num_sectors) * sizeof(float) + config_.num_sectors;

@@ -34,6 +34,12 @@ KeyframeInfo keyframeAt(int i) {
 
 void addStreets(LoopDetector* detector, int first, int count);
 
+SaveOptions withClouds() {
+  SaveOptions options;
+  options.include_clouds = true;
+  return options;
+}
+
 /// A verifying configuration whose registration budget is `share` times what the first `count` streets'
 /// data take.
 Config budgetFor(int count, double share) {
@@ -57,9 +63,7 @@ TEST(DatabaseSnapshot, WrittenLaterItHoldsTheDatabaseAsItWasTaken) {
   LoopDetector detector(budgetFor(6, 1.1));
   addStreets(&detector, 0, 6);
   std::string error;
-  SaveOptions with_clouds;
-  with_clouds.include_clouds = true;
-  ASSERT_TRUE(saveDatabase(detector, dir.file("now.scl"), with_clouds, &error)) << error;
+  ASSERT_TRUE(saveDatabase(detector, dir.file("now.scl"), withClouds(), &error)) << error;
   const DatabaseSnapshot snapshot(detector, true);
   EXPECT_EQ(snapshot.size(), 6u);
 
@@ -74,7 +78,7 @@ TEST(DatabaseSnapshot, WrittenLaterItHoldsTheDatabaseAsItWasTaken) {
   // Written on another thread while the detector adds keyframes (ThreadSanitizer checks this in
   // scripts/dev/test --sanitize).
   const DatabaseSnapshot busy(detector, true);
-  ASSERT_TRUE(saveDatabase(detector, dir.file("busy_now.scl"), with_clouds, &error)) << error;
+  ASSERT_TRUE(saveDatabase(detector, dir.file("busy_now.scl"), withClouds(), &error)) << error;
   bool written = false;
   std::string thread_error;
   std::thread writer([&] { written = writeDatabase(busy, dir.file("busy_later.scl"), false, &thread_error); });
@@ -89,9 +93,7 @@ TEST(DatabaseSnapshot, AKeyframeGivenNewDataAfterwardsIsWrittenAsItWasTaken) {
   LoopDetector detector(budgetFor(4, 100));
   addStreets(&detector, 0, 4);
   std::string error;
-  SaveOptions with_clouds;
-  with_clouds.include_clouds = true;
-  ASSERT_TRUE(saveDatabase(detector, dir.file("now.scl"), with_clouds, &error)) << error;
+  ASSERT_TRUE(saveDatabase(detector, dir.file("now.scl"), withClouds(), &error)) << error;
   const DatabaseSnapshot snapshot(detector, true);
 
   // Keyframe 1 gets another gravity alignment and other data (as a team's fetched data replace a
@@ -119,9 +121,7 @@ TEST(DatabaseSnapshot, ItsOwnerKeepsTheKeyframesAliveAfterTheDetectorIsReplaced)
   auto detector = std::make_shared<LoopDetector>(budgetFor(1, 100));
   addStreets(detector.get(), 0, 4);
   std::string error;
-  SaveOptions with_clouds;
-  with_clouds.include_clouds = true;
-  ASSERT_TRUE(saveDatabase(*detector, dir.file("now.scl"), with_clouds, &error)) << error;
+  ASSERT_TRUE(saveDatabase(*detector, dir.file("now.scl"), withClouds(), &error)) << error;
   const DatabaseSnapshot snapshot(*detector, true, detector);
   detector = std::make_shared<LoopDetector>(budgetFor(1, 100));  // a reset: the snapshot holds the old one
   ASSERT_TRUE(writeDatabase(snapshot, dir.file("later.scl"), false, &error)) << error;

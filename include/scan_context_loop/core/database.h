@@ -115,15 +115,16 @@ class Database {
   std::size_t sessionStart() const { return session_start_; }
   /// Whether keyframes a and b were recorded in one session (their odometry relates them).
   bool sameSession(std::size_t a, std::size_t b) const {
-    return keyframes_.at(a).session == keyframes_.at(b).session;
+    return keyframe(a).session == keyframe(b).session;
   }
 
   std::size_t size() const { return keyframes_.size(); }
-  const Keyframe& keyframe(std::size_t index) const { return keyframes_.at(index); }
+  /// Throws std::out_of_range past the end.
+  const Keyframe& keyframe(std::size_t index) const;
   /// The keyframes [begin, end) (clamped) as they are now, readable on any thread while this database
   /// goes on adding (stored keyframes never change; the view shares the chunks of their addresses).
   ChunkedLog<const Keyframe*>::View keyframesView(std::size_t begin, std::size_t end) const {
-    return addresses_.view(begin, end);
+    return keyframes_.view(begin, end);
   }
   const Config& config() const { return config_; }
   /// Takes new values of the live settings (Setting::live; KeyframePipeline::reconfigure checks that
@@ -149,7 +150,7 @@ class Database {
   /// A confirmed loop T_query<-match = `relative`: the odometry checks trust the odometry from it on
   /// (odometry_trust.h).
   void addConfirmedLoop(std::size_t query, std::size_t match, const Eigen::Isometry3d& relative) {
-    trust_.add(keyframes_.at(query), keyframes_.at(match), relative, config_);
+    trust_.add(keyframe(query), keyframe(match), relative, config_);
   }
   const OdometryTrust& odometryTrust() const { return trust_; }
 
@@ -166,10 +167,12 @@ class Database {
   // The keyframe records (their descriptors' arrays live elsewhere) in large blocks on huge pages: a new
   // process joining 100,000 loaded keyframes takes a few page faults for them instead of thousands.
   BlockArena::Handle records_ = BlockArena::create(std::size_t(32) << 20);
-  std::pmr::deque<Keyframe> keyframes_{records_.get()};  // deque: a Keyframe never moves
-  // The records' addresses in chunks a snapshot shares (keyframesView) instead of copying a pointer a
-  // keyframe on the caller's thread.
-  ChunkedLog<const Keyframe*> addresses_;
+  // Each record is placed once in records_ and never moves; their addresses, in database order, are in
+  // chunks a snapshot shares (keyframesView). A std::deque held the records before: its map, a pointer
+  // a keyframe, was copied into new memory whenever it doubled (15-20 ms at 437k and 874k keyframes).
+  ChunkedLog<const Keyframe*> keyframes_;
+  /// Moves `keyframe` into records_.
+  const Keyframe* place(Keyframe&& keyframe);
   std::size_t indexed_ = 0;
   std::uint32_t session_ = 0;
   std::size_t session_start_ = 0;  // index of the current session's first keyframe
