@@ -258,7 +258,8 @@ struct Database::Tree {
   Built retired;            // swapped out by finishBuild; the next builder frees it (touched by one at a time)
   std::vector<float> retired_tail;  // a batch's tail room, likewise
   std::atomic<bool> built_yet{true};  // the builder has finished (it may not have returned yet)
-  bool swap_when_built = false;       // the build in flight is a batch's: swapped in once it is done
+  bool swap_when_built = false;       // the build in flight (a batch's, or a late one above the exact
+                                      // limit) is swapped in at the first call after it is done
   IndexBuilds builds;
 };
 
