@@ -3,17 +3,19 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <optional>
 
 #include <Eigen/Eigenvalues>
 
 #include "grid_cell.h"
+#include "simd_clones.h"
 
 namespace scan_context_loop {
 
 namespace {
 
-/// Running sums of one voxel's points, relative to the voxel's corner for precision.
-struct Accumulator {
+/// Running sums of one voxel's points, relative to the voxel's corner for precision; one cache line.
+struct alignas(64) Accumulator {
   int count = 0;
   float sx = 0, sy = 0, sz = 0, sxx = 0, sxy = 0, sxz = 0, syy = 0, syz = 0, szz = 0;
   Eigen::Vector3f corner = Eigen::Vector3f::Zero();
@@ -48,8 +50,52 @@ Eigen::Matrix3f skew(const Eigen::Vector3f& v) {
   return m;
 }
 
-Eigen::Matrix3f planeCovariance(const Eigen::Vector3f& n, float epsilon) {
-  return Eigen::Matrix3f::Identity() - (1.0f - epsilon) * n * n.transpose();
+/// The crop and cells of makeVoxelCloud's grid, for locateBlock.
+struct VoxelGrid {
+  float r2, max_range, min_z, max_z, inv_resolution;
+  int nxy, nz;
+  std::optional<Eigen::Matrix<float, 3, 3, Eigen::RowMajor>> rotation;  ///< applied to every point first
+};
+
+constexpr std::size_t kVoxelBlock = 256;
+
+/// A block of points, turned, with the grid cell each falls into (-1: outside the crop, or not finite).
+struct VoxelBlock {
+  float x[kVoxelBlock], y[kVoxelBlock], z[kVoxelBlock];
+  std::int32_t cell[kVoxelBlock];
+};
+
+/// Reads n points (every stride-th from `first`), turns them and finds their cells, without branches so
+/// that the compiler vectorises it: the accumulation that follows is left with the scattered sums only.
+SCL_CLONES void locateBlock(const PointView& points, std::size_t first, std::size_t stride, std::size_t n,
+                            const VoxelGrid& g, VoxelBlock* b) {
+  const std::uint8_t* base = points.data + first * points.stride;
+  const std::size_t step = stride * points.stride;
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::uint8_t* p = base + i * step;
+    std::memcpy(&b->x[i], p + points.offset_x, 4);
+    std::memcpy(&b->y[i], p + points.offset_y, 4);
+    std::memcpy(&b->z[i], p + points.offset_z, 4);
+  }
+  if (g.rotation) {
+    const float* R = g.rotation->data();
+    for (std::size_t i = 0; i < n; ++i) {
+      const float x = b->x[i], y = b->y[i], z = b->z[i];
+      b->x[i] = R[0] * x + R[1] * y + R[2] * z;
+      b->y[i] = R[3] * x + R[4] * y + R[5] * z;
+      b->z[i] = R[6] * x + R[7] * y + R[8] * z;
+    }
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    const float x = b->x[i], y = b->y[i], z = b->z[i];
+    // NaN fails every comparison; Inf fails the range or the height bounds.
+    const bool inside = (x * x + y * y <= g.r2) & (z >= g.min_z) & (z < g.max_z);
+    const int ix = static_cast<int>(((inside ? x : 0.0f) + g.max_range) * g.inv_resolution);
+    const int iy = static_cast<int>(((inside ? y : 0.0f) + g.max_range) * g.inv_resolution);
+    const int iz = static_cast<int>(((inside ? z : g.min_z) - g.min_z) * g.inv_resolution);
+    const bool in_grid = inside & (ix >= 0) & (iy >= 0) & (iz >= 0) & (ix < g.nxy) & (iy < g.nxy) & (iz < g.nz);
+    b->cell[i] = in_grid ? (iz * g.nxy + iy) * g.nxy + ix : -1;
+  }
 }
 
 }  // namespace
@@ -73,44 +119,39 @@ VoxelCloud makeVoxelCloud(const PointView& points, const VoxelOptions& options, 
     s.generation = 1;
   }
   s.acc.clear();
-  const float r2 = options.max_range * options.max_range;
-  const bool rotate = !rotation.isIdentity();
+  VoxelGrid grid{options.max_range * options.max_range, options.max_range, options.min_z, options.max_z, inv, nxy, nz, {}};
+  if (!rotation.isIdentity()) grid.rotation = rotation;
   const std::size_t stride = std::max<std::size_t>(1, (points.count + kVoxelCloudMaxPoints - 1) / kVoxelCloudMaxPoints);
-  for (std::size_t i = 0; i < points.count; i += stride) {
-    const std::uint8_t* p = points.data + i * points.stride;
-    Eigen::Vector3f v;
-    std::memcpy(&v.x(), p + points.offset_x, 4);
-    std::memcpy(&v.y(), p + points.offset_y, 4);
-    std::memcpy(&v.z(), p + points.offset_z, 4);
-    if (!v.allFinite()) continue;
-    if (rotate) v = rotation * v;
-    if (v.x() * v.x() + v.y() * v.y() > r2 || v.z() < options.min_z || v.z() >= options.max_z) continue;
-    const int ix = static_cast<int>((v.x() + options.max_range) * inv);
-    const int iy = static_cast<int>((v.y() + options.max_range) * inv);
-    const int iz = static_cast<int>((v.z() - options.min_z) * inv);
-    if (ix < 0 || iy < 0 || iz < 0 || ix >= nxy || iy >= nxy || iz >= nz) continue;
-    const std::size_t c = (static_cast<std::size_t>(iz) * nxy + iy) * nxy + ix;
-    Scratch::Cell& cell = s.cells[c];
-    if (cell.stamp != s.generation) {
-      cell = {s.generation, static_cast<std::int32_t>(s.acc.size())};
-      Accumulator a;
-      a.corner = Eigen::Vector3f(ix * options.resolution - options.max_range, iy * options.resolution - options.max_range,
-                                 iz * options.resolution + options.min_z);
-      s.acc.push_back(a);
+  VoxelBlock block;
+  for (std::size_t first = 0; first < points.count; first += kVoxelBlock * stride) {
+    const std::size_t n = std::min(kVoxelBlock, (points.count - first + stride - 1) / stride);
+    locateBlock(points, first, stride, n, grid, &block);
+    for (std::size_t i = 0; i < n; ++i) {
+      const std::int32_t c = block.cell[i];
+      if (c < 0) continue;
+      Scratch::Cell& cell = s.cells[static_cast<std::size_t>(c)];
+      if (cell.stamp != s.generation) {
+        cell = {s.generation, static_cast<std::int32_t>(s.acc.size())};
+        const int iz = c / (nxy * nxy), iy = (c / nxy) % nxy, ix = c % nxy;
+        Accumulator a;
+        a.corner = Eigen::Vector3f(ix * options.resolution - options.max_range, iy * options.resolution - options.max_range,
+                                   iz * options.resolution + options.min_z);
+        s.acc.push_back(a);
+      }
+      Accumulator& a = s.acc[cell.slot];
+      // Relative to the voxel's corner (under a metre), so float sums keep their precision.
+      const float x = block.x[i] - a.corner.x(), y = block.y[i] - a.corner.y(), z = block.z[i] - a.corner.z();
+      ++a.count;
+      a.sx += x;
+      a.sy += y;
+      a.sz += z;
+      a.sxx += x * x;
+      a.sxy += x * y;
+      a.sxz += x * z;
+      a.syy += y * y;
+      a.syz += y * z;
+      a.szz += z * z;
     }
-    Accumulator& a = s.acc[cell.slot];
-    // Relative to the voxel's corner (under a metre), so float sums keep their precision.
-    const float x = v.x() - a.corner.x(), y = v.y() - a.corner.y(), z = v.z() - a.corner.z();
-    ++a.count;
-    a.sx += x;
-    a.sy += y;
-    a.sz += z;
-    a.sxx += x * x;
-    a.sxy += x * y;
-    a.sxz += x * z;
-    a.syy += y * y;
-    a.syz += y * z;
-    a.szz += z * z;
   }
   // Exactly the voxels that have enough points: the cloud store keeps these arrays for the keyframe's
   // life and budgets them by their size, so no capacity may sit unused behind them (reserving one slot
@@ -126,21 +167,23 @@ VoxelCloud makeVoxelCloud(const PointView& points, const VoxelOptions& options, 
     Eigen::Matrix3d outer;
     outer << a.sxx, a.sxy, a.sxz, a.sxy, a.syy, a.syz, a.sxz, a.syz, a.szz;
     const Eigen::Matrix3d cov = outer * inv_n - mean * mean.transpose();
-    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig;
-    eig.computeDirect(cov);
-    Eigen::Vector3d n = eig.eigenvectors().col(0);  // smallest spread
+    // In float: the normal is kept as int8 and the shape from eigenvalue ratios of 0.1 and 0.25, both far
+    // coarser than float's error on the spread of points within a metre, and the float solver's
+    // trigonometry cost a third of this function in double.
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3f> eig;
+    eig.computeDirect(cov.cast<float>());
+    Eigen::Vector3f n = eig.eigenvectors().col(0);  // smallest spread
     if (!n.allFinite()) continue;
-    if (n.dot(-(mean + a.corner.cast<double>())) < 0.0) n = -n;  // towards the sensor
-    const Eigen::Vector3d l = eig.eigenvalues().cwiseMax(0.0);
+    if (n.cast<double>().dot(-(mean + a.corner.cast<double>())) < 0.0) n = -n;  // towards the sensor
+    const Eigen::Vector3f l = eig.eigenvalues().cwiseMax(0.0f);
     VoxelCloud::Shape shape = VoxelCloud::kScatter;
-    if (l(1) < 0.1 * l(2)) {
+    if (l(1) < 0.1f * l(2)) {
       shape = std::fabs(eig.eigenvectors()(2, 2)) > 0.85 ? VoxelCloud::kVerticalLine : VoxelCloud::kHorizontalLine;
-    } else if (l(0) < 0.25 * l(1)) {
+    } else if (l(0) < 0.25f * l(1)) {
       shape = VoxelCloud::kPlanar;
     }
     out.means.push_back(a.corner + mean.cast<float>());
-    out.normals.push_back({quantise(static_cast<float>(n.x())), quantise(static_cast<float>(n.y())),
-                           quantise(static_cast<float>(n.z())), static_cast<std::int8_t>(shape)});
+    out.normals.push_back({quantise(n.x()), quantise(n.y()), quantise(n.z()), static_cast<std::int8_t>(shape)});
   }
   return out;
 }
@@ -274,11 +317,12 @@ GicpResult alignVoxels(const VoxelCloud& source, const VoxelIndex& target, const
   const VoxelCloud* tc = target.cloud();
   if (tc == nullptr || source.empty() || tc->empty()) return result;
   const std::vector<int> sample = sampleVoxels(source, options.max_source_voxels);
-  // Source plane covariances are fixed in the source frame; compute them once.
-  std::vector<Eigen::Matrix3f> source_cov(sample.size());
-  for (std::size_t k = 0; k < sample.size(); ++k) {
-    source_cov[k] = planeCovariance(source.normal(sample[k]), options.plane_epsilon);
-  }
+  // The GICP covariance of a pair is the sum of two plane models, I - a n n^T each (a = 1 - epsilon):
+  // 2 I - a (n_t n_t^T + (R n_s)(R n_s)^T), formed from the turned source normal instead of turning a
+  // matrix per correspondence.
+  const float a = 1.0f - options.plane_epsilon;
+  std::vector<Eigen::Vector3f> source_normal(sample.size());
+  for (std::size_t k = 0; k < sample.size(); ++k) source_normal[k] = source.normal(sample[k]);
   const float robust2 = 4.0f;  // Cauchy scale on the Mahalanobis cost
   Eigen::Isometry3d T = initial;
   for (int it = 0; it < options.max_iterations; ++it) {
@@ -304,18 +348,24 @@ GicpResult alignVoxels(const VoxelCloud& source, const VoxelIndex& target, const
       const Eigen::Vector3f p = R * source.means[sample[k]] + t;
       const int j = target.nearest(p, options.max_correspondence);
       if (j < 0 || !tc->registrable(j)) continue;
-      const Eigen::Matrix3f C = planeCovariance(tc->normal(j), options.plane_epsilon) +
-                                R * source_cov[k] * R.transpose();
+      const Eigen::Vector3f u = tc->normal(j);
+      const Eigen::Vector3f v = R * source_normal[k];
+      const Eigen::Matrix3f C = 2.0f * Eigen::Matrix3f::Identity() - a * (u * u.transpose() + v * v.transpose());
       const Eigen::Matrix3f M = C.inverse();
       const Eigen::Vector3f r = tc->means[j] - p;
-      const float e = r.dot(M * r);
+      const Eigen::Vector3f Mr = M * r;
+      const float e = r.dot(Mr);
       const float w = robust2 / (robust2 + e);
-      Eigen::Matrix<float, 3, 6> J;
-      J.leftCols<3>() = skew(p);
-      J.rightCols<3>() = -Eigen::Matrix3f::Identity();
-      const Eigen::Matrix<float, 6, 3> JtM = J.transpose() * M;
-      Hf.noalias() += (w * JtM) * J;
-      gf.noalias() += (w * JtM) * r;
+      // J = [skew(p), -I], so J^T M J = [S^T M S, -S^T M; -M S, M] and J^T M r = [S^T M r; -M r] with
+      // S = skew(p), S^T = -S and M symmetric: two 3 x 3 products instead of a 6 x 3 by 3 x 6 one.
+      const Eigen::Matrix3f S = skew(p);
+      const Eigen::Matrix3f MS = w * (M * S);
+      Hf.topLeftCorner<3, 3>().noalias() -= S * MS;
+      Hf.topRightCorner<3, 3>() -= MS.transpose();
+      Hf.bottomLeftCorner<3, 3>() -= MS;
+      Hf.bottomRightCorner<3, 3>() += w * M;
+      gf.head<3>() -= w * p.cross(Mr);
+      gf.tail<3>() -= w * Mr;
       cost += e;
       ++n;
       if (++in_block == kGicpBlock) flush();
