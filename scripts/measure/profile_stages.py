@@ -10,7 +10,7 @@ STAGES = [
     ("gravity alignment (ground fit, turning the cloud)", ["gravityAlignment", "fitGround", "WorldTilt", "sincos", "transformedCloud", "rotatedCloud"]),
     ("descriptor: binning every viewpoint", ["binPoints", "makeHeightGrid", "makeDescriptor", "quantiseUnitColumn"]),
     ("ring-key search and column alignment", ["Database::", "flann", "distanceAtShift", "coarseShift", "alignHypotheses", "scan_context_loop::align(", "align<"]),
-    ("registration data (1 m voxels and normals)", ["makeVoxelCloud", "Matrix<double, 3, 3, 0, 3, 3> >, 3, false>", "CloudStore", "atan2"]),
+    ("registration data (1 m voxels and normals)", ["makeVoxelCloud", "locateBlock", "direct_selfadjoint_eigenvalues", "CloudStore", "atan2", "atanf"]),
     ("registration: coarse search, GICP, acceptance tests", ["alignVoxels", "VoxelIndex", "coarseSearch", "structureMap", "structureColumns", "freeSpace", "FreeSpace", "agreement", "Agreement", "sampleVoxels", "Verifier", "Matrix<double, 6, 6"]),
 ]
 OTHER = "other (allocation, libc, bookkeeping)"

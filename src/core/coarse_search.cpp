@@ -63,8 +63,19 @@ std::vector<CoarseHit> coarseSearch(const StructureMap& query, const std::vector
   std::vector<CoarseHit> hits;
   if (columns.empty() || query.size == 0) return hits;
   const int steps = static_cast<int>(std::floor(radius / query.cell));
-  std::vector<std::pair<int, int>> cells;
+  // The map framed by 2 * steps empty cells on every side: a column within `steps` of the map stays on
+  // the framed map under every shift, so the sums need no bounds checks (a column farther out adds
+  // nothing under any shift and is left out).
+  const int pad = 2 * steps;
+  const int width = query.size + 2 * pad;
+  std::vector<float> framed(static_cast<std::size_t>(width) * width, 0.0f);
+  for (int y = 0; y < query.size; ++y) {
+    std::copy_n(query.value.begin() + static_cast<std::ptrdiff_t>(y) * query.size, query.size,
+                framed.begin() + static_cast<std::ptrdiff_t>(y + pad) * width + pad);
+  }
+  std::vector<std::ptrdiff_t> cells;
   cells.reserve(columns.size());
+  std::vector<float> sums(static_cast<std::size_t>(2 * steps + 1));
   for (std::size_t h = 0; h < hypotheses.size(); ++h) {
     const Eigen::Isometry3d& guess = hypotheses[h];
     const double yaw0 = std::atan2(guess(1, 0), guess(0, 0));
@@ -79,20 +90,25 @@ std::vector<CoarseHit> coarseSearch(const StructureMap& query, const std::vector
       cells.clear();
       for (const Eigen::Vector2f& c : columns) {
         const Eigen::Vector2f m = R * c + t;
-        cells.emplace_back(gridCell((m.x() + query.radius) / query.cell),
-                           gridCell((m.y() + query.radius) / query.cell));
+        const int x = gridCell((m.x() + query.radius) / query.cell);
+        const int y = gridCell((m.y() + query.radius) / query.cell);
+        if (x < -steps || y < -steps || x >= query.size + steps || y >= query.size + steps) continue;
+        cells.push_back(static_cast<std::ptrdiff_t>(y + pad) * width + (x + pad));
       }
       for (int dy = -steps; dy <= steps; ++dy) {
+        // The sums of one row of shifts together: each column adds a run of 2 * steps + 1 neighbouring
+        // cells, which vectorises. The map holds 0, 0.5 and 1 only, so every partial sum is exact in
+        // float and the order of the additions cannot change a score.
+        std::fill(sums.begin(), sums.end(), 0.0f);
+        const std::ptrdiff_t row = static_cast<std::ptrdiff_t>(dy) * width - steps;
+        for (const std::ptrdiff_t c : cells) {
+          const float* run = framed.data() + (c + row);
+          for (std::size_t j = 0; j < sums.size(); ++j) sums[j] += run[j];
+        }
         for (int dx = -steps; dx <= steps; ++dx) {
-          float sum = 0.0f;
-          for (const auto& c : cells) {
-            const int x = c.first + dx, y = c.second + dy;
-            if (x >= 0 && y >= 0 && x < query.size && y < query.size) {
-              sum += query.value[static_cast<std::size_t>(y) * query.size + x];
-            }
-          }
           // Ties go to the smaller offset (the prior is usually close).
-          const double score = sum / columns.size() - 1e-6 * (std::abs(dx) + std::abs(dy) + std::abs(k));
+          const double score = sums[static_cast<std::size_t>(dx + steps)] / columns.size() -
+                               1e-6 * (std::abs(dx) + std::abs(dy) + std::abs(k));
           if (score > best.score) {
             best.score = score;
             best.pose = Eigen::Isometry3d::Identity();
