@@ -20,7 +20,17 @@ void OdometryTrust::add(const Keyframe& query, const Keyframe& match, const Eige
   a.match_path = match.path_length;
   a.query_session = query.session;
   a.match_session = match.session;
+  const auto anchor = static_cast<std::uint32_t>(anchors_.size());
   anchors_.push_back(a);
+  Orders& orders = orders_[{a.query_session, a.match_session}];
+  // After its equals: the orders keep equal paths in the order the loops were confirmed.
+  const auto insert = [anchor](std::vector<Entry>* order, double path) {
+    const auto at = std::upper_bound(order->begin(), order->end(), path,
+                                     [](double p, const Entry& e) { return p < e.path; });
+    order->insert(at, Entry{path, anchor});
+  };
+  insert(&orders.by_query, a.query_path);
+  insert(&orders.by_match, a.match_path);
   // How wrong the direct odometry between the two keyframes was.
   const double path = std::fabs(query.path_length - match.path_length);
   if (!(path >= kMinMeasuredPath)) return;
@@ -35,12 +45,43 @@ OdometryPrediction OdometryTrust::predict(const Eigen::Isometry3d& pose, double 
   best.relative = pose.inverse() * *candidate.info.pose;
   best.path = std::fabs(path - candidate.path_length);
   const Anchor* via = nullptr;
-  for (const Anchor& a : anchors_) {
-    if (a.query_session != session || a.match_session != candidate.session) continue;
-    const double length = std::fabs(path - a.query_path) + std::fabs(a.match_path - candidate.path_length);
-    if (length < best.path) {
-      best.path = length;
-      via = &a;
+  std::uint32_t via_index = 0;
+  const auto found = orders_.find({session, candidate.session});
+  if (found != orders_.end()) {
+    // An anchor leaves |path - its query's path| + |its match's path - the candidate's| of odometry.
+    // Both orders are walked outwards from the two targets, the nearer next entry first: an anchor not
+    // yet met in either walk leaves at least the two next distances together.
+    struct Walk {
+      const std::vector<Entry>& order;
+      double target;
+      std::size_t left, right;  // entries [left, right) walked
+      Walk(const std::vector<Entry>& o, double t) : order(o), target(t) {
+        left = right = static_cast<std::size_t>(
+            std::lower_bound(o.begin(), o.end(), t, [](const Entry& e, double p) { return e.path < p; }) - o.begin());
+      }
+      bool done() const { return left == 0 && right == order.size(); }
+      double leftGap() const {
+        return left > 0 ? std::fabs(target - order[left - 1].path) : std::numeric_limits<double>::infinity();
+      }
+      double rightGap() const {
+        return right < order.size() ? std::fabs(order[right].path - target) : std::numeric_limits<double>::infinity();
+      }
+      double next() const { return std::min(leftGap(), rightGap()); }
+      std::uint32_t step() { return leftGap() <= rightGap() ? order[--left].anchor : order[right++].anchor; }
+    };
+    Walk by_query(found->second.by_query, path), by_match(found->second.by_match, candidate.path_length);
+    while (!by_query.done() && !by_match.done()) {
+      const double next_query = by_query.next(), next_match = by_match.next();
+      if (!(next_query + next_match <= best.path)) break;
+      const std::uint32_t index = next_query <= next_match ? by_query.step() : by_match.step();
+      const Anchor& a = anchors_[index];
+      const double length = std::fabs(path - a.query_path) + std::fabs(a.match_path - candidate.path_length);
+      // Of equals the first confirmed, as a scan in that order picks; the direct odometry before both.
+      if (length < best.path || (via != nullptr && length == best.path && index < via_index)) {
+        best.path = length;
+        via = &a;
+        via_index = index;
+      }
     }
   }
   if (via != nullptr) {

@@ -167,23 +167,21 @@ VoxelCloud makeVoxelCloud(const PointView& points, const VoxelOptions& options, 
     Eigen::Matrix3d outer;
     outer << a.sxx, a.sxy, a.sxz, a.sxy, a.syy, a.syz, a.sxz, a.syz, a.szz;
     const Eigen::Matrix3d cov = outer * inv_n - mean * mean.transpose();
-    // In float: the normal is kept as int8 and the shape from eigenvalue ratios of 0.1 and 0.25, both far
-    // coarser than float's error on the spread of points within a metre, and the float solver's
-    // trigonometry cost a third of this function in double.
-    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3f> eig;
-    eig.computeDirect(cov.cast<float>());
-    Eigen::Vector3f n = eig.eigenvectors().col(0);  // smallest spread
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig;
+    eig.computeDirect(cov);
+    Eigen::Vector3d n = eig.eigenvectors().col(0);  // smallest spread
     if (!n.allFinite()) continue;
-    if (n.cast<double>().dot(-(mean + a.corner.cast<double>())) < 0.0) n = -n;  // towards the sensor
-    const Eigen::Vector3f l = eig.eigenvalues().cwiseMax(0.0f);
+    if (n.dot(-(mean + a.corner.cast<double>())) < 0.0) n = -n;  // towards the sensor
+    const Eigen::Vector3d l = eig.eigenvalues().cwiseMax(0.0);
     VoxelCloud::Shape shape = VoxelCloud::kScatter;
-    if (l(1) < 0.1f * l(2)) {
+    if (l(1) < 0.1 * l(2)) {
       shape = std::fabs(eig.eigenvectors()(2, 2)) > 0.85 ? VoxelCloud::kVerticalLine : VoxelCloud::kHorizontalLine;
-    } else if (l(0) < 0.25f * l(1)) {
+    } else if (l(0) < 0.25 * l(1)) {
       shape = VoxelCloud::kPlanar;
     }
     out.means.push_back(a.corner + mean.cast<float>());
-    out.normals.push_back({quantise(n.x()), quantise(n.y()), quantise(n.z()), static_cast<std::int8_t>(shape)});
+    out.normals.push_back({quantise(static_cast<float>(n.x())), quantise(static_cast<float>(n.y())),
+                           quantise(static_cast<float>(n.z())), static_cast<std::int8_t>(shape)});
   }
   return out;
 }

@@ -227,10 +227,17 @@ VerificationResult Verifier::verify(const VoxelCloud& match, const std::vector<E
 std::string Verifier::refineAndJudge(const VoxelCloud& match, const Eigen::Isometry3d& initial,
                                      VerificationResult* r) {
   Eigen::Isometry3d pose = initial;
-  // One voxel GICP stage from `pose` at a correspondence distance; false when it found too few pairs.
-  const auto stage = [&](double distance, int iterations, bool fix_tilt) {
+  // One voxel GICP stage from `pose` at a correspondence distance; false when it found too few pairs. A
+  // rough stage stops at ten times the step the last stage stops at: the fine stage starts from it and
+  // moves the pose by more than that anyway (a quarter of the coarse stage's iterations, the same
+  // verified loops on city3-changed_hdl64, their poses within 1.1 cm).
+  const auto stage = [&](double distance, int iterations, bool fix_tilt, bool rough) {
     GicpOptions options;
     options.max_iterations = iterations;
+    if (rough) {
+      options.translation_epsilon *= 10.0;
+      options.rotation_epsilon *= 10.0;
+    }
     options.max_source_voxels = config_.max_source_voxels;
     options.max_correspondence = static_cast<float>(distance);
     options.fix_tilt = fix_tilt;
@@ -241,7 +248,8 @@ std::string Verifier::refineAndJudge(const VoxelCloud& match, const Eigen::Isome
   };
   if (config_.method == RegistrationMethod::kVgicp) {
     for (double distance : {config_.coarse_correspondence, config_.fine_correspondence}) {
-      if (!stage(distance, config_.max_iterations, false)) return "registration found no correspondences";
+      const bool rough = distance != config_.fine_correspondence;
+      if (!stage(distance, config_.max_iterations, false, rough)) return "registration found no correspondences";
     }
   } else if (!refineWithPcl(*query_, match, config_, &pose)) {
     return "registration did not converge";
@@ -253,7 +261,7 @@ std::string Verifier::refineAndJudge(const VoxelCloud& match, const Eigen::Isome
     pose.linear() = Eigen::AngleAxisd(std::atan2(pose.linear()(1, 0), pose.linear()(0, 0)), Eigen::Vector3d::UnitZ())
                         .toRotationMatrix();
     // From the full registration's yaw and translation, which the tilt hardly moves: a few iterations.
-    if (!stage(config_.fine_correspondence, std::min(config_.max_iterations, 5), true)) {
+    if (!stage(config_.fine_correspondence, std::min(config_.max_iterations, 5), true, false)) {
       return "registration found no correspondences";
     }
     if (!pose.matrix().allFinite()) return "registration diverged";

@@ -1,6 +1,8 @@
 // The odometry checks when the odometry fails: predictions through confirmed loops, allowances that grow
 // with the drift the loops measured, and a drive whose odometry heading breaks in the middle.
 #include <cmath>
+#include <random>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -121,6 +123,63 @@ TEST(OdometryTrust, LoopsWhenTheOdometryHeadingBreaksBeforeAReverseRevisit) {
   EXPECT_EQ(outcome.wrong_loops, 0);
   ASSERT_GT(mild.true_loops, 20);
   EXPECT_GE(outcome.true_loops, 0.8 * mild.true_loops);
+}
+
+TEST(OdometryTrust, TheNearestLoopIsTheOneAScanOverAllLoopsFinds) {
+  // Thousands of loops in two sessions, paths on a metre grid so that many predictions tie: each
+  // prediction must pick what a scan over every loop in the order they were confirmed picks (the
+  // direct odometry unless a loop leaves strictly less path; of equal loops the first).
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> place(-500.0, 500.0), turn(-180.0, 180.0);
+  std::uniform_int_distribution<int> metres(0, 3000), session_of(0, 1);
+  struct Loop {
+    Keyframe query, match;
+    Eigen::Isometry3d relative;
+  };
+  std::vector<Loop> loops;
+  OdometryTrust trust;
+  const Config config;
+  const auto randomKeyframe = [&](std::uint32_t session) {
+    Keyframe k = keyframe(pose(place(rng), place(rng), turn(rng)), metres(rng));
+    k.session = session;
+    return k;
+  };
+  for (int i = 0; i < 3000; ++i) {
+    const auto session = static_cast<std::uint32_t>(session_of(rng));
+    Loop loop{randomKeyframe(session), randomKeyframe(session), pose(place(rng) / 100.0, 0.0, turn(rng) / 10.0)};
+    trust.add(loop.query, loop.match, loop.relative, config);
+    loops.push_back(loop);
+  }
+  ASSERT_EQ(trust.anchors(), loops.size());
+  int anchored = 0;
+  for (int q = 0; q < 2000; ++q) {
+    const auto session = static_cast<std::uint32_t>(session_of(rng));
+    const Keyframe query = randomKeyframe(session), candidate = randomKeyframe(session);
+    const OdometryPrediction got = trust.predict(*query.info.pose, query.path_length, session, candidate);
+    double best = std::fabs(query.path_length - candidate.path_length);
+    const Loop* via = nullptr;
+    for (const Loop& l : loops) {
+      if (l.query.session != session) continue;
+      const double length = std::fabs(query.path_length - l.query.path_length) +
+                            std::fabs(l.match.path_length - candidate.path_length);
+      if (length < best) {
+        best = length;
+        via = &l;
+      }
+    }
+    ASSERT_EQ(got.path, best) << "prediction " << q;
+    ASSERT_EQ(got.anchored, via != nullptr) << "prediction " << q;
+    Eigen::Isometry3d expected = query.info.pose->inverse() * *candidate.info.pose;
+    if (via != nullptr) {
+      expected = query.info.pose->inverse() * *via->query.info.pose * via->relative * via->match.info.pose->inverse() *
+                 *candidate.info.pose;
+    }
+    ASSERT_TRUE(got.relative.isApprox(expected, 1e-9)) << "prediction " << q;
+    anchored += got.anchored;
+  }
+  // Both kinds were asked for.
+  EXPECT_GT(anchored, 1000);
+  EXPECT_LT(anchored, 2000);
 }
 
 }  // namespace
