@@ -8,41 +8,12 @@
 #include <Eigen/Cholesky>
 
 #include "ceres_compat.h"
+#include "relative_pose_error.h"
 #include "scan_context_loop/graph/pose_graph_settings.h"
 
 namespace scan_context_loop {
 
 namespace {
-
-/// The residual of a factor measuring T_a<-b (see the header for its form), whitened.
-struct RelativePoseError {
-  RelativePoseError(const Eigen::Isometry3d& measured, const Matrix6d& sqrt_information)
-      : p_measured(measured.translation()), q_measured(measured.linear()), sqrt_information(sqrt_information) {}
-
-  template <typename T>
-  bool operator()(const T* pa, const T* qa, const T* pb, const T* qb, T* residual) const {
-    const Eigen::Map<const Eigen::Matrix<T, 3, 1>> p_a(pa), p_b(pb);
-    const Eigen::Map<const Eigen::Quaternion<T>> q_a(qa), q_b(qb);
-    const Eigen::Quaternion<T> q_a_inverse = q_a.conjugate();
-    const Eigen::Quaternion<T> q_ab = q_a_inverse * q_b;
-    const Eigen::Matrix<T, 3, 1> p_ab = q_a_inverse * (p_b - p_a);
-    const Eigen::Quaternion<T> delta = q_measured.cast<T>().conjugate() * q_ab;
-    Eigen::Map<Eigen::Matrix<T, 6, 1>> r(residual);
-    r.template head<3>() = p_ab - p_measured.cast<T>();
-    r.template tail<3>() = T(2.0) * delta.vec();
-    r.applyOnTheLeft(sqrt_information.cast<T>());
-    return true;
-  }
-
-  static ceres::CostFunction* create(const Eigen::Isometry3d& measured, const Matrix6d& sqrt_information) {
-    return new ceres::AutoDiffCostFunction<RelativePoseError, 6, 3, 4, 3, 4>(
-        new RelativePoseError(measured, sqrt_information));
-  }
-
-  Eigen::Vector3d p_measured;
-  Eigen::Quaterniond q_measured;
-  Matrix6d sqrt_information;
-};
 
 bool isRotation(const Eigen::Matrix3d& r) {
   return r.allFinite() && (r.transpose() * r - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() < 1e-3 &&
@@ -186,7 +157,7 @@ long PoseGraph::addKeyframe(const Eigen::Isometry3d& odometry_pose, std::size_t 
     const Matrix6d covariance = odometryCovariance(step, config_);
     Matrix6d sqrt_information;
     sqrtInformation(covariance, &sqrt_information);  // diagonal, positive: always
-    g.problem->AddResidualBlock(RelativePoseError::create(step, sqrt_information), nullptr, g.positions[a].data(),
+    g.problem->AddResidualBlock(new RelativePoseCost(step, sqrt_information), nullptr, g.positions[a].data(),
                                 g.rotations[a].coeffs().data(), g.positions.back().data(),
                                 g.rotations.back().coeffs().data());
     factors_.push_back({a, static_cast<std::size_t>(index), step, covariance, false});
@@ -226,7 +197,7 @@ bool PoseGraph::addLoop(std::size_t query, std::size_t match, const Eigen::Isome
   Impl& g = *impl_;
   if (g.groupOf(query) != g.groupOf(match)) g.join(query, match, query_from_match);
   const ceres::ResidualBlockId id = g.problem->AddResidualBlock(
-      RelativePoseError::create(query_from_match, sqrt_information), g.loop_loss.get(), g.positions[query].data(),
+      new RelativePoseCost(query_from_match, sqrt_information), g.loop_loss.get(), g.positions[query].data(),
       g.rotations[query].coeffs().data(), g.positions[match].data(), g.rotations[match].coeffs().data());
   g.loop_blocks.push_back(id);
   factors_.push_back({query, match, query_from_match, covariance, true});
