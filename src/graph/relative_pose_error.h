@@ -6,9 +6,9 @@
 
 #include <Eigen/Geometry>
 
-namespace scan_context_loop {
+#include "scan_context_loop/graph/pose_graph.h"  // Matrix6d
 
-using Matrix6d = Eigen::Matrix<double, 6, 6>;
+namespace scan_context_loop {
 
 /// The residual, for any scalar: S [q_a^-1 (p_b - p_a) - p_m; 2 vec(q_m^-1 q_a^-1 q_b)], with S^T S the
 /// information. Positions are 3 numbers, rotations Eigen quaternions (x, y, z, w).
