@@ -129,7 +129,8 @@ class Monitor:
         self.keyframes_writer = csv.writer(self.keyframes_csv)
         self.keyframes_writer.writerow(["keyframe_id", "database_size", "queue_ms", "processing_ms",
                                         "describe_query_ms", "verify_ms", "cpu_ms", "preemptions", "page_faults",
-                                        "queue_length"])
+                                        "queue_length", "ground_check_ms", "choose_ms", "detect_ms",
+                                        "publish_ms"])
         self.loops_csv = open(base + "_loops" + ext, "w", newline="")
         self.loops_writer = csv.writer(self.loops_csv)
         self.loops_writer.writerow(["query_id", "match_id", "verified", "distance", "x", "y", "z", "qx", "qy", "qz",
@@ -177,7 +178,9 @@ class Monitor:
             self.keyframes_writer.writerow([msg.keyframe_id, msg.database_size, "%.3f" % msg.queue_ms,
                                             "%.3f" % msg.processing_ms, "%.3f" % msg.describe_query_ms,
                                             "%.3f" % msg.verify_ms, "%.3f" % msg.cpu_ms, msg.preemptions,
-                                            msg.page_faults, msg.queue_length])
+                                            msg.page_faults, msg.queue_length, "%.3f" % msg.ground_check_ms,
+                                            "%.3f" % msg.choose_ms, "%.3f" % msg.detect_ms,
+                                            "%.3f" % msg.publish_ms])
             self.all_processing.append(msg.processing_ms)
             self.all_cpu.append(msg.cpu_ms)
             self.all_total.append(msg.queue_ms + msg.processing_ms)

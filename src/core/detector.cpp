@@ -93,7 +93,9 @@ Detection LoopDetector::process(const PointView& raw, const KeyframeInfo& info) 
     world_tilt_session_ = database_.session();
     posed_keyframes_ = 0;
   }
+  const auto t_tilt = Clock::now();
   updateWorldTilt(raw, info, &detection);  // first: the first keyframe's fit says which axis is up
+  detection.ground_check_seconds = secondsSince(t_tilt);
   describeAndQuery(raw, info, &described, &detection);
   const Eigen::Matrix3f level = described.level;
   const PointView& points = described.points;  // the raw cloud: level turns it
@@ -123,7 +125,9 @@ Detection LoopDetector::process(const PointView& raw, const KeyframeInfo& info) 
     store_.add(detection.index, std::move(cloud));
     detection.verify_seconds = secondsSince(start);
   }
+  const auto t_choose = Clock::now();
   chooseLoops(&detection);
+  detection.choose_seconds = secondsSince(t_choose);
   return detection;
 }
 

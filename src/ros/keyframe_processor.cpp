@@ -25,6 +25,16 @@ double wallNow() { return ros::WallTime::now().toSec(); }
 constexpr double kExtrinsicWait = 5.0;
 constexpr double kExtrinsicRecheck = 1.0;
 
+/// A keyframe longer than this on the worker [ms] brings a throttled warning saying where the time went
+/// (at the 10 Hz of a LiDAR, a keyframe stream has 100 ms a scan; the node takes a few).
+constexpr double kSlowKeyframeMs = 50.0;
+
+/// The parts of LoopDetector::process that Detection times [ms].
+double coreMs(const Detection& d) {
+  return (d.descriptor_seconds + d.query_seconds + d.verify_seconds + d.ground_check_seconds + d.choose_seconds) *
+         1e3;
+}
+
 /// The calling thread's CPU time [ms], involuntary context switches and page faults so far.
 struct ThreadUsage {
   double cpu_ms = 0.0;
@@ -160,7 +170,9 @@ void KeyframeProcessor::process(QueuedKeyframe keyframe) {
   pcl::PointCloud<pcl::PointXYZ> described;
   const bool cloud_listened = selected_ && selected_->cloudListened();
   const bool want_cloud = cloud_listened || team_ != nullptr;
+  const auto detect_start = std::chrono::steady_clock::now();
   const Detection detection = pipeline_->process(view, info, want_cloud ? &described : nullptr);
+  const auto detect_end = std::chrono::steady_clock::now();
   if (!detection.selected) return;
   if (!detection.accepted) {
     ++counters_->rejected;
@@ -174,6 +186,8 @@ void KeyframeProcessor::process(QueuedKeyframe keyframe) {
                             detection.index, info.stamp, detection.points_skipped);
   }
   reportWorldTilt(detection);
+  std::chrono::steady_clock::duration publishing{0};
+  auto publish_start = std::chrono::steady_clock::now();
   // Stored: the keyframe goes out before its loops, so a backend knows it when they come.
   if (selected_) {
     selected_->publish(msg.header.stamp, keyframe.pose_frame, sensorFrame(keyframe), keyframe.pose,
@@ -181,6 +195,7 @@ void KeyframeProcessor::process(QueuedKeyframe keyframe) {
   }
   const Database& database = pipeline_->detector().database();
   if (team_) shareWithTeam(detection.index, keyframe, std::move(described));
+  publishing += std::chrono::steady_clock::now() - publish_start;
   if (detection.new_session) {
     const double previous = keyframeStamp(database.keyframe(detection.index - 1).info).toSec();
     ROS_WARN_NAMED(name_,
@@ -194,9 +209,11 @@ void KeyframeProcessor::process(QueuedKeyframe keyframe) {
   counters_->database_bytes_per_keyframe = database.bytesPerKeyframe();
   counters_->last_query_ms = (detection.descriptor_seconds + detection.query_seconds) * 1e3;
   counters_->loops_waiting = pipeline_->detector().consistency().waiting();
+  publish_start = std::chrono::steady_clock::now();
   loops_->publishLoops(detection, keyframe.pose_frame, database);
   markers_->setFrame(keyframe.pose_frame);
   if (markers_->listened()) markers_->publish(database);
+  publishing += std::chrono::steady_clock::now() - publish_start;
 
   // The keyframe's whole time on the worker, markers included.
   const auto ms = [](std::chrono::steady_clock::duration d) {
@@ -209,6 +226,20 @@ void KeyframeProcessor::process(QueuedKeyframe keyframe) {
   const double processing_ms = ms(std::chrono::steady_clock::now() - started);
   counters_->last_keyframe_ms = processing_ms;
   if (processing_ms > counters_->max_keyframe_ms.load()) counters_->max_keyframe_ms = processing_ms;
+  const double cpu_ms = usage.cpu_ms - usage_at_start.cpu_ms;
+  const long preemptions = std::max(0L, usage.preemptions - usage_at_start.preemptions);
+  const double detect_ms = ms(detect_end - detect_start), publish_ms = ms(publishing);
+  if (processing_ms > kSlowKeyframeMs) {
+    ROS_WARN_THROTTLE_NAMED(
+        10.0, name_,
+        "keyframe %zu took %.1f ms on the worker (%.1f ms of its CPU, preempted %ld times): describe %.1f, "
+        "query and add %.1f, verify %.1f, ground check %.1f, choose loops %.1f, rest of the core %.1f, "
+        "publishing %.1f, other %.1f ms",
+        detection.index, processing_ms, cpu_ms, preemptions, detection.descriptor_seconds * 1e3,
+        detection.query_seconds * 1e3, detection.verify_seconds * 1e3, detection.ground_check_seconds * 1e3,
+        detection.choose_seconds * 1e3, detect_ms - coreMs(detection), publish_ms,
+        processing_ms - detect_ms - publish_ms);
+  }
   if (!loops_->timingListened()) return;
   scan_context_loop::KeyframeTiming timing;
   timing.header.stamp = msg.header.stamp;
@@ -219,9 +250,13 @@ void KeyframeProcessor::process(QueuedKeyframe keyframe) {
   timing.processing_ms = processing_ms;
   timing.describe_query_ms = (detection.descriptor_seconds + detection.query_seconds) * 1e3;
   timing.verify_ms = detection.verify_seconds * 1e3;
+  timing.ground_check_ms = detection.ground_check_seconds * 1e3;
+  timing.choose_ms = detection.choose_seconds * 1e3;
+  timing.detect_ms = detect_ms;
+  timing.publish_ms = publish_ms;
   timing.queue_length = static_cast<std::uint32_t>(keyframe.queue_length);
-  timing.cpu_ms = usage.cpu_ms - usage_at_start.cpu_ms;
-  timing.preemptions = static_cast<std::uint32_t>(std::max(0L, usage.preemptions - usage_at_start.preemptions));
+  timing.cpu_ms = cpu_ms;
+  timing.preemptions = static_cast<std::uint32_t>(preemptions);
   timing.page_faults = static_cast<std::uint32_t>(std::max(0L, usage.page_faults - usage_at_start.page_faults));
   loops_->publishTiming(timing);
 }

@@ -132,6 +132,12 @@ TEST(LoopClosureNode, PublishesTrueRevisitsWithTheirYawAndMarkers) {
     EXPECT_GE(t.verify_ms, 0.0);
     // The whole keyframe includes its parts (and the cloud checks, the registration data, publishing).
     EXPECT_GE(t.processing_ms, t.describe_query_ms + t.verify_ms) << "keyframe " << k;
+    // The core's time holds its timed parts, and with publishing it lies within the whole.
+    EXPECT_GE(t.ground_check_ms, 0.0);
+    EXPECT_GE(t.choose_ms, 0.0);
+    EXPECT_GT(t.publish_ms, 0.0) << "keyframe " << k;  // its markers and selected keyframe at least
+    EXPECT_GE(t.detect_ms, t.describe_query_ms + t.verify_ms + t.ground_check_ms + t.choose_ms) << "keyframe " << k;
+    EXPECT_LE(t.detect_ms + t.publish_ms, t.processing_ms) << "keyframe " << k;
     EXPECT_LT(t.processing_ms, 10000.0) << "keyframe " << k;
     // The worker's own CPU time is some of that wall time, never more (the clocks read apart by a few us).
     EXPECT_GT(t.cpu_ms, 0.0) << "keyframe " << k;

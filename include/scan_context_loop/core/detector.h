@@ -61,6 +61,10 @@ struct Detection {
   std::vector<VerifiedCandidate> verifications;
   bool verified = false;
   double verify_seconds = 0.0;
+  /// The ground fit that checks the pose's up (gravity_disagreement_deg), and choosing the loops to report
+  /// (consistency, odometry checks): the rest of the keyframe's time in LoopDetector::process.
+  double ground_check_seconds = 0.0;
+  double choose_seconds = 0.0;
   bool verifications_enabled = false;
 
   /// The loops to report now. Without verification: this keyframe's descriptor match. With it: this
