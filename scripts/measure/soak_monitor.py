@@ -130,7 +130,7 @@ class Monitor:
         self.keyframes_writer.writerow(["keyframe_id", "database_size", "queue_ms", "processing_ms",
                                         "describe_query_ms", "verify_ms", "cpu_ms", "preemptions", "page_faults",
                                         "queue_length", "ground_check_ms", "choose_ms", "detect_ms",
-                                        "publish_ms"])
+                                        "publish_ms", "received_s"])
         self.loops_csv = open(base + "_loops" + ext, "w", newline="")
         self.loops_writer = csv.writer(self.loops_csv)
         self.loops_writer.writerow(["query_id", "match_id", "verified", "distance", "x", "y", "z", "qx", "qy", "qz",
@@ -164,6 +164,7 @@ class Monitor:
                 self.diag["message"] = status.message
 
     def on_timing(self, msg):
+        received = time.monotonic()  # the clock of soak_stalls.py's probe
         with self.lock:
             if self.first_id is None:
                 self.first_id = msg.keyframe_id
@@ -180,7 +181,7 @@ class Monitor:
                                             "%.3f" % msg.verify_ms, "%.3f" % msg.cpu_ms, msg.preemptions,
                                             msg.page_faults, msg.queue_length, "%.3f" % msg.ground_check_ms,
                                             "%.3f" % msg.choose_ms, "%.3f" % msg.detect_ms,
-                                            "%.3f" % msg.publish_ms])
+                                            "%.3f" % msg.publish_ms, "%.6f" % received])
             self.all_processing.append(msg.processing_ms)
             self.all_cpu.append(msg.cpu_ms)
             self.all_total.append(msg.queue_ms + msg.processing_ms)

@@ -1,0 +1,115 @@
+#!/usr/bin/env python3
+"""Stalls of the machine during a soak, and the slow keyframes they explain.
+
+probe OUT.csv: one process per CPU, pinned to it at real-time priority (SCHED_FIFO when allowed), sleeps
+2 ms at a time and records every wake-up that came 3 ms or more late: time the CPU did not run it even
+though no task of the machine could hold it off, i.e. the (virtual) CPU itself was not running or had
+its interrupts off. Rows: cpu, the monotonic time the wake-up was due [s], how late it came [ms],
+whether the probe held real-time priority. Runs until SIGTERM.
+
+attribute KEYFRAMES.csv STALLS.csv: for every keyframe whose queue wait and processing passed 20 ms
+(soak_keyframes.csv, with the monitor's receive time), the stall time on any CPU within its interval
+(from its queue entry to its timing message's arrival, 20 ms of slack before); prints summary lines:
+how many keyframes passed 20 ms, how many of them overlapped a stall, and how many stay over 20 ms once
+the overlapping stall time is taken off.
+"""
+import csv
+import os
+import signal
+import sys
+import time
+
+LIMIT_MS = 20.0
+PERIOD_S = 0.002
+LATE_MS = 3.0
+SLACK_S = 0.020
+
+
+def probe_cpu(cpu, path):
+    os.sched_setaffinity(0, {cpu})
+    realtime = 1
+    try:
+        os.sched_setscheduler(0, os.SCHED_FIFO, os.sched_param(50))
+    except (PermissionError, OSError):
+        realtime = 0
+    stop = []
+    signal.signal(signal.SIGTERM, lambda *_: stop.append(1))
+    with open(path, "w", newline="") as f:
+        out = csv.writer(f)
+        out.writerow(["cpu", "due_s", "late_ms", "realtime"])
+        while not stop:
+            due = time.monotonic() + PERIOD_S
+            time.sleep(PERIOD_S)
+            late = (time.monotonic() - due) * 1e3
+            if late >= LATE_MS:
+                out.writerow([cpu, "%.6f" % due, "%.3f" % late, realtime])
+                f.flush()
+
+
+def probe(path):
+    children = []
+    for cpu in sorted(os.sched_getaffinity(0)):
+        pid = os.fork()
+        if pid == 0:
+            probe_cpu(cpu, "%s.cpu%d" % (path, cpu))
+            os._exit(0)
+        children.append((cpu, pid))
+    stop = []
+    for sig in (signal.SIGTERM, signal.SIGINT):
+        signal.signal(sig, lambda *_: stop.append(1))
+    while not stop:
+        signal.pause()
+    for _, pid in children:
+        os.kill(pid, signal.SIGTERM)
+    for _, pid in children:
+        os.waitpid(pid, 0)
+    # One file, the CPUs' rows in time order.
+    rows = []
+    for cpu, _ in children:
+        part = "%s.cpu%d" % (path, cpu)
+        with open(part) as f:
+            rows += list(csv.DictReader(f))
+        os.remove(part)
+    rows.sort(key=lambda r: float(r["due_s"]))
+    with open(path, "w", newline="") as f:
+        out = csv.DictWriter(f, fieldnames=["cpu", "due_s", "late_ms", "realtime"])
+        out.writeheader()
+        out.writerows(rows)
+
+
+def attribute(keyframes_path, stalls_path):
+    with open(stalls_path) as f:
+        stalls = [(float(r["due_s"]), float(r["due_s"]) + float(r["late_ms"]) * 1e-3, int(r["realtime"]))
+                  for r in csv.DictReader(f)]
+    realtime = all(s[2] for s in stalls)
+    over = overlapped = still_over = 0
+    worst_left = 0.0
+    with open(keyframes_path) as f:
+        for r in csv.DictReader(f):
+            total = float(r["queue_ms"]) + float(r["processing_ms"])
+            if total <= LIMIT_MS or not r.get("received_s"):
+                continue
+            over += 1
+            end = float(r["received_s"])
+            start = end - total * 1e-3 - SLACK_S
+            stalled = sum(max(0.0, min(b, end) - max(a, start)) for a, b, _ in stalls) * 1e3
+            overlapped += stalled > 0.0
+            left = total - stalled
+            worst_left = max(worst_left, left)
+            still_over += left > LIMIT_MS
+    print("machine_stalls: %d of %.0f ms or more (%.1f ms in all, longest %.1f ms)%s" % (
+        len(stalls), LATE_MS, sum((b - a) * 1e3 for a, b, _ in stalls),
+        max([(b - a) * 1e3 for a, b, _ in stalls] or [0.0]),
+        "" if realtime else "; the probe had no real-time priority, so these include the scheduler's own waits"))
+    print("keyframes_over_%.0f_ms: %d" % (LIMIT_MS, over))
+    print("keyframes_over_%.0f_ms_during_a_stall: %d" % (LIMIT_MS, overlapped))
+    print("keyframes_over_%.0f_ms_without_the_stalls: %d (longest %.1f ms)" % (LIMIT_MS, still_over, worst_left))
+
+
+if __name__ == "__main__":
+    if len(sys.argv) == 3 and sys.argv[1] == "probe":
+        probe(sys.argv[2])
+    elif len(sys.argv) == 4 and sys.argv[1] == "attribute":
+        attribute(sys.argv[2], sys.argv[3])
+    else:
+        sys.exit("usage: soak_stalls.py probe OUT.csv | attribute KEYFRAMES.csv STALLS.csv")
