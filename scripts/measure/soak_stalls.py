@@ -82,8 +82,15 @@ def attribute(keyframes_path, stalls_path):
         stalls = [(float(r["due_s"]), float(r["due_s"]) + float(r["late_ms"]) * 1e-3, int(r["realtime"]))
                   for r in csv.DictReader(f)]
     realtime = all(s[2] for s in stalls)
+    # Their union: a stall of the whole machine shows on every CPU at once, and counts once.
+    union = []
+    for a, b, _ in sorted(stalls):
+        if union and a <= union[-1][1]:
+            union[-1][1] = max(union[-1][1], b)
+        else:
+            union.append([a, b])
     over = overlapped = still_over = 0
-    worst_left = 0.0
+    worst_left = float("nan")
     with open(keyframes_path) as f:
         for r in csv.DictReader(f):
             total = float(r["queue_ms"]) + float(r["processing_ms"])
@@ -92,18 +99,18 @@ def attribute(keyframes_path, stalls_path):
             over += 1
             end = float(r["received_s"])
             start = end - total * 1e-3 - SLACK_S
-            stalled = sum(max(0.0, min(b, end) - max(a, start)) for a, b, _ in stalls) * 1e3
+            stalled = sum(max(0.0, min(b, end) - max(a, start)) for a, b in union) * 1e3
             overlapped += stalled > 0.0
             left = total - stalled
-            worst_left = max(worst_left, left)
+            worst_left = left if not worst_left >= left else worst_left
             still_over += left > LIMIT_MS
-    print("machine_stalls: %d of %.0f ms or more (%.1f ms in all, longest %.1f ms)%s" % (
-        len(stalls), LATE_MS, sum((b - a) * 1e3 for a, b, _ in stalls),
-        max([(b - a) * 1e3 for a, b, _ in stalls] or [0.0]),
+    print("machine_stalls: %d of %.0f ms or more on some CPU (%.1f ms in all, longest %.1f ms)%s" % (
+        len(union), LATE_MS, sum((b - a) * 1e3 for a, b in union), max([(b - a) * 1e3 for a, b in union] or [0.0]),
         "" if realtime else "; the probe had no real-time priority, so these include the scheduler's own waits"))
     print("keyframes_over_%.0f_ms: %d" % (LIMIT_MS, over))
     print("keyframes_over_%.0f_ms_during_a_stall: %d" % (LIMIT_MS, overlapped))
-    print("keyframes_over_%.0f_ms_without_the_stalls: %d (longest %.1f ms)" % (LIMIT_MS, still_over, worst_left))
+    print("keyframes_over_%.0f_ms_without_the_stalls: %d (the stalls taken off, the longest of them %.1f ms)" % (
+        LIMIT_MS, still_over, worst_left))
 
 
 if __name__ == "__main__":
