@@ -10,6 +10,7 @@ add_library(scan_context_loop_core
   src/core/odometry_trust.cpp
   src/core/world_tilt.cpp
   src/core/registration.cpp
+  src/core/principal_axes.cpp
   src/core/coarse_search.cpp
   src/core/free_space.cpp
   src/core/pcl_refinement.cpp
@@ -77,11 +78,13 @@ if(CATKIN_ENABLE_TESTING)
     test/core/test_team_matcher.cpp
     test/core/test_task_thread.cpp
     test/core/test_team_consistency.cpp
+    test/core/test_principal_axes.cpp
   )
   # The real-data tests read KITTI scans (eval/kitti_io.h); the simulated-data tests cast scans with the
   # simulator.
   target_link_libraries(test_core scan_context_loop_eval scan_context_sim ${PCL_IO_LIBRARIES})
   target_compile_definitions(test_core PRIVATE SCL_SHARED_DATA="${SCL_SHARED_DATA}")
+  target_include_directories(test_core PRIVATE src/core)  # principal_axes.h, a private header
 
   # Saving off the detector's thread: small and quick, so that ThreadSanitizer runs it too
   # (scripts/dev/sanitize).

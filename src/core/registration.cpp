@@ -5,9 +5,9 @@
 #include <cstring>
 #include <optional>
 
-#include <Eigen/Eigenvalues>
 
 #include "grid_cell.h"
+#include "principal_axes.h"
 #include "simd_clones.h"
 
 namespace scan_context_loop {
@@ -160,28 +160,46 @@ VoxelCloud makeVoxelCloud(const PointView& points, const VoxelOptions& options, 
   for (const Accumulator& a : s.acc) kept += a.count >= options.min_points;
   out.means.reserve(kept);
   out.normals.reserve(kept);
-  for (const Accumulator& a : s.acc) {
-    if (a.count < options.min_points) continue;
-    const double inv_n = 1.0 / a.count;
-    const Eigen::Vector3d mean(a.sx * inv_n, a.sy * inv_n, a.sz * inv_n);
-    Eigen::Matrix3d outer;
-    outer << a.sxx, a.sxy, a.sxz, a.sxy, a.syy, a.syz, a.sxz, a.syz, a.szz;
-    const Eigen::Matrix3d cov = outer * inv_n - mean * mean.transpose();
-    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig;
-    eig.computeDirect(cov);
-    Eigen::Vector3d n = eig.eigenvectors().col(0);  // smallest spread
-    if (!n.allFinite()) continue;
-    if (n.dot(-(mean + a.corner.cast<double>())) < 0.0) n = -n;  // towards the sensor
-    const Eigen::Vector3d l = eig.eigenvalues().cwiseMax(0.0);
-    VoxelCloud::Shape shape = VoxelCloud::kScatter;
-    if (l(1) < 0.1 * l(2)) {
-      shape = std::fabs(eig.eigenvectors()(2, 2)) > 0.85 ? VoxelCloud::kVerticalLine : VoxelCloud::kHorizontalLine;
-    } else if (l(0) < 0.25 * l(1)) {
-      shape = VoxelCloud::kPlanar;
+  // The voxels' shapes a block at a time: their covariances (in double from the float sums, as the
+  // sums are relative to the corner), then their principal axes, vectorised.
+  thread_local SymmetricBlock cov;
+  thread_local AxesBlock axes;
+  std::size_t next = 0;
+  while (next < s.acc.size()) {
+    const Accumulator* block[kAxesBlock];
+    std::size_t n = 0;
+    for (; next < s.acc.size() && n < kAxesBlock; ++next) {
+      const Accumulator& a = s.acc[next];
+      if (a.count < options.min_points) continue;
+      const double inv_n = 1.0 / a.count;
+      const double mx = a.sx * inv_n, my = a.sy * inv_n, mz = a.sz * inv_n;
+      cov.xx[n] = static_cast<float>(a.sxx * inv_n - mx * mx);
+      cov.xy[n] = static_cast<float>(a.sxy * inv_n - mx * my);
+      cov.xz[n] = static_cast<float>(a.sxz * inv_n - mx * mz);
+      cov.yy[n] = static_cast<float>(a.syy * inv_n - my * my);
+      cov.yz[n] = static_cast<float>(a.syz * inv_n - my * mz);
+      cov.zz[n] = static_cast<float>(a.szz * inv_n - mz * mz);
+      block[n++] = &a;
     }
-    out.means.push_back(a.corner + mean.cast<float>());
-    out.normals.push_back({quantise(static_cast<float>(n.x())), quantise(static_cast<float>(n.y())),
-                           quantise(static_cast<float>(n.z())), static_cast<std::int8_t>(shape)});
+    principalAxes(cov, n, &axes);
+    for (std::size_t i = 0; i < n; ++i) {
+      const Accumulator& a = *block[i];
+      Eigen::Vector3f normal(axes.nx[i], axes.ny[i], axes.nz[i]);
+      if (!normal.allFinite()) continue;
+      const double inv_n = 1.0 / a.count;
+      const Eigen::Vector3f mean = a.corner + Eigen::Vector3d(a.sx * inv_n, a.sy * inv_n, a.sz * inv_n).cast<float>();
+      if (normal.dot(-mean) < 0.0f) normal = -normal;  // towards the sensor
+      const float l0 = std::max(axes.l0[i], 0.0f), l1 = std::max(axes.l1[i], 0.0f), l2 = std::max(axes.l2[i], 0.0f);
+      VoxelCloud::Shape shape = VoxelCloud::kScatter;
+      if (l1 < 0.1f * l2) {
+        shape = std::fabs(axes.major_z[i]) > 0.85f ? VoxelCloud::kVerticalLine : VoxelCloud::kHorizontalLine;
+      } else if (l0 < 0.25f * l1) {
+        shape = VoxelCloud::kPlanar;
+      }
+      out.means.push_back(mean);
+      out.normals.push_back({quantise(normal.x()), quantise(normal.y()), quantise(normal.z()),
+                             static_cast<std::int8_t>(shape)});
+    }
   }
   return out;
 }
