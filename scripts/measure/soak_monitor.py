@@ -164,7 +164,7 @@ class Monitor:
                 self.diag["message"] = status.message
 
     def on_timing(self, msg):
-        received = time.monotonic()  # the clock of soak_stalls.py's probe
+        received = time.monotonic()  # the clock of machine_stalls.py's probe
         with self.lock:
             if self.first_id is None:
                 self.first_id = msg.keyframe_id

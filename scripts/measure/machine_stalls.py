@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Stalls of the machine during a soak, and the slow keyframes they explain.
+"""Stalls of the machine during a soak or a benchmark, and the slow keyframes and steps they explain.
 
 probe OUT.csv: one process per CPU, pinned to it at real-time priority (SCHED_FIFO when allowed), sleeps
 2 ms at a time and records every wake-up that came 3 ms or more late: time the CPU did not run it even
@@ -12,9 +12,12 @@ attribute KEYFRAMES.csv STALLS.csv: for every keyframe whose queue wait and proc
 (from its queue entry to its timing message's arrival, 20 ms of slack before); prints summary lines:
 how many keyframes passed 20 ms, how many of them overlapped a stall, and how many stay over 20 ms once
 the overlapping stall time is taken off.
+
+steps BENCH_OUTPUT STALLS.csv: the same for the slowest steps `scan_context_bench` lists.
 """
 import csv
 import os
+import re
 import signal
 import sys
 import time
@@ -77,18 +80,33 @@ def probe(path):
         out.writerows(rows)
 
 
-def attribute(keyframes_path, stalls_path):
+def load_stalls(stalls_path):
+    """The probe's stalls as the union of their intervals over the CPUs (a stall of the whole machine
+    shows on every CPU at once, and counts once), and whether the probe held real-time priority."""
     with open(stalls_path) as f:
         stalls = [(float(r["due_s"]), float(r["due_s"]) + float(r["late_ms"]) * 1e-3, int(r["realtime"]))
                   for r in csv.DictReader(f)]
-    realtime = all(s[2] for s in stalls)
-    # Their union: a stall of the whole machine shows on every CPU at once, and counts once.
     union = []
     for a, b, _ in sorted(stalls):
         if union and a <= union[-1][1]:
             union[-1][1] = max(union[-1][1], b)
         else:
             union.append([a, b])
+    return union, all(s[2] for s in stalls)
+
+
+def stalled_ms(union, start, end):
+    return sum(max(0.0, min(b, end) - max(a, start)) for a, b in union) * 1e3
+
+
+def print_stalls(union, realtime):
+    print("machine_stalls: %d of %.0f ms or more on some CPU (%.1f ms in all, longest %.1f ms)%s" % (
+        len(union), LATE_MS, sum((b - a) * 1e3 for a, b in union), max([(b - a) * 1e3 for a, b in union] or [0.0]),
+        "" if realtime else "; the probe had no real-time priority, so these include the scheduler's own waits"))
+
+
+def attribute(keyframes_path, stalls_path):
+    union, realtime = load_stalls(stalls_path)
     over = overlapped = still_over = 0
     worst_left = float("nan")
     with open(keyframes_path) as f:
@@ -98,19 +116,37 @@ def attribute(keyframes_path, stalls_path):
                 continue
             over += 1
             end = float(r["received_s"])
-            start = end - total * 1e-3 - SLACK_S
-            stalled = sum(max(0.0, min(b, end) - max(a, start)) for a, b in union) * 1e3
+            stalled = stalled_ms(union, end - total * 1e-3 - SLACK_S, end)
             overlapped += stalled > 0.0
             left = total - stalled
             worst_left = left if not worst_left >= left else worst_left
             still_over += left > LIMIT_MS
-    print("machine_stalls: %d of %.0f ms or more on some CPU (%.1f ms in all, longest %.1f ms)%s" % (
-        len(union), LATE_MS, sum((b - a) * 1e3 for a, b in union), max([(b - a) * 1e3 for a, b in union] or [0.0]),
-        "" if realtime else "; the probe had no real-time priority, so these include the scheduler's own waits"))
+    print_stalls(union, realtime)
     print("keyframes_over_%.0f_ms: %d" % (LIMIT_MS, over))
     print("keyframes_over_%.0f_ms_during_a_stall: %d" % (LIMIT_MS, overlapped))
     print("keyframes_over_%.0f_ms_without_the_stalls: %d (the stalls taken off, the longest of them %.1f ms)" % (
         LIMIT_MS, still_over, worst_left))
+
+
+def steps(bench_output, stalls_path):
+    """The benchmark's slowest steps (`scan_context_bench` prints each one's start on the monotonic
+    clock) against the stalls."""
+    union, realtime = load_stalls(stalls_path)
+    found = []
+    with open(bench_output) as f:
+        for line in f:
+            if "slowest steps:" in line:
+                found = [(float(ms), int(k), float(at))
+                         for ms, k, at in re.findall(r"([\d.]+) ms \(keyframe (\d+), at ([\d.]+) s", line)]
+    print_stalls(union, realtime)
+    if not found:
+        print("slowest steps: none printed")
+        return
+    left = [(ms - stalled_ms(union, at, at + ms * 1e-3), ms, k) for ms, k, at in found]
+    during = sum(1 for l, ms, _ in left if l < ms)
+    worst = max(left)
+    print("slowest steps during a machine stall: %d of %d; with the stalls taken off, the slowest %.3f ms "
+          "(keyframe %d, %.3f ms in all)" % (during, len(found), worst[0], worst[2], worst[1]))
 
 
 if __name__ == "__main__":
@@ -118,5 +154,8 @@ if __name__ == "__main__":
         probe(sys.argv[2])
     elif len(sys.argv) == 4 and sys.argv[1] == "attribute":
         attribute(sys.argv[2], sys.argv[3])
+    elif len(sys.argv) == 4 and sys.argv[1] == "steps":
+        steps(sys.argv[2], sys.argv[3])
     else:
-        sys.exit("usage: soak_stalls.py probe OUT.csv | attribute KEYFRAMES.csv STALLS.csv")
+        sys.exit("usage: machine_stalls.py probe OUT.csv | attribute KEYFRAMES.csv STALLS.csv | "
+                 "steps BENCH_OUTPUT STALLS.csv")
