@@ -295,7 +295,13 @@ TEST(PoseGraphTeam, RobotsJoinedByLoopsLandInTheAnchorsFrameAndAnUnjoinedOneStay
   Eigen::Matrix4d m = Eigen::Matrix4d::Identity();
   row >> id >> joined;
   for (int i = 0; i < 12; ++i) row >> m(i / 4, i % 4);
-  EXPECT_LT((m.block<3, 1>(0, 3) - posesOf(path2).front().translation()).norm(), 0.05)
+  // Against the corrected trajectory of the same save: the graph may optimise again after the path above
+  // was published, and the save writes both from one state of it.
+  std::istringstream first(lines(dir + "corrected_tum_robot2.txt").front());
+  double stamp = 0.0;
+  Eigen::Vector3d saved_first = Eigen::Vector3d::Constant(1e9);
+  first >> stamp >> saved_first.x() >> saved_first.y() >> saved_first.z();
+  EXPECT_LT((m.block<3, 1>(0, 3) - saved_first).norm(), 0.05)
       << "frames.txt: robot 2's frame is its first keyframe's corrected pose (its odometry starts at the identity)";
   EXPECT_EQ(lines(dir + "pose_graph.g2o").front().substr(0, 15), "VERTEX_SE3:QUAT");
   std::filesystem::remove_all(directory);
