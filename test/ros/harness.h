@@ -93,10 +93,11 @@ class DiagnosticsWatch {
  private:
   void onDiagnostics(const diagnostic_msgs::DiagnosticArray& msg);
   std::string node_, status_;
-  ros::Subscriber sub_;
   mutable std::mutex mutex_;  // guards values_ and received_ (callback thread vs. test thread)
   std::map<std::string, std::string> values_;
   ros::WallTime received_;
+  // Last: subscribed once the data its callback writes exists (a message may come at once).
+  ros::Subscriber sub_;
 };
 
 /// main() of a rostest node: gtest and ROS initialised, callbacks served by two threads.

@@ -51,9 +51,10 @@ class RosoutWatch {
   std::size_t publishers() const { return sub_.getNumPublishers(); }
 
  private:
-  ros::Subscriber sub_;
   mutable std::mutex mutex_;  // guards logs_ (callback vs. test thread)
   std::vector<rosgraph_msgs::Log> logs_;
+  // Last: subscribed once logs_ exists (a message may come at once).
+  ros::Subscriber sub_;
 };
 
 /// T_base<-velodyne: the sensor 1.2 m above and 0.3 m ahead of the base, turned 90 degrees.

@@ -65,10 +65,11 @@ class GroundTruth {
 
  private:
   const sim::StackShape shape_;
-  ros::Subscriber sub_;
   mutable std::mutex mutex_;  // guards poses_ and last_ (callback vs. test thread)
   std::map<ros::Time, Eigen::Isometry3d> poses_;
   ros::WallTime last_;
+  // Last: unsubscribed first on destruction (waiting for a callback in progress), before the data goes.
+  ros::Subscriber sub_;
 };
 
 /// The RMS of `path`'s position errors [m] against the truth, each taken relative to its pose at the path's

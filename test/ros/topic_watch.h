@@ -50,11 +50,12 @@ class Latest {
     have_ = true;
     arrived_ = ros::WallTime::now();
   }
-  ros::Subscriber sub_;
   mutable std::mutex mutex_;  // guards latest_, have_ and arrived_ (callback thread vs. test thread)
   M latest_;
   bool have_ = false;
   ros::WallTime arrived_;
+  // Last: subscribed once the data its callback writes exists (a message may come at once).
+  ros::Subscriber sub_;
 };
 
 /// The first `keep` messages of a topic, in arrival order, and how many came in all.
@@ -91,10 +92,11 @@ class Collected {
     ++count_;
   }
   const std::size_t keep_;
-  ros::Subscriber sub_;
   mutable std::mutex mutex_;  // guards messages_ and count_ (callback threads vs. test thread)
   std::vector<M> messages_;
   std::size_t count_ = 0;
+  // Last, as in Latest.
+  ros::Subscriber sub_;
 };
 
 }  // namespace test
