@@ -11,6 +11,7 @@
 #endif
 
 #include "fast_math.h"
+#include "point_gather.h"
 #include "simd_clones.h"
 
 namespace scan_context_loop {
@@ -24,12 +25,6 @@ std::string number(double v) {
   std::ostringstream out;
   out << v;
   return out.str();
-}
-
-inline float loadFloat(const std::uint8_t* p) {
-  float v;
-  std::memcpy(&v, p, sizeof v);
-  return v;
 }
 
 /// What the binning kernel needs, precomputed from the Config.
@@ -82,12 +77,7 @@ SCL_CLONES void binPoints(const PointView& points, const Binning& b, float* best
   for (std::size_t start = 0; start < count; start += kBlock) {
     const std::size_t n = std::min(kBlock, count - start);
     const std::uint8_t* block = base + start * points.stride;
-    for (std::size_t i = 0; i < n; ++i) {
-      const std::uint8_t* p = block + i * points.stride;
-      xs[i] = loadFloat(p + points.offset_x);
-      ys[i] = loadFloat(p + points.offset_y);
-      zs[i] = loadFloat(p + points.offset_z);
-    }
+    gatherXyz(points, block, points.stride, n, xs, ys, zs);
     if (R != nullptr) {
       for (std::size_t i = 0; i < n; ++i) {
         const float x = xs[i], y = ys[i], z = zs[i];

@@ -7,6 +7,7 @@
 
 
 #include "grid_cell.h"
+#include "point_gather.h"
 #include "principal_axes.h"
 #include "simd_clones.h"
 
@@ -69,14 +70,7 @@ struct VoxelBlock {
 /// that the compiler vectorises it: the accumulation that follows is left with the scattered sums only.
 SCL_CLONES void locateBlock(const PointView& points, std::size_t first, std::size_t stride, std::size_t n,
                             const VoxelGrid& g, VoxelBlock* b) {
-  const std::uint8_t* base = points.data + first * points.stride;
-  const std::size_t step = stride * points.stride;
-  for (std::size_t i = 0; i < n; ++i) {
-    const std::uint8_t* p = base + i * step;
-    std::memcpy(&b->x[i], p + points.offset_x, 4);
-    std::memcpy(&b->y[i], p + points.offset_y, 4);
-    std::memcpy(&b->z[i], p + points.offset_z, 4);
-  }
+  gatherXyz(points, points.data + first * points.stride, stride * points.stride, n, b->x, b->y, b->z);
   if (g.rotation) {
     const float* R = g.rotation->data();
     for (std::size_t i = 0; i < n; ++i) {

@@ -1,4 +1,5 @@
 #include <cmath>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -135,6 +136,40 @@ TEST(Descriptor, SameResultForEveryPointTypeAndFitsTheMemoryBudget) {
   EXPECT_EQ(a.ring_key, b.ring_key);
   // int8 unit columns (1,200 bytes at 20 x 60), the occupancy and the float keys: about 1.6 KB.
   EXPECT_LE(a.bytes(), 1700u);
+}
+
+TEST(HeightGrid, EveryMemoryLayoutBinsAlike) {
+  // The binning reads x, y, z first in 16- or 32-byte points with a loop of its own; any other layout
+  // point by point. Both must give the same grids, with NaN and Inf points, a turn and three viewpoints.
+  Config config;
+  const auto scene = test::streetScene(5);
+  std::vector<Eigen::Vector3f> points;
+  for (const auto& p : scene) points.emplace_back(p.x, p.y, p.z);
+  points.emplace_back(NAN, 1.0f, 0.0f);
+  points.emplace_back(3.0f, INFINITY, 0.0f);
+  ASSERT_GT(points.size(), 2000u);
+  const auto& layouts = test::pointLayouts();
+  const std::vector<Eigen::Vector2f> views = {Eigen::Vector2f::Zero(), {0.0f, 2.5f}, {0.0f, -2.5f}};
+  const Eigen::Matrix3f turn = Eigen::AngleAxisf(0.1f, Eigen::Vector3f(1, 1, 0).normalized()).toRotationMatrix();
+  for (const Eigen::Matrix3f& rotation : {Eigen::Matrix3f(Eigen::Matrix3f::Identity()), turn}) {
+    std::vector<std::vector<HeightGrid>> grids;
+    for (const auto& [stride, offset] : layouts) {
+      std::vector<std::uint8_t> bytes;
+      grids.push_back(makeHeightGrids(test::inLayout(points, stride, offset, &bytes), config, views, rotation));
+    }
+    for (std::size_t l = 1; l < layouts.size(); ++l) {
+      SCOPED_TRACE("stride " + std::to_string(layouts[l].first) + ", x at " + std::to_string(layouts[l].second));
+      ASSERT_EQ(grids[l].size(), views.size());
+      for (std::size_t v = 0; v < views.size(); ++v) {
+        EXPECT_TRUE(grids[l][v].heights == grids[0][v].heights) << "view " << v;
+        EXPECT_TRUE(grids[l][v].occupied == grids[0][v].occupied) << "view " << v;
+        EXPECT_EQ(grids[l][v].points_used, grids[0][v].points_used);
+        EXPECT_EQ(grids[l][v].points_skipped, grids[0][v].points_skipped);
+      }
+    }
+    EXPECT_GT(grids[0][0].occupied.cast<int>().sum(), 100);
+    EXPECT_GE(grids[0][0].points_skipped, 2u) << "the NaN and Inf points";
+  }
 }
 
 }  // namespace

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
 #include <random>
 
 #include <gtest/gtest.h>
@@ -58,6 +59,27 @@ void addBoxSurface(pcl::PointCloud<pcl::PointXYZ>* cloud, double cx, double cy, 
 std::string sharedData() {
   const char* env = std::getenv("SCL_SHARED_DATA");
   return env != nullptr && *env != '\0' ? std::string(env) : std::string(SCL_SHARED_DATA);
+}
+
+PointView inLayout(const std::vector<Eigen::Vector3f>& points, std::size_t stride, std::size_t offset_x,
+                   std::vector<std::uint8_t>* bytes) {
+  bytes->assign(points.size() * stride + 1, 0xAB);
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    std::memcpy(bytes->data() + 1 + i * stride + offset_x, points[i].data(), 3 * sizeof(float));
+  }
+  PointView view;
+  view.data = bytes->data() + 1;
+  view.count = points.size();
+  view.stride = stride;
+  view.offset_x = offset_x;
+  view.offset_y = offset_x + 4;
+  view.offset_z = offset_x + 8;
+  return view;
+}
+
+const std::vector<std::pair<std::size_t, std::size_t>>& pointLayouts() {
+  static const std::vector<std::pair<std::size_t, std::size_t>> layouts = {{16, 0}, {32, 0}, {12, 0}, {16, 4}, {40, 12}};
+  return layouts;
 }
 
 pcl::PointCloud<pcl::PointXYZ> streetScene(std::uint32_t seed) {

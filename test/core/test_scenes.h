@@ -3,6 +3,7 @@
 
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Geometry>
@@ -34,6 +35,15 @@ pcl::PointCloud<pcl::PointXYZ> sectorCentredScene(std::uint32_t seed, int sector
 /// p' = Rz(yaw) * p + (tx, ty, 0): the cloud as seen from a sensor whose frame is T^-1.
 pcl::PointCloud<pcl::PointXYZ> rotateTranslate(const pcl::PointCloud<pcl::PointXYZ>& cloud, double yaw,
                                                double tx = 0.0, double ty = 0.0);
+
+/// `points` laid out `stride` bytes apart with x, y, z at `offset_x` in each, one byte into `bytes` (so
+/// that nothing is aligned), and the view of them; every other byte is 0xAB.
+PointView inLayout(const std::vector<Eigen::Vector3f>& points, std::size_t stride, std::size_t offset_x,
+                   std::vector<std::uint8_t>* bytes);
+
+/// The memory layouts the point kernels read alike: bytes a point and where x sits. x, y, z first in
+/// 16- and 32-byte points (read with a loop of their own), then three read point by point.
+const std::vector<std::pair<std::size_t, std::size_t>>& pointLayouts();
 
 /// Loads ../shared/data/kitti/<sequence>/velodyne/<frame>.bin; fails the calling test when missing.
 pcl::PointCloud<pcl::PointXYZI> kittiScan(const std::string& sequence, int frame);

@@ -339,6 +339,36 @@ TEST(VoxelIndex, OnPlaneFindsAFacadeSampledAtOtherHeightsAndNothingOffIt) {
   EXPECT_FALSE(index.onPlane(Eigen::Vector3f(11.0f, 0.5f, 1.5f), Eigen::Vector3f::Zero(), 0.5f, 1.0f, 2.0f));
 }
 
+TEST(VoxelCloud, EveryMemoryLayoutGivesTheSameVoxels) {
+  // A real scan, whole (every 3rd point read: over kVoxelCloudMaxPoints) and its first 50,000 points
+  // (every point read), in each layout the point kernels read alike, level and turned.
+  const auto scan = test::kittiScan("00", 94);
+  std::vector<Eigen::Vector3f> whole;
+  for (const auto& p : scan) whole.emplace_back(p.x, p.y, p.z);
+  ASSERT_GT(whole.size(), 2 * kVoxelCloudMaxPoints);
+  const std::vector<Eigen::Vector3f> part(whole.begin(), whole.begin() + 50000);
+  const Eigen::Matrix3f turn = Eigen::AngleAxisf(0.05f, Eigen::Vector3f::UnitX()).toRotationMatrix();
+  VoxelOptions options;
+  options.resolution = 1.0f;
+  options.max_range = 40.0f;
+  for (const std::vector<Eigen::Vector3f>* points : {static_cast<const std::vector<Eigen::Vector3f>*>(&whole), &part}) {
+    for (const Eigen::Matrix3f& rotation : {Eigen::Matrix3f(Eigen::Matrix3f::Identity()), turn}) {
+      std::vector<VoxelCloud> clouds;
+      for (const auto& [stride, offset] : test::pointLayouts()) {
+        std::vector<std::uint8_t> bytes;
+        clouds.push_back(makeVoxelCloud(test::inLayout(*points, stride, offset, &bytes), options, rotation));
+      }
+      ASSERT_GT(clouds[0].size(), 1000u);
+      for (std::size_t l = 1; l < clouds.size(); ++l) {
+        SCOPED_TRACE("layout " + std::to_string(l) + ", " + std::to_string(points->size()) + " points");
+        ASSERT_EQ(clouds[l].size(), clouds[0].size());
+        EXPECT_TRUE(clouds[l].means == clouds[0].means);
+        EXPECT_TRUE(clouds[l].normals == clouds[0].normals);
+      }
+    }
+  }
+}
+
 TEST(Verification, EmptyTinyAndNaNCloudsAreRejectedCleanly) {
   VerificationConfig config;
   const VoxelCloud real = prepared("00", 94, config);
