@@ -214,13 +214,12 @@ void VoxelIndex::build(const VoxelCloud& cloud) {
   nz_ = static_cast<int>(std::ceil(40.0f * inv_res_)) + 1;
   const std::size_t cells = static_cast<std::size_t>(nx_) * nx_ * nz_;
   if (slots_.size() != cells) {
-    slots_.assign(cells, Slot());
-    generation_ = 0;
+    slots_.assign(cells, -1);
+  } else {
+    for (const std::int32_t c : filled_) slots_[c] = -1;
   }
-  if (++generation_ == 0) {
-    std::fill(slots_.begin(), slots_.end(), Slot());
-    generation_ = 1;
-  }
+  filled_.clear();
+  filled_.reserve(cloud.size());  // before any cell is set: a throw here leaves the grid empty
   for (std::size_t i = 0; i < cloud.size(); ++i) {
     const Eigen::Vector3f& m = cloud.means[i];
     const int ix = gridCell((m.x() - min_xy_) * inv_res_);
@@ -228,7 +227,8 @@ void VoxelIndex::build(const VoxelCloud& cloud) {
     const int iz = gridCell((m.z() - min_z_) * inv_res_);
     const int c = cell(ix, iy, iz);
     if (c < 0) continue;
-    slots_[c] = {generation_, static_cast<std::int32_t>(i)};
+    if (slots_[c] < 0) filled_.push_back(c);
+    slots_[c] = static_cast<std::int32_t>(i);
   }
 }
 

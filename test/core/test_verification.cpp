@@ -314,6 +314,35 @@ TEST(Verification, ATiltTheRegistrationFindsBeyondTheLimitIsLeftToTheGravityAlig
   EXPECT_NEAR(tiltOf(kept.relative), 0.5, 0.2);
 }
 
+TEST(VoxelIndex, ARebuildForgetsTheCloudBefore) {
+  // Two facades, each its own cloud: the index built on one finds its voxels and none of the other's,
+  // however often it is rebuilt in turn (its cells are emptied by the next build, not all cleared).
+  pcl::PointCloud<pcl::PointXYZ> ahead, left;
+  for (float z = -1.0f; z <= 3.0f; z += 0.1f) {
+    for (float s = -8.0f; s <= 8.0f; s += 0.1f) {
+      ahead.push_back(pcl::PointXYZ(10.0f, s, z));
+      left.push_back(pcl::PointXYZ(s, 12.0f, z));
+    }
+  }
+  VoxelOptions options;
+  const VoxelCloud a = makeVoxelCloud(viewOf(ahead), options);
+  const VoxelCloud b = makeVoxelCloud(viewOf(left), options);
+  ASSERT_GT(a.size(), 50u);
+  ASSERT_GT(b.size(), 50u);
+  VoxelIndex index;
+  for (int round = 0; round < 3; ++round) {
+    for (const VoxelCloud* built : {&a, &b}) {
+      const VoxelCloud* other = built == &a ? &b : &a;
+      index.build(*built);
+      std::size_t found = 0, stale = 0;
+      for (std::size_t i = 0; i < built->size(); ++i) found += index.at(built->means[i]) == static_cast<int>(i);
+      for (const Eigen::Vector3f& m : other->means) stale += index.at(m) >= 0;
+      EXPECT_EQ(found, built->size()) << "round " << round;
+      EXPECT_EQ(stale, 0u) << "round " << round;
+    }
+  }
+}
+
 TEST(VoxelIndex, OnPlaneFindsAFacadeSampledAtOtherHeightsAndNothingOffIt) {
   // A facade 10 m ahead (x = 10) seen as two scan lines 0.3 m apart near z = 0 ...
   pcl::PointCloud<pcl::PointXYZ> wall;
