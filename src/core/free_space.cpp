@@ -5,11 +5,30 @@
 #include <limits>
 #include <vector>
 
+#include "fast_math.h"
+
 namespace scan_context_loop {
 
 namespace {
 
 constexpr float kTwoPi = 6.28318530717958647692f;
+constexpr float kPi = 3.14159265358979323846f;
+
+/// Horizontal range: voxel means are metres, so the plain root neither overflows nor underflows (the
+/// library's hypotf, which guards against both, took 0.6% of the evaluator's samples).
+inline float horizontal(const Eigen::Vector3f& p) { return std::sqrt(p.x() * p.x() + p.y() * p.y()); }
+
+/// atan2(y, x) in [-pi, pi) from the branch-free approximation (within 1e-5 rad; a bin is 8.7e-3 rad).
+inline float direction(float y, float x) {
+  const float a = azimuth(x, y);
+  return a >= kPi ? a - kTwoPi : a;
+}
+
+/// FreeSpace::counts with the horizontal range known.
+inline bool inBand(const FreeSpace& f, const Eigen::Vector3f& p, float r) {
+  // tan(1 deg) = 0.0175.
+  return p.z() <= 0.0175f * r && p.z() >= f.min_slope * r;
+}
 
 /// Structure is only held against free space within this range [m]: farther out a sparse sensor's
 /// beams (2 degrees apart on a VLP-16: 0.9 m at 25 m) pass over low objects, which then look like
@@ -30,7 +49,7 @@ float lowestSlope(const VoxelCloud& cloud) {
   slopes.reserve(cloud.size());
   for (std::size_t i = 0; i < cloud.size(); ++i) {
     const Eigen::Vector3f& p = cloud.means[i];
-    const float r = std::hypot(p.x(), p.y());
+    const float r = horizontal(p);
     if (r >= 1.0f) slopes.push_back(p.z() / r);
   }
   if (slopes.size() < 50) return -std::numeric_limits<float>::infinity();
@@ -41,11 +60,7 @@ float lowestSlope(const VoxelCloud& cloud) {
 
 }  // namespace
 
-bool FreeSpace::counts(const Eigen::Vector3f& p) const {
-  const float r = std::hypot(p.x(), p.y());
-  // tan(1 deg) = 0.0175.
-  return p.z() <= 0.0175f * r && p.z() >= min_slope * r;
-}
+bool FreeSpace::counts(const Eigen::Vector3f& p) const { return inBand(*this, p, horizontal(p)); }
 
 FreeSpace freeSpace(const VoxelCloud& cloud, int bins) {
   FreeSpace f;
@@ -57,12 +72,11 @@ FreeSpace freeSpace(const VoxelCloud& cloud, int bins) {
   for (std::size_t i = 0; i < cloud.size(); ++i) {
     if (!cloud.vertical(i)) continue;
     const Eigen::Vector3f& p = cloud.means[i];
-    if (!f.counts(p)) continue;
-    const float r = std::hypot(p.x(), p.y());
-    if (r < 0.5f) continue;
+    const float r = horizontal(p);
+    if (!inBand(f, p, r) || r < 0.5f) continue;
     // A voxel blocks the directions its metre of structure spans at that range.
-    const float half = std::atan2(0.6f * cloud.resolution, r);
-    const float a = std::atan2(p.y(), p.x());
+    const float half = direction(0.6f * cloud.resolution, r);
+    const float a = direction(p.y(), p.x());
     const int first = static_cast<int>(std::floor((a - half + kTwoPi * 0.5f) / f.bin));
     const int last = static_cast<int>(std::floor((a + half + kTwoPi * 0.5f) / f.bin));
     for (int b = first; b <= last; ++b) {
@@ -83,10 +97,10 @@ FreeSpaceCheck checkFreeSpace(const VoxelCloud& from, const FreeSpace& to, const
   for (std::size_t i = 0; i < from.size(); ++i) {
     if (!from.vertical(i)) continue;
     const Eigen::Vector3f p = R * from.means[i] + t;
-    const float r = std::hypot(p.x(), p.y());
-    if (r > reach || r < 1.0f || !to.counts(p)) continue;
+    const float r = horizontal(p);
+    if (r > reach || r < 1.0f || !inBand(to, p, r)) continue;
     ++c.covered;
-    if (r < to.nearest[binOf(std::atan2(p.y(), p.x()), to)] - margin - margin_ratio * r) ++c.violating;
+    if (r < to.nearest[binOf(direction(p.y(), p.x()), to)] - margin - margin_ratio * r) ++c.violating;
   }
   return c;
 }
