@@ -1,8 +1,8 @@
 #!/usr/bin/env python3
 """Sums the JUnit XML files catkin writes under build/test_results and prints one line per test file
 and the totals as `N passed, N failed` (the line CI counts). A rostest whose test node never reported (a
-crash or a time-out) also gets rostest's own message and the end of the launch's output, just above the
-totals, where a CI log's tail shows them. Exit status 1 when anything failed or no test ran at all."""
+crash or a time-out) also gets rostest's own message, the end of the launch's output and the end of each
+dead process's log, just above the totals, where a CI log's tail shows them. Exit status 1 when anything failed or no test ran at all."""
 import glob
 import os
 import re
@@ -40,7 +40,8 @@ TAIL_LINES = 25
 
 
 def launch_details(path):
-    """rostest's message for a test node that never reported, and the end of the launch's output."""
+    """rostest's message for a test node that never reported, the end of the launch's output and the end of
+    each dead process's log."""
     try:
         root = ET.parse(path).getroot()
     except ET.ParseError:
