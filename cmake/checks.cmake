@@ -21,6 +21,10 @@ catkin_run_tests_target(launch files launch_files.xml
 catkin_run_tests_target(package doc_links doc_links.xml
   COMMAND "${PYTHON_EXECUTABLE} ${PROJECT_SOURCE_DIR}/test/package/check_doc_links.py --package ${PROJECT_SOURCE_DIR} --xunit ${CATKIN_TEST_RESULTS_DIR}/${PROJECT_NAME}/doc_links.xml")
 
+# scripts/measure/peers.py, which measures other programs beside this package for the results page.
+catkin_run_tests_target(tools peer_measurement peer_measurement.xml
+  COMMAND "${PYTHON_EXECUTABLE} ${PROJECT_SOURCE_DIR}/test/tools/check_peer_measurement.py --xunit ${CATKIN_TEST_RESULTS_DIR}/${PROJECT_NAME}/peer_measurement.xml")
+
 # The install space as a user gets it (scripts/dev/test installs first and turns this on): the package found
 # there, its launch files' nodes up with their topics, the evaluator through rosrun.
 option(SCL_TEST_INSTALL_SPACE "run_tests also checks the install space (install it first)" OFF)

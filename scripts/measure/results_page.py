@@ -16,6 +16,9 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import peers as peer_cpu  # noqa: E402
+
 # README's groups of sequences: a row each, with the range over its sequences.
 GROUPS = [
     ("KITTI 00 and 08 trajectories (HDL-64E, VLP-16, OS1-64)",
@@ -162,7 +165,7 @@ def cost_table(rows):
     return out
 
 
-def summary_table(rows):
+def summary_table(rows, peers=None):
     out = ["| sequences | plain Scan Context: recall @100% precision | this package, defaults: verified "
            "precision / recall |", "|---|---|---|"]
     for title, member in GROUPS:
@@ -172,8 +175,32 @@ def summary_table(rows):
         out.append("| %s | %s | %s / %s |" % (title, span([plain(r) for r in group]),
                                             span([verified(r, "precision") for r in group]),
                                             span([verified(r, "recall") for r in group])))
-    out.append("| Contour Context (ICRA 2023) | not run by this repository's harness | |")
+    measured = [p for p in (peers or {}).get("programs", []) if p != peer_cpu.OURS]
+    for p in measured:
+        r = peer_cpu.ratios(peers, p)
+        out.append("| %s, measured beside it | whole-process CPU a keyframe, this package / %s: %s | |" % (
+            p, p, ("%sx (%d sequence%s)" % (span(r, 2), len(r), "" if len(r) == 1 else "s")) if r else "n/a (failed)"))
+    if not measured:
+        out.append("| Contour Context (ICRA 2023), the published Scan Context code | not on the machine that made "
+                   "these figures (`SCL_PEERS` measures them beside this package) | |")
     return out
+
+
+def peers_section(peers):
+    """The page's comparison with other programs (peers.py's output), or how to get one."""
+    out = ["", "## Against other programs", ""]
+    if not peers:
+        return out + [
+            "No other program was measured for this page. `SCL_PEERS=FILE scripts/measure/results` runs the "
+            "programs FILE names (the published Scan Context code, Contour Context, ...) beside this package's "
+            "evaluator on the same sequences and writes this section ([benchmark](benchmark.md#other-programs))."]
+    return out + [
+        "`scripts/measure/peers.py`, in the same run as the rest of this page: the CPU time (user + system) of "
+        "each whole process tree, from start to exit, divided by the sequence's keyframes; this package is its "
+        "evaluator with the defaults (reading, describing, searching, verifying, the reference pose graph and "
+        "the output files). Each sequence's scans were read once before, and the programs took turns, %d "
+        "run%s each; the median is shown ([benchmark](benchmark.md#other-programs))." % (
+            peers["runs"], "" if peers["runs"] == 1 else "s"), ""] + peer_cpu.table(peers)
 
 
 def recall_plot(rows, path):
@@ -229,12 +256,14 @@ def main():
     a.add_argument("--bench", required=True)
     a.add_argument("--bench-database", default="")
     a.add_argument("--soak", default="")
+    a.add_argument("--peers", default="", help="peers.py's output, if other programs were measured")
     a.add_argument("--repo", required=True)
     a.add_argument("sequences", nargs="+")
     args = a.parse_args()
     rows = [sequence_row(args.baseline, n) for n in args.sequences]
     if not any(r["default"] for r in rows):
         sys.exit("no evaluation under %s: run scripts/measure/results without --page first" % args.baseline)
+    peers = load(args.peers) if args.peers else None
     doc = os.path.join(args.repo, "doc")
     recall_plot(rows, os.path.join(doc, "results_recall.png"))
     page = ["# Results", "",
@@ -244,7 +273,7 @@ def main():
             "A loop counts as true within 1 m and 2 deg (full rotation) of the truth. *Plain Scan Context* is "
             "the published method's stages alone: the descriptor, the ring-key search and the column shift "
             "(verification, lateral viewpoints, gravity alignment and the odometry gate off).", "",
-            "## Summary", ""] + summary_table(rows) + [
+            "## Summary", ""] + summary_table(rows, peers) + [
             "", "![verified recall per sequence](results_recall.png)", "",
             "## Per sequence", ""] + sequence_table(rows) + [
             "", "## Trajectory error", "",
@@ -260,9 +289,8 @@ def main():
             "viewpoints, the search, the registration data and verification, with the defaults; and the same with "
             "plain Scan Context's stages only, in the same run. The reference pose graph and the output files "
             "come after and are not in it. The descriptor and search columns are wall times per "
-            "keyframe with the defaults (the real viewpoint and both lateral ones). The published Scan Context code and Contour Context are not run by "
-            "this harness, so no ratio to them is given here. [Performance](performance.md) says where the time "
-            "goes.", ""] + cost_table(rows)
+            "keyframe with the defaults (the real viewpoint and both lateral ones). [Performance](performance.md) "
+            "says where the time goes.", ""] + cost_table(rows) + peers_section(peers)
     bench = open(args.bench).read().strip() if os.path.exists(args.bench) else ""
     page += ["", "## Benchmark", "",
              "`scripts/measure/bench` on the real KITTI scans in `../shared/data`: one thread, the database grown "
@@ -282,7 +310,7 @@ def main():
     with open(os.path.join(doc, "results.md"), "w") as f:
         f.write("\n".join(page) + "\n")
     replace_between(os.path.join(args.repo, "README.md"), "<!-- results:begin -->", "<!-- results:end -->",
-                    summary_table(rows))
+                    summary_table(rows, peers))
 
 
 if __name__ == "__main__":
