@@ -87,8 +87,9 @@ def run_measured(command, log_path, timeout):
             _, status, usage = os.wait4(process.pid, 0)
         finally:
             timer.cancel()
-        process.returncode = os.WEXITSTATUS(status) if os.WIFEXITED(status) else -os.WTERMSIG(status)
-    return usage.ru_utime + usage.ru_stime, (None if timed_out.is_set() else process.returncode)
+        code = os.WEXITSTATUS(status) if os.WIFEXITED(status) else -os.WTERMSIG(status)
+        process.returncode = code  # reaped by wait4: Popen must not wait for it again
+    return usage.ru_utime + usage.ru_stime, (None if timed_out.is_set() else code)
 
 
 def warm(scans):
