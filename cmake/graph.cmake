@@ -5,7 +5,7 @@ if(NOT SCL_WITH_BACKEND)
   return()
 endif()
 add_library(scan_context_loop_graph src/graph/pose_graph.cpp src/graph/keyframe_map.cpp src/graph/pose_graph_settings.cpp
-  src/graph/map_files.cpp)
+  src/graph/map_files.cpp src/graph/map_set.cpp)
 target_include_directories(scan_context_loop_graph PUBLIC include ${EIGEN3_INCLUDE_DIRS} ${PCL_INCLUDE_DIRS})
 # Ceres 1.14 exports no Ceres::ceres target: its CMake package names its library in CERES_LIBRARIES.
 target_include_directories(scan_context_loop_graph PRIVATE ${CERES_INCLUDE_DIRS})
@@ -21,9 +21,13 @@ if(CATKIN_ENABLE_TESTING)
   catkin_add_gtest(test_graph test/test_main.cpp test/graph/test_pose_graph.cpp test/graph/test_pose_graph_chains.cpp
     test/graph/test_keyframe_map.cpp
     test/graph/test_map_files.cpp
+    test/graph/rename_faults.cpp
     test/graph/test_relative_pose_cost.cpp)
   # The map files are read back with PCL's own PCD reader; the factor's Jacobians are checked against
   # Ceres's automatic ones through the library's private header.
   target_include_directories(test_graph PRIVATE src/graph ${CERES_INCLUDE_DIRS})
-  target_link_libraries(test_graph scan_context_loop_graph scan_context_loop_eval ${PCL_IO_LIBRARIES} ${CERES_LIBRARIES})
+  # rename_faults.cpp stands in for rename() and renameat2() (a save killed part-way), reaching libc's
+  # through dlsym.
+  target_link_libraries(test_graph scan_context_loop_graph scan_context_loop_eval ${PCL_IO_LIBRARIES} ${CERES_LIBRARIES}
+    ${CMAKE_DL_LIBS})
 endif()

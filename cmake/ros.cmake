@@ -15,6 +15,7 @@ add_library(scan_context_loop_ros
   src/ros/corrected_poses.cpp
   src/ros/team_exchange.cpp
   src/ros/team_worker.cpp
+  src/ros/service_deadline.cpp
   src/ros/keyframe_queue.cpp
   src/ros/keyframe_input.cpp
   src/ros/keyframe_processor.cpp
@@ -185,6 +186,13 @@ if(CATKIN_ENABLE_TESTING)
   target_link_libraries(test_ros_team_input scan_context_loop_ros_harness ${GTEST_LIBRARIES})
   add_dependencies(tests test_ros_team_input)
   add_rostest(test/ros/team_input.test DEPENDENCIES test_ros_team_input loop_closure_node scan_context_loop_nodelet)
+  # A hostile peer: a flood of records, services that never answer, a bad node name, a claim to another
+  # robot's id; an unload in the middle of a hung request.
+  add_executable(test_ros_team_hostile EXCLUDE_FROM_ALL test/ros/test_team_hostile.cpp)
+  target_link_libraries(test_ros_team_hostile scan_context_loop_ros_harness ${GTEST_LIBRARIES})
+  add_dependencies(tests test_ros_team_hostile)
+  add_rostest(test/ros/team_hostile.test
+    DEPENDENCIES test_ros_team_hostile loop_closure_node scan_context_loop_nodelet)
 
   # One bag played again and again (rosbag play -l): each pass a session that closes loops into the first.
   file(GENERATE OUTPUT ${PROJECT_BINARY_DIR}/test/ros/fast_lio_replayed.test CONTENT

@@ -15,6 +15,8 @@ if(SCL_BUILD_TOOLS)
   target_link_libraries(scan_context_bench scan_context_loop_eval scan_context_loop_cli ${PCL_FILTERS_LIBRARIES})
   add_executable(scan_context_bench_database tools/bench_database.cpp)
   target_link_libraries(scan_context_bench_database scan_context_loop_eval scan_context_loop_cli)
+  add_executable(scan_context_bench_team tools/bench_team.cpp)
+  target_link_libraries(scan_context_bench_team scan_context_loop_eval scan_context_loop_cli)
 endif()
 
 # doc/parameters.md from the settings tables of both nodes (the pose_graph node's come with the backend):

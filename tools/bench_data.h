@@ -2,7 +2,9 @@
 // them (synthetic, but with the real scans' structure).
 #pragma once
 
+#include <cmath>
 #include <cstdio>
+#include <memory>
 #include <random>
 #include <string>
 #include <vector>
@@ -10,7 +12,10 @@
 #include <pcl/point_cloud.h>
 #include <pcl/point_types.h>
 
+#include <Eigen/Geometry>
+
 #include "scan_context_loop/eval/kitti_io.h"
+#include "scan_context_loop/core/database_file.h"
 #include "scan_context_loop/core/descriptor.h"
 
 namespace scan_context_loop {
@@ -68,6 +73,31 @@ class GridStream {
   std::mt19937 rng_;
   std::size_t count_ = 0;
 };
+
+/// `count` keyframes in one session: synthetic descriptors, stamps 0.1 s apart, poses 1 m apart along a
+/// gently winding path; with `clouds`, each keyframe gets one of them in turn. `seed` draws the grids.
+inline PriorSessions makeKeyframes(std::size_t count, const std::vector<HeightGrid>& grids,
+                                   const std::vector<VoxelCloud>& clouds, const Config& config,
+                                   std::uint32_t seed = 7) {
+  PriorSessions sessions;
+  GridStream stream(grids, seed);
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  for (std::size_t i = 0; i < count; ++i) {
+    Keyframe k;
+    k.info.stamp = 0.1 * static_cast<double>(i);
+    k.info.tag = static_cast<std::int64_t>(i);
+    k.info.pose = pose;
+    k.path_length = static_cast<double>(i);
+    k.descriptor = makeDescriptor(stream.next(), config);
+    sessions.keyframes.push_back(std::move(k));
+    pose = pose * Eigen::Translation3d(1.0, 0.0, 0.0) * Eigen::AngleAxisd(0.01 * std::sin(0.001 * i), Eigen::Vector3d::UnitZ());
+    if (!clouds.empty()) {
+      sessions.gravity_alignment.push_back(Eigen::Matrix3f::Identity());
+      sessions.clouds.push_back(std::make_unique<VoxelCloud>(clouds[i % clouds.size()]));
+    }
+  }
+  return sessions;
+}
 
 }  // namespace bench
 }  // namespace scan_context_loop

@@ -34,30 +34,6 @@ namespace {
 
 double secondsSince(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
-/// `count` keyframes in one session: synthetic descriptors, stamps 0.1 s apart, poses 1 m apart along a
-/// gently winding path; with `clouds`, each keyframe gets one of them in turn.
-scl::PriorSessions makeKeyframes(std::size_t count, const std::vector<scl::HeightGrid>& grids,
-                                 const std::vector<scl::VoxelCloud>& clouds, const scl::Config& config) {
-  scl::PriorSessions sessions;
-  scl::bench::GridStream stream(grids, 7);
-  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
-  for (std::size_t i = 0; i < count; ++i) {
-    scl::Keyframe k;
-    k.info.stamp = 0.1 * static_cast<double>(i);
-    k.info.tag = static_cast<std::int64_t>(i);
-    k.info.pose = pose;
-    k.path_length = static_cast<double>(i);
-    k.descriptor = scl::makeDescriptor(stream.next(), config);
-    sessions.keyframes.push_back(std::move(k));
-    pose = pose * Eigen::Translation3d(1.0, 0.0, 0.0) * Eigen::AngleAxisd(0.01 * std::sin(0.001 * i), Eigen::Vector3d::UnitZ());
-    if (!clouds.empty()) {
-      sessions.gravity_alignment.push_back(Eigen::Matrix3f::Identity());
-      sessions.clouds.push_back(std::make_unique<scl::VoxelCloud>(clouds[i % clouds.size()]));
-    }
-  }
-  return sessions;
-}
-
 /// Another process's small file writes beside a save (a rosbag, a log): every 10 ms a few bytes are
 /// written to a file in `directory` and renamed into place, while the save runs. The longest one [s].
 class NeighbourWrites {
@@ -96,7 +72,7 @@ bool measure(const char* what, std::size_t count, const std::vector<scl::HeightG
   double snapshot_seconds = 0.0, save_seconds = 0.0, neighbour_seconds = 0.0;
   {
     scl::LoopDetector detector(config);
-    if (!detector.appendSessions(makeKeyframes(count, grids, clouds, config), &error)) {
+    if (!detector.appendSessions(scl::bench::makeKeyframes(count, grids, clouds, config), &error)) {
       std::fprintf(stderr, "%s\n", error.c_str());
       return false;
     }
@@ -231,7 +207,7 @@ int writeOnly(const std::string& path, std::size_t count, const std::vector<scl:
   scl::LoopDetector detector(config);
   std::string error;
   const auto t0 = Clock::now();
-  bool ok = detector.appendSessions(makeKeyframes(count, grids, {}, config), &error);
+  bool ok = detector.appendSessions(scl::bench::makeKeyframes(count, grids, {}, config), &error);
   ok = ok && scl::writeDatabase(scl::DatabaseSnapshot(detector, false), path, false, &error);
   if (!ok) {
     std::fprintf(stderr, "%s\n", error.c_str());

@@ -213,6 +213,11 @@ std::size_t descriptorBytes(std::size_t rings, std::size_t sectors, std::uint32_
   const std::size_t column_entry = version == kFloatColumnsVersion ? 4 : 1;
   return 4 + column_entry * rings * sectors + sectors + 4 * rings + 4 * sectors;
 }
+
+/// Descriptors of a database whose arrays take less than this go on the heap, not in a BlockArena of
+/// their own (a 2 MB block at least, doc/multi_robot.md: a team's records).
+constexpr std::size_t kArenaMinBytes = std::size_t(1) << 20;
+
 /// What a decoded descriptor's arrays take in a BlockArena at most (each aligned as malloc aligns).
 std::size_t descriptorMemory(std::size_t rings, std::size_t sectors) {
   return descriptorBytes(rings, sectors) + 4 * alignof(std::max_align_t);
@@ -517,6 +522,25 @@ DatabaseSnapshot::DatabaseSnapshot(const LoopDetector& detector, bool include_cl
   for (auto& cloud : clouds_) cloud.first -= begin;
 }
 
+void DatabaseSnapshot::holdCloudsWeakly() {
+  for (const auto& [index, cloud] : clouds_) weak_clouds_.emplace_back(index, cloud);
+  clouds_.clear();
+}
+
+DatabaseSnapshot DatabaseSnapshot::strengthened(bool* complete) const {
+  DatabaseSnapshot out = *this;
+  out.weak_clouds_.clear();
+  *complete = true;
+  for (const auto& [index, weak] : weak_clouds_) {
+    if (std::shared_ptr<const VoxelCloud> cloud = weak.lock()) {
+      out.clouds_.emplace_back(index, std::move(cloud));
+    } else {
+      *complete = false;
+    }
+  }
+  return out;
+}
+
 template <typename Sink>
 bool writeImage(const DatabaseSnapshot& snapshot, Sink* file, std::string* error) {
   const ChunkedLog<const Keyframe*>::View& keyframes = snapshot.keyframes_;
@@ -653,14 +677,16 @@ bool readDatabase(ByteSource* source, const std::string& name, const Config& con
   adviseHugePages(loaded.keyframes.data(), header.keyframes * sizeof(Keyframe));
   // The descriptors' arrays, most of the memory, in one arena: far fewer page faults in a new process.
   // Both it and the records are set up by the kernel on another thread while the records are decoded
-  // into them (PageWarmer).
+  // into them (PageWarmer). A few keyframes (a record a robot of a team shares, a keyframe's registration
+  // data) go on the heap instead: an arena maps at least 2 MB, which each of them would keep alive.
   const std::size_t arena_bytes = header.keyframes * descriptorMemory(rings, sectors);
-  const BlockArena::Handle arena = BlockArena::create(arena_bytes);
-  const PageWarmer warmer({arena->reserve(arena_bytes),
+  const BlockArena::Handle arena = arena_bytes >= kArenaMinBytes ? BlockArena::create(arena_bytes) : nullptr;
+  std::pmr::memory_resource* const memory = arena ? arena.get() : std::pmr::get_default_resource();
+  const PageWarmer warmer({arena ? arena->reserve(arena_bytes) : BlockArena::Range(),
                            {reinterpret_cast<char*>(loaded.keyframes.data()), header.keyframes * sizeof(Keyframe)}});
   std::vector<float> float_columns;  // a version-1 record's unit columns before they are quantised
   for (std::size_t i = 0; i < header.keyframes; ++i) {
-    Keyframe& k = loaded.keyframes.emplace_back(Keyframe{KeyframeInfo(), Descriptor(arena.get()), 0.0, 0, false});
+    Keyframe& k = loaded.keyframes.emplace_back(Keyframe{KeyframeInfo(), Descriptor(memory), 0.0, 0, false});
     if (const std::string problem =
             decodeKeyframe(&payload, version, rings, sectors, header.settings.ring_key, &float_columns, &k);
         !problem.empty()) {

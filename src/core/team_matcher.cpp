@@ -22,10 +22,12 @@ std::vector<std::uint8_t> keyframeCloud(const LoopDetector& detector, std::size_
   return encodeDatabase(DatabaseSnapshot(detector, true, nullptr, index, 1));
 }
 
+const char* const kRobotIdRule = "1-64 characters of [A-Za-z0-9_], the first a letter";
+
 bool validRobotId(const std::string& robot) {
-  return !robot.empty() && robot.size() <= 64 && std::all_of(robot.begin(), robot.end(), [](char c) {
-    return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_';
-  });
+  const auto letter = [](char c) { return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z'); };
+  return !robot.empty() && robot.size() <= 64 && letter(robot.front()) &&
+         std::all_of(robot.begin(), robot.end(), [&](char c) { return letter(c) || (c >= '0' && c <= '9') || c == '_'; });
 }
 
 namespace {
@@ -49,7 +51,7 @@ TeamMatcher::TeamMatcher(const Config& config) : detector_(config) {}
 TeamMatcher::Added TeamMatcher::add(const TeamKeyframeId& id, std::uint32_t session, const std::uint8_t* image,
                                     std::size_t size, std::string* error) {
   if (!validRobotId(id.robot)) {
-    if (error) *error = "robot id \"" + id.robot.substr(0, 64) + "\" is not 1-64 characters of [A-Za-z0-9_]";
+    if (error) *error = "robot id \"" + id.robot.substr(0, 64) + "\" is not " + kRobotIdRule;
     return Added::kRefused;
   }
   if (has(id)) return Added::kDuplicate;
@@ -96,6 +98,27 @@ bool TeamMatcher::attachCloud(const TeamKeyframeId& id, const std::uint8_t* imag
 void TeamMatcher::fetchFailed(const TeamKeyframeId& id) {
   const auto it = index_.find(id);
   if (it != index_.end() && data_[it->second] != Data::kHeld) data_[it->second] = Data::kFailed;
+}
+
+void TeamMatcher::fetchLater(const TeamKeyframeId& id) {
+  const auto it = index_.find(id);
+  if (it == index_.end() || data_[it->second] != Data::kAsked) return;
+  data_[it->second] = Data::kLater;
+  later_.push_back(it->second);
+}
+
+void TeamMatcher::retryLater() {
+  for (std::size_t i : later_) {
+    if (data_[i] == Data::kLater) data_[i] = Data::kNone;
+  }
+  later_.clear();
+}
+
+std::size_t TeamMatcher::recordBytes() const {
+  // An id: its text in the vector and the index (a map node), its session and state, and its number
+  // in the per-run set (a set node).
+  constexpr std::size_t kIdBytes = 2 * sizeof(TeamKeyframeId) + 64 + sizeof(std::uint32_t) + 1 + 48;
+  return size() * (detector_.database().bytesPerKeyframe() + kIdBytes);
 }
 
 TeamMatch TeamMatcher::match(const PointView& points, std::size_t max_fetch) {

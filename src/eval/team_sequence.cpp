@@ -18,7 +18,7 @@ bool parseRobot(const std::string& line, TeamStart* robot, std::string* why) {
   std::istringstream in(line);
   in >> robot->id;
   if (!validRobotId(robot->id)) {
-    *why = "robot id '" + robot->id.substr(0, 64) + "' is not 1-64 characters of [A-Za-z0-9_]";
+    *why = "robot id '" + robot->id.substr(0, 64) + "' is not " + kRobotIdRule;
     return false;
   }
   if (!(in >> robot->start_seconds) || !std::isfinite(robot->start_seconds) || robot->start_seconds < 0.0) {

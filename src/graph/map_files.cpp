@@ -1,4 +1,6 @@
 #include "scan_context_loop/graph/map_files.h"
+#include "scan_context_loop/graph/map_set.h"
+#include "scan_context_loop/core/team_matcher.h"
 
 #include <algorithm>
 #include <cerrno>
@@ -7,6 +9,7 @@
 #include <cstdio>
 #include <cstring>
 #include <map>
+#include <set>
 #include <memory>
 
 #include <Eigen/Cholesky>
@@ -186,9 +189,7 @@ std::string inconsistency(const MapFiles& files) {
     if (!why.empty()) return why;
   }
   for (const MapRobot& robot : files.robots) {
-    const bool named = !robot.id.empty() && robot.id.find_first_not_of(
-        "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789_") == std::string::npos;
-    if (!named) return "the robot id \"" + robot.id + "\" is not [A-Za-z0-9_]+";
+    if (!validRobotId(robot.id)) return "the robot id \"" + robot.id + "\" is not " + kRobotIdRule;
     const std::string why = increasing(robot.keyframes, "robot " + robot.id + ": ");
     if (!why.empty()) return why;
   }
@@ -304,6 +305,7 @@ bool writeAll(const std::string& directory, const MapFiles& files, MapFilesRepor
   for (const std::string& name : mapFileNames(true, robot_ids)) {
     for (AbandonedFile& file : removeAbandonedTemporaries(prefix + name)) done->abandoned.push_back(std::move(file));
   }
+  for (AbandonedFile& file : removeAbandonedSwaps(directory)) done->abandoned.push_back(std::move(file));
   // Each trajectory file's text: the whole graph's for one robot, each robot's own with robots.
   std::map<std::string, std::string> texts;
   const auto trajectories = [&](const std::string& suffix, const std::vector<std::size_t>* keyframes) {
@@ -318,12 +320,22 @@ bool writeAll(const std::string& directory, const MapFiles& files, MapFilesRepor
   for (const MapRobot& robot : files.robots) trajectories("_" + robot.id + ".txt", &robot.keyframes);
   if (!files.robots.empty()) texts["frames.txt"] = framesText(files.robots);
   texts["pose_graph.g2o"] = g2oText(files);
+  // The new set goes into a directory beside this one and takes its place in one step (map_set.h); where
+  // that cannot be had (a directory holding subdirectories, no room beside it, no hard links), each file
+  // is still replaced whole, after all of them are written.
+  const std::vector<std::string> every_name = mapFileNames(true, robot_ids);
+  DirectorySwap swap;
+  std::string no_swap;
+  const bool as_set = swap.open(directory, std::set<std::string>(every_name.begin(), every_name.end()), &no_swap);
+  const std::string write_prefix = as_set ? swap.staging() + "/" : prefix;
+  const std::string stale = prefix + kCloudFile;
+  const bool had_cloud = ::access(stale.c_str(), F_OK) == 0;
   std::vector<std::unique_ptr<AtomicFileWriter>> writers;
   for (const std::string& name : mapFileNames(files.has_cloud, robot_ids)) {
     const std::string path = prefix + name;
     writers.emplace_back(new AtomicFileWriter);
     AtomicFileWriter* file = writers.back().get();
-    if (!file->open(path, error)) return false;  // the writers made so far remove their temporary files
+    if (!file->open(write_prefix + name, error)) return false;  // the writers made so far remove theirs
     if (name == kCloudFile) {
       if (!writeCloud(file, files.cloud, error)) return false;
       done->bytes.push_back(pcdHeader(files.cloud).size() + files.cloud.size() * 3 * sizeof(float));
@@ -334,13 +346,16 @@ bool writeAll(const std::string& directory, const MapFiles& files, MapFilesRepor
     }
     done->files.push_back(path);
   }
-  // Everything is in temporary files: now the renames (each flushed first).
+  // Everything is in temporary files: now the renames (each flushed first), then the swap.
   for (auto& file : writers) {
     if (!file->commit(error)) return false;
   }
-  // An older map.pcd would sit beside a trajectory it does not match.
-  const std::string stale = prefix + kCloudFile;
-  if (!files.has_cloud && ::unlink(stale.c_str()) == 0) done->removed_stale_cloud = stale;
+  if (as_set && !swap.commit(error)) return false;
+  // An older map.pcd would sit beside a trajectory it does not match (a swap left it behind already).
+  if (!files.has_cloud && had_cloud) {
+    const bool gone = (as_set && swap.exchanged()) || ::unlink(stale.c_str()) == 0;
+    if (gone) done->removed_stale_cloud = stale;
+  }
   return true;
 }
 

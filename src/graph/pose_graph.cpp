@@ -130,10 +130,29 @@ PoseGraph::PoseGraph(const PoseGraphConfig& config) : config_(config), impl_(std
 
 PoseGraph::~PoseGraph() = default;
 
+namespace {
+
+/// Whether `pose` can be a keyframe's: finite, within kMaxCoordinate, its rotation one.
+bool usablePose(const Eigen::Isometry3d& pose) {
+  return pose.translation().allFinite() && pose.translation().cwiseAbs().maxCoeff() <= PoseGraph::kMaxCoordinate &&
+         isRotation(pose.linear());
+}
+
+}  // namespace
+
 long PoseGraph::addKeyframe(const Eigen::Isometry3d& odometry_pose, std::size_t chain) {
-  if (!odometry_pose.translation().allFinite() || !isRotation(odometry_pose.linear())) return -1;
-  if (chain >= kMaxChains) return -1;
+  if (!usablePose(odometry_pose) || chain >= kMaxChains) return -1;
   Impl& g = *impl_;
+  const Impl::Chain previous = chain < g.chains.size() ? g.chains[chain] : Impl::Chain();
+  Eigen::Isometry3d estimate = odometry_pose, step = Eigen::Isometry3d::Identity();
+  Matrix6d covariance = Matrix6d::Identity(), sqrt_information = Matrix6d::Identity();
+  if (previous.last >= 0) {
+    step = odometry_[previous.last].inverse() * odometry_pose;
+    estimate = pose(previous.last) * step;
+    covariance = odometryCovariance(step, config_);
+    // Checked before anything is added: a factor must never carry an unset weight.
+    if (!usablePose(estimate) || !sqrtInformation(covariance, &sqrt_information)) return -1;
+  }
   while (g.chains.size() <= chain) {
     Impl::Chain c;
     c.group = g.chains.size();
@@ -141,11 +160,6 @@ long PoseGraph::addKeyframe(const Eigen::Isometry3d& odometry_pose, std::size_t 
     g.gauge.push_back(-1);
   }
   Impl::Chain& c = g.chains[chain];
-  Eigen::Isometry3d estimate = odometry_pose, step = Eigen::Isometry3d::Identity();
-  if (c.last >= 0) {
-    step = odometry_[c.last].inverse() * odometry_pose;
-    estimate = pose(c.last) * step;
-  }
   const long index = static_cast<long>(odometry_.size());
   g.addBlocks(estimate, static_cast<long>(chain));
   if (c.last < 0) {
@@ -154,9 +168,6 @@ long PoseGraph::addKeyframe(const Eigen::Isometry3d& odometry_pose, std::size_t 
     g.gauge[chain] = index;
   } else {
     const std::size_t a = static_cast<std::size_t>(c.last);
-    const Matrix6d covariance = odometryCovariance(step, config_);
-    Matrix6d sqrt_information;
-    sqrtInformation(covariance, &sqrt_information);  // diagonal, positive: always
     g.problem->AddResidualBlock(new RelativePoseCost(step, sqrt_information), nullptr, g.positions[a].data(),
                                 g.rotations[a].coeffs().data(), g.positions.back().data(),
                                 g.rotations.back().coeffs().data());
@@ -168,7 +179,7 @@ long PoseGraph::addKeyframe(const Eigen::Isometry3d& odometry_pose, std::size_t 
 }
 
 long PoseGraph::addFixedKeyframe(const Eigen::Isometry3d& stored_pose) {
-  if (!stored_pose.translation().allFinite() || !isRotation(stored_pose.linear())) return -1;
+  if (!usablePose(stored_pose)) return -1;
   const long index = static_cast<long>(odometry_.size());
   impl_->addBlocks(stored_pose, -1);
   impl_->setHeld(index, true);

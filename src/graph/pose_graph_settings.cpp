@@ -4,6 +4,7 @@
 #include <sstream>
 
 #include "../core/setting_rows.h"
+#include "scan_context_loop/core/team_matcher.h"
 
 namespace scan_context_loop {
 
@@ -55,10 +56,7 @@ std::vector<std::string> words(const std::string& text) {
 std::string robotsRule(const PoseGraphOptions& o) {
   const std::vector<std::string> ids = words(o.robots);
   for (std::size_t i = 0; i < ids.size(); ++i) {
-    if (ids[i].find_first_not_of("ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789_") !=
-        std::string::npos) {
-      return "robot ids must be [A-Za-z0-9_]+ (\"" + ids[i] + "\" is not)";
-    }
+    if (!validRobotId(ids[i])) return std::string("robot ids must be ") + kRobotIdRule + " (\"" + ids[i] + "\" is not)";
     if (std::find(ids.begin(), ids.begin() + i, ids[i]) != ids.begin() + i) return "robot " + ids[i] + " is listed twice";
   }
   if (ids.size() > PoseGraph::kMaxChains) return "at most " + std::to_string(PoseGraph::kMaxChains) + " robots";

@@ -189,6 +189,7 @@ bool LoopClosureRos::onLoad(scan_context_loop::LoadDatabase::Request& request,
 bool LoopClosureRos::onReset(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& response) {
   const std::string failure = runOnWorker([&] {
     processor_->resetPipeline();
+    if (team_) team_->restart();  // the team hears of the reset even if a load refills the database at once
     corrected_->reset();
     counters_.database_size = 0;
     counters_.sessions = 1;

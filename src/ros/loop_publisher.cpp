@@ -146,8 +146,9 @@ void LoopPublisher::sendToLioSam(const scan_context_loop::LoopClosure& loop) {
   // LIO-SAM reads its loop hook one message at a time, once per loop-closure cycle (1 Hz by default):
   // send only verified loops (all when verification is off), one per keyframe, at most one per
   // lio_sam_min_interval; the rest are skipped and counted.
-  const ros::Time now = ros::Time::now();
-  const bool due = lio_last_sent_.isZero() || (now - lio_last_sent_).toSec() >= options_.lio_sam_min_interval;
+  // ROS time: a bag played again with --loop goes back in time, and the interval starts afresh.
+  const double now = ros::Time::now().toSec();
+  const bool due = lio_interval_.due(now, options_.lio_sam_min_interval);
   if ((config_.verification.enabled && !loop.verified) || loop.query_id == lio_last_query_ || !due) {
     ++counters_->lio_skipped;
     return;
@@ -155,7 +156,7 @@ void LoopPublisher::sendToLioSam(const scan_context_loop::LoopClosure& loop) {
   std_msgs::Float64MultiArray hook;
   hook.data = {loop.query_stamp.toSec(), loop.match_stamp.toSec()};
   lio_pub_.publish(hook);
-  lio_last_sent_ = now;
+  lio_interval_.record(now);
   lio_last_query_ = loop.query_id;
 }
 

@@ -76,6 +76,10 @@ void NodeDiagnostics::diagnose(diagnostic_updater::DiagnosticStatusWrapper& stat
     status.add("team loops dropped (no agreeing loop)", c.team_loops_dropped.load());
     status.add("team bytes sent", c.team_bytes_sent.load());
     status.add("team bytes received", c.team_bytes_received.load());
+    status.add("team claims refused (robot id bound to another node)", c.team_claims_refused.load());
+    status.add("team requests timed out", c.team_requests_timed_out.load());
+    status.add("team records refused (team_max_bytes)", c.team_records_over_limit.load());
+    status.add("team records memory [bytes]", c.team_record_bytes.load());
   }
   if (lio_sam_) status.add("loops not sent to LIO-SAM (not verified, repeated or too soon)", c.lio_skipped.load());
 }

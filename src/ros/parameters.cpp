@@ -53,7 +53,7 @@ std::vector<std::string> readParameters(const ros::NodeHandle& pnh, Config* c, R
   };
   check(!o->fixed_frame.empty() || o->pose_source != "tf", "fixed_frame must be set when pose_source is tf");
   check(o->mode != "relocalize" || c->verification.enabled, "mode relocalize needs verify: true");
-  check(o->robot_id.empty() || validRobotId(o->robot_id), "robot_id must be 1-64 characters of [A-Za-z0-9_]");
+  check(o->robot_id.empty() || validRobotId(o->robot_id), std::string("robot_id must be ") + kRobotIdRule);
   check(o->robot_id.empty() || o->mode == "detect", "robot_id (a team) needs mode detect");
   std::string why;
   check(ros::names::validate(o->team_namespace, why) && !o->team_namespace.empty(),

@@ -24,7 +24,7 @@ bool parseRobotList(XmlRpc::XmlRpcValue& value, std::vector<std::string>* robots
   std::set<std::string> seen;
   for (std::size_t i = 0; i < items.size(); ++i) {
     if (!validRobotId(items[i])) {
-      *error = "robots[" + std::to_string(i) + "] is not a robot id (1-64 characters of [A-Za-z0-9_])";
+      *error = "robots[" + std::to_string(i) + "] is not a robot id (" + kRobotIdRule + ")";
       return false;
     }
     const std::string robot = items[i];

@@ -54,14 +54,25 @@ void TeamExchange::start() {
   services.setCallbackQueue(&queue_);
   record_pub_ = team_nh_.advertise<scan_context_loop::KeyframeRecord>("keyframe_records", 1000);
   member_pub_ = team_nh_.advertise<scan_context_loop::TeamMember>("members", 10);
+  // With the publisher's name (from the connection header), which binds a robot id to its node.
   record_sub_ = team_nh_.subscribe<scan_context_loop::KeyframeRecord>(
-      "keyframe_records", 1000, [this](const scan_context_loop::KeyframeRecordConstPtr& record) {
-        if (record->robot != options_.robot_id) worker_->onRecord(record, bytesOf(*record));
-      });
+      "keyframe_records", 1000,
+      boost::function<void(const ros::MessageEvent<const scan_context_loop::KeyframeRecord>&)>(
+          [this](const ros::MessageEvent<const scan_context_loop::KeyframeRecord>& event) {
+            const auto& record = event.getConstMessage();
+            if (record->robot != options_.robot_id) {
+              worker_->onRecord(record, bytesOf(*record), event.getPublisherName());
+            }
+          }));
   member_sub_ = team_nh_.subscribe<scan_context_loop::TeamMember>(
-      "members", 100, [this](const scan_context_loop::TeamMemberConstPtr& member) {
-        if (member->robot != options_.robot_id) worker_->onMember(member, bytesOf(*member));
-      });
+      "members", 100,
+      boost::function<void(const ros::MessageEvent<const scan_context_loop::TeamMember>&)>(
+          [this](const ros::MessageEvent<const scan_context_loop::TeamMember>& event) {
+            const auto& member = event.getConstMessage();
+            if (member->robot != options_.robot_id) {
+              worker_->onMember(member, bytesOf(*member), event.getPublisherName());
+            }
+          }));
   records_srv_ = services.advertiseService("team_records", &TeamExchange::onRecords, this);
   cloud_srv_ = services.advertiseService("team_cloud", &TeamExchange::onCloud, this);
   announce_timer_ = team_nh_.createWallTimer(ros::WallDuration(1.0), [this](const ros::WallTimerEvent&) { announce(); });
@@ -102,7 +113,7 @@ void TeamExchange::share(const LoopDetector& detector, const std::shared_ptr<con
   {
     std::lock_guard<std::mutex> lock(served_mutex_);
     if (database.size() < served_.size()) {
-      // A reset: the keyframe numbers start again, under a new run.
+      // Emptied by other means than restart(): the keyframe numbers start again, under a new run.
       served_.clear();
       run_ = newRun();
     }
@@ -118,6 +129,7 @@ void TeamExchange::share(const LoopDetector& detector, const std::shared_ptr<con
       record->settings = settings_crc_;
       record->data = keyframeRecord(detector, i);
       served_.push_back({record, DatabaseSnapshot(detector, true, owner, i, 1)});
+      served_.back().data.holdCloudsWeakly();  // the cloud store's budget frees its data all the same
       fresh.push_back(record);
     }
   }
@@ -131,6 +143,12 @@ void TeamExchange::share(const LoopDetector& detector, const std::shared_ptr<con
     ++counters_->team_records_sent;
     counters_->team_bytes_sent += bytes * std::max<std::size_t>(1, record_pub_.getNumSubscribers());
   }
+}
+
+void TeamExchange::restart() {
+  std::lock_guard<std::mutex> lock(served_mutex_);
+  served_.clear();
+  run_ = newRun();
 }
 
 void TeamExchange::announce() {
@@ -180,7 +198,13 @@ bool TeamExchange::onCloud(scan_context_loop::GetKeyframeCloud::Request& request
                          " shared)";
       return true;
     }
-    data = served_[request.keyframe].data;  // encoded outside the lock
+    bool complete = true;
+    data = served_[request.keyframe].data.strengthened(&complete);  // encoded outside the lock
+    if (!complete) {
+      response.message = "the registration data of keyframe " + std::to_string(request.keyframe) +
+                         " are no longer kept here (verify_max_bytes)";
+      return true;
+    }
   }
   response.data = encodeDatabase(data);
   response.ok = answer(bytesOf(response), &response.message);

@@ -45,6 +45,22 @@ std::string differences(const std::string& theirs, const std::string& ours) {
   return out.empty() ? "their settings text differs from ours" : out;
 }
 
+/// Text a peer chose, for a log line: at most 64 characters, anything unprintable as '?'.
+std::string peerText(const std::string& text) {
+  constexpr std::size_t kMax = 64;
+  std::string out = text.substr(0, kMax);
+  for (char& c : out) {
+    if (c < 0x20 || c > 0x7e) c = '?';
+  }
+  return text.size() > kMax ? out + "..." : out;
+}
+
+/// Whether `node` can name a node's services: an absolute, valid ROS name of reasonable length.
+bool validNodeName(const std::string& node) {
+  std::string error;
+  return node.size() > 1 && node.size() <= 256 && node.front() == '/' && ros::names::validate(node, error);
+}
+
 }  // namespace
 
 TeamWorker::TeamWorker(const std::string& name, const Config& config, const RosOptions& options,
@@ -57,18 +73,44 @@ TeamWorker::TeamWorker(const std::string& name, const Config& config, const RosO
 TeamWorker::~TeamWorker() { stop(); }
 
 void TeamWorker::stop() {
+  deadline_.stop();  // a call in progress ends now: the client's thread is free to stop
   client_.stop();
   matcher_thread_.stop();
 }
 
-void TeamWorker::onRecord(const scan_context_loop::KeyframeRecordConstPtr& record, std::size_t bytes) {
+void TeamWorker::onRecord(const scan_context_loop::KeyframeRecordConstPtr& record, std::size_t bytes,
+                          const std::string& publisher) {
   counters_->team_bytes_received += bytes;
-  matcher_thread_.post([this, record] { addRecord(*record); });
+  matcher_thread_.post([this, record, publisher] { addRecord(*record, publisher); });
 }
 
-void TeamWorker::onMember(const scan_context_loop::TeamMemberConstPtr& member, std::size_t bytes) {
+void TeamWorker::onMember(const scan_context_loop::TeamMemberConstPtr& member, std::size_t bytes,
+                          const std::string& publisher) {
   counters_->team_bytes_received += bytes;
-  matcher_thread_.post([this, member] { takeMember(*member); });
+  matcher_thread_.post([this, member, publisher] { takeMember(*member, publisher); });
+}
+
+bool TeamWorker::claim(const std::string& robot, const std::string& node, const std::string& publisher) {
+  std::string why;
+  const auto bound = robots_.find(robot);
+  if (!validNodeName(node)) {
+    why = "its node name is not a valid ROS name";
+  } else if (bound == robots_.end()) {
+    if (robots_.size() < kMaxRobots) {
+      robots_[robot] = {node, publisher};
+      return true;
+    }
+    why = "this node already knows " + std::to_string(kMaxRobots) + " robots";
+  } else if (bound->second.node == node && (publisher.empty() || bound->second.publisher == publisher)) {
+    return true;
+  } else {
+    why = "the id is bound to node " + bound->second.node + " (published by " + bound->second.publisher + ")";
+  }
+  ++counters_->team_claims_refused;
+  ROS_WARN_THROTTLE_NAMED(10.0, name_, "team: robot id %s claimed by node %s (published by %s) refused: %s (%zu refused)",
+                          peerText(robot).c_str(), peerText(node).c_str(), peerText(publisher).c_str(),
+                          why.c_str(), counters_->team_claims_refused.load());
+  return false;
 }
 
 void TeamWorker::onOwnKeyframe(std::shared_ptr<const OwnKeyframe> keyframe) {
@@ -78,7 +120,7 @@ void TeamWorker::onOwnKeyframe(std::shared_ptr<const OwnKeyframe> keyframe) {
   }
 }
 
-void TeamWorker::addRecord(const scan_context_loop::KeyframeRecord& record) {
+void TeamWorker::addRecord(const scan_context_loop::KeyframeRecord& record, const std::string& publisher) {
   const Run run{record.robot, record.run};
   if (record.robot == options_.robot_id) return;  // this robot's own, echoed
   ++counters_->team_records_received;
@@ -87,28 +129,39 @@ void TeamWorker::addRecord(const scan_context_loop::KeyframeRecord& record) {
     ROS_ERROR_THROTTLE_NAMED(10.0, name_,
                              "team: keyframes of robot %s refused: its descriptor settings differ from ours (see "
                              "its announcement on %s/members)",
-                             record.robot.substr(0, 64).c_str(), options_.team_namespace.c_str());
+                             peerText(record.robot).c_str(), options_.team_namespace.c_str());
+    return;
+  }
+  if (!validRobotId(record.robot) || !claim(record.robot, record.node, publisher)) {
+    ++counters_->team_records_refused;
+    return;
+  }
+  const TeamKeyframeId id{record.robot, record.run, record.keyframe};
+  if (!matcher_.has(id) && matcher_.recordBytes() >= static_cast<std::size_t>(options_.team_max_bytes)) {
+    ++counters_->team_records_over_limit;
+    ROS_WARN_THROTTLE_NAMED(30.0, name_,
+                            "team: the other robots' records take %.1f MB, team_max_bytes: %zu more refused so far",
+                            matcher_.recordBytes() / 1e6, counters_->team_records_over_limit.load());
     return;
   }
   std::string error;
-  const TeamKeyframeId id{record.robot, record.run, record.keyframe};
   switch (matcher_.add(id, record.session, record.data.data(), record.data.size(), &error)) {
     case TeamMatcher::Added::kAdded:
       counters_->team_keyframes = matcher_.size();
-      if (nodes_.count(run) == 0 && !record.node.empty()) nodes_[run] = record.node;
+      counters_->team_record_bytes = matcher_.recordBytes();
       break;
     case TeamMatcher::Added::kDuplicate:
       ++counters_->team_records_duplicate;
       break;
     case TeamMatcher::Added::kRefused:
       ++counters_->team_records_refused;
-      ROS_ERROR_THROTTLE_NAMED(5.0, name_, "team: a record of robot %s refused: %s", record.robot.substr(0, 64).c_str(),
+      ROS_ERROR_THROTTLE_NAMED(5.0, name_, "team: a record of robot %s refused: %s", peerText(record.robot).c_str(),
                                error.c_str());
       break;
   }
 }
 
-void TeamWorker::takeMember(const scan_context_loop::TeamMember& member) {
+void TeamWorker::takeMember(const scan_context_loop::TeamMember& member, const std::string& publisher) {
   // This node's own announcement, or another run of this robot's node (before a restart): not ours to take.
   if (member.robot == options_.robot_id) return;
   const Run run{member.robot, member.run};
@@ -116,20 +169,30 @@ void TeamWorker::takeMember(const scan_context_loop::TeamMember& member) {
     ROS_ERROR_THROTTLE_NAMED(10.0, name_, "team: an announcement with an invalid robot id ignored");
     return;
   }
+  if (!claim(member.robot, member.node, publisher)) return;
+  // Data set aside after a slow node are asked for again once it has had time to recover.
+  const ros::WallTime now = ros::WallTime::now();
+  if ((now - last_retry_).toSec() >= kSlowPeerSeconds) {
+    matcher_.retryLater();
+    last_retry_ = now;
+  }
   if (member.settings != settings_crc_ || member.settings_text != settings_text_) {
+    if (refused_.size() >= kMaxRefused) refused_.clear();  // remembered to log once, and only so many
     if (refused_.insert(run).second) {
-      ROS_ERROR_NAMED(name_,
-                      "team: robot %s (node %s) is refused: its keyframes cannot be compared with ours: %s. Give "
-                      "every robot of a team the same descriptor and verification voxel settings",
-                      member.robot.c_str(), member.node.c_str(),
-                      differences(member.settings_text, settings_text_).c_str());
+      ROS_ERROR_THROTTLE_NAMED(10.0, name_,
+                               "team: robot %s (node %s) is refused: its keyframes cannot be compared with ours: %s. "
+                               "Give every robot of a team the same descriptor and verification voxel settings",
+                               peerText(member.robot).c_str(), peerText(member.node).c_str(),
+                               differences(member.settings_text, settings_text_).substr(0, 400).c_str());
     }
     return;
   }
-  nodes_[run] = member.node;
   const std::uint32_t first = matcher_.firstMissing(member.robot, member.run, member.keyframes);
-  if (first >= member.keyframes || asking_.count(run)) return;
-  asking_.insert(run);
+  if (first >= member.keyframes) return;
+  // A request under way is waited for; one whose answer never came back (a full queue) is forgotten.
+  const auto asked = asking_.find(run);
+  if (asked != asking_.end() && (now - asked->second).toSec() < 4.0 * options_.team_request_timeout + 10.0) return;
+  asking_[run] = now;
   const std::uint32_t count = std::min(kRecordsPerRequest, member.keyframes - first);
   const std::string node = member.node;
   if (!client_.post([this, node, run, first, count] { requestRecords(node, run, first, count); })) asking_.erase(run);
@@ -193,17 +256,18 @@ void TeamWorker::publishLoop(const OwnKeyframe& keyframe, const TeamMatch& found
 }
 
 void TeamWorker::fetch(const TeamKeyframeId& id) {
-  const auto node = nodes_.find({id.robot, id.run});
-  if (node == nodes_.end()) {
+  const auto robot = robots_.find(id.robot);
+  if (robot == robots_.end()) {
     matcher_.fetchFailed(id);
     ++counters_->team_fetch_failures;
     return;
   }
-  const std::string name = node->second;
-  if (!client_.post([this, name, id] { requestCloud(name, id); })) onCloud(id, {}, "the request queue is full");
+  const std::string node = robot->second.node;
+  if (!client_.post([this, node, id] { requestCloud(node, id); })) onCloud(id, {}, "the request queue is full", true);
 }
 
-void TeamWorker::onCloud(const TeamKeyframeId& id, const std::vector<std::uint8_t>& data, const std::string& failure) {
+void TeamWorker::onCloud(const TeamKeyframeId& id, const std::vector<std::uint8_t>& data, const std::string& failure,
+                         bool later) {
   std::string error = failure;
   if (error.empty() && !matcher_.attachCloud(id, data.data(), data.size(), &error)) {
     error = "refused: " + error;
@@ -211,7 +275,11 @@ void TeamWorker::onCloud(const TeamKeyframeId& id, const std::vector<std::uint8_
   if (error.empty()) {
     ++counters_->team_clouds_fetched;
   } else {
-    matcher_.fetchFailed(id);
+    if (later) {
+      matcher_.fetchLater(id);
+    } else {
+      matcher_.fetchFailed(id);
+    }
     ++counters_->team_fetch_failures;
     ROS_WARN_THROTTLE_NAMED(5.0, name_, "team: registration data of %s not fetched: %s", id.text().c_str(),
                             error.c_str());
@@ -230,14 +298,41 @@ void TeamWorker::onCloud(const TeamKeyframeId& id, const std::vector<std::uint8_
   for (Pending& p : ready) match(p.keyframe, p.rounds);
 }
 
+template <typename Service>
+ServiceDeadline::Outcome TeamWorker::callPeer(const std::string& node, const std::string& service, Service* srv) {
+  const ros::WallTime now = ros::WallTime::now();
+  const auto slow = slow_until_.find(node);
+  if (slow != slow_until_.end() && now < slow->second) return ServiceDeadline::Outcome::kTimedOut;
+  ServiceDeadline::Outcome outcome = ServiceDeadline::Outcome::kFailed;
+  try {
+    outcome = deadline_.call(node + "/" + service, srv, options_.team_request_timeout);
+  } catch (const std::exception& e) {  // roscpp throws on a name it cannot use
+    ROS_WARN_THROTTLE_NAMED(10.0, name_, "team: %s/%s cannot be called: %s", peerText(node).c_str(), service.c_str(),
+                            peerText(e.what()).c_str());
+  }
+  // A node that is not there costs the wait for its service each time: it is set aside as a slow one is.
+  if (outcome == ServiceDeadline::Outcome::kNoService) {
+    slow_until_[node] = ros::WallTime::now() + ros::WallDuration(kSlowPeerSeconds);
+  }
+  if (outcome == ServiceDeadline::Outcome::kTimedOut) {
+    slow_until_[node] = ros::WallTime::now() + ros::WallDuration(kSlowPeerSeconds);
+    ++counters_->team_requests_timed_out;
+    ROS_WARN_THROTTLE_NAMED(10.0, name_,
+                            "team: %s/%s gave no answer within team_request_timeout (%.1f s): that node is asked "
+                            "nothing for %.0f s (%zu requests timed out)",
+                            peerText(node).c_str(), service.c_str(), options_.team_request_timeout, kSlowPeerSeconds,
+                            counters_->team_requests_timed_out.load());
+  }
+  return outcome;
+}
+
 void TeamWorker::requestRecords(const std::string& node, const Run& run, std::uint32_t first, std::uint32_t count) {
   scan_context_loop::GetKeyframeRecords call;
   call.request.run = run.second;
   call.request.first = first;
   call.request.count = count;
-  const std::string service = node + "/team_records";
-  const ros::Duration timeout(options_.team_request_timeout);
-  bool ok = ros::service::waitForService(service, timeout) && ros::service::call(service, call);
+  const ServiceDeadline::Outcome outcome = callPeer(node, "team_records", &call);
+  bool ok = outcome == ServiceDeadline::Outcome::kAnswered;
   if (ok) counters_->team_bytes_received += ros::serialization::serializationLength(call.response);
   if (ok && !call.response.ok) {
     if (call.response.message.find("busy") != std::string::npos) ++counters_->team_busy;
@@ -245,30 +340,35 @@ void TeamWorker::requestRecords(const std::string& node, const Run& run, std::ui
   }
   if (!ok) {
     ++counters_->team_fetch_failures;
-    ROS_WARN_THROTTLE_NAMED(10.0, name_, "team: records of %s from %s not fetched%s%s", run.first.c_str(),
-                            service.c_str(), call.response.message.empty() ? "" : ": ",
-                            call.response.message.c_str());
+    ROS_WARN_THROTTLE_NAMED(10.0, name_, "team: records of %s from %s not fetched: %s", peerText(run.first).c_str(),
+                            peerText(node).c_str(),
+                            outcome == ServiceDeadline::Outcome::kAnswered ? peerText(call.response.message).c_str()
+                                                                           : ServiceDeadline::describe(outcome));
+    call.response.records.clear();
   }
   auto records = std::make_shared<std::vector<scan_context_loop::KeyframeRecord>>(std::move(call.response.records));
+  // Refused only while stopping, or with the matcher's queue full: the request is then forgotten after a
+  // while (takeMember).
   matcher_thread_.post([this, records, run] {
     for (const auto& record : *records) {
-      if (record.robot == run.first && record.run == run.second) addRecord(record);
+      if (record.robot == run.first && record.run == run.second) addRecord(record, "");
     }
     asking_.erase(run);
   });
 }
 
 void TeamWorker::requestCloud(const std::string& node, const TeamKeyframeId& id) {
-  const std::string service = node + "/team_cloud";
-  const ros::Duration timeout(options_.team_request_timeout);
   std::string failure;
+  bool later = false;
   scan_context_loop::GetKeyframeCloud call;
   // A busy node (over its rate) is asked again a little later, a few times.
-  for (int attempt = 0; attempt < 4; ++attempt) {
+  for (int attempt = 0; attempt < 4 && !deadline_.stopped(); ++attempt) {
     call.request.run = id.run;
     call.request.keyframe = id.keyframe;
-    if (!ros::service::waitForService(service, timeout) || !ros::service::call(service, call)) {
-      failure = service + " did not answer";
+    const ServiceDeadline::Outcome outcome = callPeer(node, "team_cloud", &call);
+    if (outcome != ServiceDeadline::Outcome::kAnswered) {
+      failure = node + "/team_cloud: " + ServiceDeadline::describe(outcome);
+      later = outcome != ServiceDeadline::Outcome::kFailed;  // slow, not there, or stopping
       break;
     }
     counters_->team_bytes_received += ros::serialization::serializationLength(call.response);
@@ -276,13 +376,14 @@ void TeamWorker::requestCloud(const std::string& node, const TeamKeyframeId& id)
       failure.clear();
       break;
     }
-    failure = call.response.message.empty() ? "refused" : call.response.message;
-    if (call.response.message.find("busy") == std::string::npos) break;
+    failure = call.response.message.empty() ? "refused" : peerText(call.response.message);
+    later = call.response.message.find("busy") != std::string::npos;  // still busy at the end: asked again later
+    if (!later) break;
     ++counters_->team_busy;
     std::this_thread::sleep_for(std::chrono::milliseconds(500));
   }
   auto data = std::make_shared<std::vector<std::uint8_t>>(std::move(call.response.data));
-  matcher_thread_.post([this, id, data, failure] { onCloud(id, *data, failure); });
+  matcher_thread_.post([this, id, data, failure, later] { onCloud(id, *data, failure, later); });
 }
 
 }  // namespace scan_context_loop

@@ -116,6 +116,28 @@ TEST(DatabaseSnapshot, AKeyframeGivenNewDataAfterwardsIsWrittenAsItWasTaken) {
   EXPECT_TRUE(read.gravity_alignment[0].isApprox(detector.gravityAlignment(0), 1e-6f));
 }
 
+// A robot of a team serves each of its keyframes from a snapshot kept as long as the node runs: held
+// weakly, the registration data the store drops for its budget are freed, and the snapshot says so.
+TEST(DatabaseSnapshot, HeldWeaklyItLetsTheStoreFreeWhatItDrops) {
+  LoopDetector detector(budgetFor(4, 1.0));
+  addStreets(&detector, 0, 2);
+  DatabaseSnapshot odd(detector, true, nullptr, 1, 1), even(detector, true, nullptr, 0, 1);
+  odd.holdCloudsWeakly();
+  even.holdCloudsWeakly();
+  bool complete = false;
+  const std::vector<std::uint8_t> before = encodeDatabase(odd.strengthened(&complete));
+  EXPECT_TRUE(complete);
+  ASSERT_EQ(before, encodeDatabase(DatabaseSnapshot(detector, true, nullptr, 1, 1)));
+  // Past the budget the store keeps every second keyframe: keyframe 1's data go, 0's stay.
+  addStreets(&detector, 2, 8);  // the dropped clouds are freed by the adds after the halving
+  ASSERT_GT(detector.cloudStore().stride(), 1u);
+  ASSERT_EQ(detector.cloudStore().get(1), nullptr);
+  (void)odd.strengthened(&complete);
+  EXPECT_FALSE(complete) << "a weak snapshot kept a dropped cloud alive";
+  (void)even.strengthened(&complete);
+  EXPECT_TRUE(complete);
+}
+
 TEST(DatabaseSnapshot, ItsOwnerKeepsTheKeyframesAliveAfterTheDetectorIsReplaced) {
   TempDir dir;
   auto detector = std::make_shared<LoopDetector>(budgetFor(1, 100));

@@ -1,4 +1,5 @@
-// TaskThread runs posted tasks in order on its own thread; RateLimit is a token bucket.
+// TaskThread runs posted tasks in order on its own thread; RateLimit is a token bucket; MinInterval spaces
+// events on a clock that may go back.
 #include <gtest/gtest.h>
 
 #include <atomic>
@@ -61,6 +62,20 @@ TEST(RateLimit, PassesABurstThenTheRate) {
   EXPECT_TRUE(limit.take(4000, 100.0));  // never more than the burst saved up
   EXPECT_FALSE(limit.take(1, 100.0));
   EXPECT_FALSE(limit.take(10, 99.0));   // a clock going back gives nothing
+}
+
+// LIO-SAM's hook at most once a second of ROS time: when a bag loops, ROS time goes back by the bag's
+// length, and the next loop must go out then, not a bag's length later.
+TEST(MinInterval, ATimeBeforeTheLastEventStartsAfresh) {
+  MinInterval interval;
+  EXPECT_TRUE(interval.due(1000.0, 1.0));
+  interval.record(1000.0);
+  EXPECT_FALSE(interval.due(1000.5, 1.0));
+  EXPECT_TRUE(interval.due(1001.0, 1.0));
+  EXPECT_TRUE(interval.due(400.0, 1.0)) << "the clock went back (a bag played again)";
+  interval.record(400.0);
+  EXPECT_FALSE(interval.due(400.2, 1.0));
+  EXPECT_TRUE(interval.due(401.5, 1.0));
 }
 
 }  // namespace

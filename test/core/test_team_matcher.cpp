@@ -1,5 +1,9 @@
 // Several robots: records of one robot's keyframes joining another's TeamMatcher, registration data fetched
 // on demand, loops between the robots on real scans, and the records a matcher refuses.
+#include <unistd.h>
+
+#include <fstream>
+
 #include <gtest/gtest.h>
 
 #include "scan_context_loop/core/detector.h"
@@ -138,6 +142,45 @@ TEST(TeamMatcher, RefusesDuplicatesBadRecordsAndOtherSettingsByName) {
   EXPECT_NE(error.find("another keyframe"), std::string::npos) << error;
   EXPECT_FALSE(team.attachCloud(idOf(0), record.data(), record.size(), &error));
   EXPECT_EQ(team.clouds(), 0u);
+}
+
+/// The process's mapped memory (VmSize) [bytes]: what an arena maps counts whether or not the kernel has
+/// backed it yet, so the figure does not depend on the machine's transparent huge page setting.
+std::size_t mappedBytes() {
+  std::ifstream statm("/proc/self/statm");
+  std::size_t pages = 0;
+  statm >> pages;
+  return pages * static_cast<std::size_t>(::sysconf(_SC_PAGESIZE));
+}
+
+// A record held costs about what a keyframe of this robot's own costs (a descriptor, keys and bookkeeping,
+// about 2.4 KB), not a 2 MB arena of its own each.
+TEST(TeamMatcher, ARecordHeldCostsKilobytesNotAnArenaEach) {
+  LoopDetector a(teamConfig());
+  robotA(&a);
+  TeamMatcher team(teamConfig());
+  shareA(a, &team);  // the matcher's first chunks are mapped
+  const std::vector<std::uint8_t> record = keyframeRecord(a, 0);
+  constexpr std::uint32_t kRecords = 500;
+  const std::size_t before = mappedBytes();
+  for (std::uint32_t k = 0; k < kRecords; ++k) {
+    ASSERT_EQ(team.add({"robot_c", 3, k}, 0, record.data(), record.size()), TeamMatcher::Added::kAdded);
+  }
+  const double per_record = (static_cast<double>(mappedBytes()) - before) / kRecords;
+  EXPECT_LT(per_record, 20e3) << "bytes mapped per record held (" << record.size() << "-byte records)";
+  EXPECT_EQ(team.size(), kRecords + 2u);
+}
+
+TEST(TeamMatcher, RobotIdsAreNamesThatRosAccepts) {
+  EXPECT_TRUE(validRobotId("robot1"));
+  EXPECT_TRUE(validRobotId("R_2"));
+  EXPECT_TRUE(validRobotId(std::string(64, 'a')));
+  EXPECT_FALSE(validRobotId(std::string(65, 'a')));
+  EXPECT_FALSE(validRobotId(""));
+  EXPECT_FALSE(validRobotId("1robot")) << "a ROS name must not begin with a digit";
+  EXPECT_FALSE(validRobotId("_robot"));
+  EXPECT_FALSE(validRobotId("robot/1"));
+  EXPECT_FALSE(validRobotId("robot 1"));
 }
 
 TEST(TeamMatcher, FirstMissingFindsTheGapToFill) {

@@ -5,12 +5,15 @@
 #include <cstdint>
 #include <cstdio>
 #include <fstream>
+#include <iterator>
 #include <map>
 #include <sstream>
 #include <string>
 #include <vector>
 
 #include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <Eigen/Cholesky>
 #include <gtest/gtest.h>
@@ -18,9 +21,11 @@
 
 #include "../common/map_file_readers.h"
 #include "../common/temp_dir.h"
+#include "rename_faults.h"
 #include "scan_context_loop/graph/keyframe_map.h"
 #include "scan_context_loop/graph/map_files.h"
 #include "scan_context_loop/graph/pose_graph.h"
+#include "scan_context_loop/core/team_matcher.h"
 
 namespace scan_context_loop {
 namespace {
@@ -309,6 +314,67 @@ TEST_F(MapFilesTest, AFailedSaveKeepsTheFilesItWouldHaveReplacedWhole) {
   EXPECT_EQ(cloud.size(), files_.cloud.size() + 1);
 }
 
+/// Each map file's bytes in `directory` ("" for a file that is missing).
+std::map<std::string, std::string> setIn(const std::string& directory) {
+  std::map<std::string, std::string> set;
+  for (const auto& name : mapFileNames(true)) {
+    std::ifstream in(directory + "/" + name, std::ios::binary);
+    set[name] = in ? std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()) : "";
+  }
+  return set;
+}
+
+// A save killed at any of its renames (a SIGKILL, a power cut) leaves the directory holding the old set
+// whole or the new set whole, never some files of each; the next save removes what the dead one left.
+TEST_F(MapFilesTest, ASaveKilledAtAnyRenameLeavesOneWholeSet) {
+  test::TempDir dir("scl_map_files");
+  const std::string out = dir.file("run");
+  std::string error;
+  ASSERT_TRUE(writeMapFiles(out, files_, nullptr, &error)) << error;
+  std::ofstream(out + "/notes.txt") << "the user's own file";
+  const std::map<std::string, std::string> before = setIn(out);
+  graph_.addKeyframe(graph_.odometryPose(7) * Eigen::Translation3d(1.0, 0.0, 0.0));
+  stamps_.push_back(stamps_.back() + 100000000);
+  MapFiles changed = mapFilesOf(graph_, stamps_);
+  changed.cloud = files_.cloud;
+  changed.cloud.push_back(pcl::PointXYZ(1.0f, 2.0f, 3.0f));
+  changed.has_cloud = true;
+  ASSERT_TRUE(writeMapFiles(dir.file("reference"), changed, nullptr, &error)) << error;
+  const std::map<std::string, std::string> after = setIn(dir.file("reference"));
+  for (const auto& [name, bytes] : after) ASSERT_NE(bytes, before.at(name)) << name << " is the same in both sets";
+
+  // How many renames a save over an existing set makes.
+  test::killAtRename(0);
+  ASSERT_TRUE(writeMapFiles(dir.file("reference"), changed, nullptr, &error)) << error;
+  const int renames = test::renamesSeen();
+  ASSERT_GE(renames, 6);
+  for (int k = 1; k <= renames; ++k) {
+    const pid_t child = ::fork();
+    ASSERT_GE(child, 0);
+    if (child == 0) {
+      test::killAtRename(k);
+      std::string child_error;
+      writeMapFiles(out, changed, nullptr, &child_error);
+      ::_exit(3);  // not killed: the test below says so
+    }
+    int status = 0;
+    ASSERT_EQ(::waitpid(child, &status, 0), child);
+    ASSERT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == SIGKILL) << "the save was not killed at rename " << k;
+    const std::map<std::string, std::string> left = setIn(out);
+    EXPECT_TRUE(left == before || left == after) << "killed at rename " << k << " of " << renames
+                                                 << ": the directory holds files of both sets";
+    EXPECT_EQ(readText(out + "/notes.txt"), "the user's own file") << "killed at rename " << k;
+    // Back to the old set for the next round; this save also clears what the dead one left.
+    ASSERT_TRUE(writeMapFiles(out, files_, nullptr, &error)) << error;
+    ASSERT_EQ(setIn(out), before);
+  }
+  test::killAtRename(0);
+  ASSERT_TRUE(writeMapFiles(out, changed, nullptr, &error)) << error;
+  EXPECT_EQ(setIn(out), after);
+  EXPECT_EQ(readText(out + "/notes.txt"), "the user's own file");
+  EXPECT_EQ(dir.entries(), (std::vector<std::string>{"reference", "run"})) << "a dead save's directory is left";
+}
+
 }  // namespace
 }  // namespace scan_context_loop
 
@@ -386,7 +452,7 @@ TEST(TeamMapFiles, EachRobotsTrajectoryAndFrameInItsOwnFilesTheGraphInOne) {
   MapFiles named = files;
   named.robots[0].id = "../a";
   EXPECT_FALSE(writeMapFiles(dir.file("named"), named, &report, &error));
-  EXPECT_NE(error.find("is not [A-Za-z0-9_]+"), std::string::npos) << error;
+  EXPECT_NE(error.find(std::string("is not ") + kRobotIdRule), std::string::npos) << error;
 }
 
 }  // namespace

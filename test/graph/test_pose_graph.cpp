@@ -224,6 +224,10 @@ TEST(PoseGraph, UnusableInputIsRefusedAndNamed) {
   Eigen::Isometry3d nan = Eigen::Isometry3d::Identity();
   nan.translation().x() = std::nan("");
   EXPECT_EQ(graph.addKeyframe(nan), -1);
+  // Huge but finite: the step from the last keyframe would overflow its covariance.
+  EXPECT_EQ(graph.addKeyframe(planar(1e300, 0.0, 0.0)), -1);
+  EXPECT_EQ(graph.addFixedKeyframe(planar(0.0, -2e7, 0.0)), -1);
+  EXPECT_EQ(graph.size(), 0u);
   ASSERT_EQ(graph.addKeyframe(Eigen::Isometry3d::Identity()), 0);
   ASSERT_EQ(graph.addKeyframe(planar(2.0, 0.0, 0.0)), 1);
   std::string error;
@@ -237,6 +241,13 @@ TEST(PoseGraph, UnusableInputIsRefusedAndNamed) {
   EXPECT_NE(error.find("positive definite"), std::string::npos) << error;
   EXPECT_EQ(graph.loops(), 0u);
   EXPECT_TRUE(graph.optimize().solved);
+  // After keyframes, too: nothing is added, and the graph still solves to its odometry.
+  EXPECT_EQ(graph.addKeyframe(planar(1e300, 0.0, 0.0)), -1);
+  EXPECT_EQ(graph.addKeyframe(planar(5e6, 5e6, 0.0)), 2) << "far, but within kMaxCoordinate";
+  EXPECT_EQ(graph.size(), 3u);
+  const PoseGraphResult result = graph.optimize();
+  EXPECT_TRUE(result.solved) << result.message;
+  EXPECT_TRUE(graph.pose(1).translation().isApprox(Eigen::Vector3d(2.0, 0.0, 0.0), 1e-6));
 }
 
 }  // namespace

@@ -58,6 +58,12 @@ class DatabaseSnapshot {
   /// (correctedSessionPoses, computed by the write, not here) marked as corrected in the file; other
   /// sessions as they are. Shared, not copied: the caller replaces its table rather than changing it.
   void correctPoses(std::shared_ptr<const PoseCorrections> corrections) { corrections_ = std::move(corrections); }
+  /// From now on holds its registration data weakly, for a snapshot kept long (the keyframes a robot of a
+  /// team serves): a cloud the detector's store drops to stay within verify_max_bytes is freed all the
+  /// same. Write strengthened() instead of this snapshot.
+  void holdCloudsWeakly();
+  /// A snapshot holding again the registration data still alive; *complete false when any was freed.
+  DatabaseSnapshot strengthened(bool* complete) const;
 
  private:
   template <typename Sink>
@@ -68,6 +74,7 @@ class DatabaseSnapshot {
   ChunkedLog<Eigen::Matrix3f>::View gravity_alignment_;  // with clouds: per keyframe
   // With clouds: the stored keyframes' data, by index in the snapshot, in order.
   std::vector<std::pair<std::size_t, std::shared_ptr<const VoxelCloud>>> clouds_;
+  std::vector<std::pair<std::size_t, std::weak_ptr<const VoxelCloud>>> weak_clouds_;  // holdCloudsWeakly
   std::shared_ptr<const void> owner_;
   std::shared_ptr<const PoseCorrections> corrections_;  // null: none
 };

@@ -40,7 +40,7 @@ struct NodeOptions {
   /// The map directory ~save_database writes in ("": that of database_save, else of database_load, else
   /// $ROS_HOME/scan_context_loop).
   std::string database_directory;
-  /// Several robots (doc/multi_robot.md): this robot's id, [A-Za-z0-9_]+ ("": no team). With one, the node
+  /// Several robots (doc/multi_robot.md): this robot's id, [A-Za-z0-9_]+ starting with a letter ("": no team). With one, the node
   /// shares its keyframes with the other robots' nodes and finds loops into theirs.
   std::string robot_id;
   /// The namespace the team's nodes share: its keyframe_records and members topics.
@@ -49,8 +49,12 @@ struct NodeOptions {
   /// this many bytes a second on average [B/s]; records over it are not published live (the others fetch
   /// them later) and requests over it are answered busy.
   double team_max_bytes_per_second = 1e6;
-  /// How long a request to another robot's node may take before it counts as failed [s].
+  /// How long a request to another robot's node may take before it counts as failed [s]; a node that lets
+  /// one time out is asked nothing for 30 s.
   double team_request_timeout = 2.0;
+  /// Memory the other robots' keyframe records may take [bytes]: records past it are refused and counted
+  /// (their registration data, fetched on demand, live in the cloud store under verify_max_bytes).
+  double team_max_bytes = 268435456.0;
 };
 
 }  // namespace scan_context_loop

@@ -23,4 +23,21 @@ class RateLimit {
   double last_ = -1.0;
 };
 
+/// At most one event per interval of a clock that may jump back (ROS time when `rosbag play --loop` starts
+/// the bag again): a time before the last event starts afresh instead of waiting for that time to come
+/// round again. Not thread-safe.
+class MinInterval {
+ public:
+  /// Whether an event at `now` [s] is `interval` [s] or more after the last one (or there was none).
+  bool due(double now, double interval) const { return !any_ || now < last_ || now - last_ >= interval; }
+  void record(double now) {
+    any_ = true;
+    last_ = now;
+  }
+
+ private:
+  bool any_ = false;
+  double last_ = 0.0;
+};
+
 }  // namespace scan_context_loop

@@ -50,8 +50,11 @@ struct TeamKeyframeId {
 std::vector<std::uint8_t> keyframeRecord(const LoopDetector& detector, std::size_t index);
 std::vector<std::uint8_t> keyframeCloud(const LoopDetector& detector, std::size_t index);
 
-/// A robot id as the team uses it in names: 1-64 characters of [A-Za-z0-9_].
+/// A robot id as the team uses it in names (ROS namespaces, topic and file names): 1-64 characters of
+/// [A-Za-z0-9_], the first a letter (a ROS name must not begin with a digit or an underscore).
 bool validRobotId(const std::string& robot);
+/// What validRobotId accepts, for messages.
+extern const char* const kRobotIdRule;
 
 /// Where one of this robot's keyframes meets the team's.
 struct TeamMatch {
@@ -81,8 +84,13 @@ class TeamMatcher {
   /// A candidate's registration data as its robot sent them (keyframeCloud). False when they do not fit
   /// (the image's own checks, other voxel settings, another keyframe's stamp) or the keyframe is unknown.
   bool attachCloud(const TeamKeyframeId& id, const std::uint8_t* image, std::size_t size, std::string* error = nullptr);
-  /// Its data could not be fetched (the robot is gone, refused, timed out): not asked for again.
+  /// Its data could not be fetched (the robot is gone, or refused): not asked for again.
   void fetchFailed(const TeamKeyframeId& id);
+  /// Its data did not come this time (the robot's node was slow, busy or not there): not asked for again
+  /// until retryLater(), so that the next candidates, another robot's among them, get their turn.
+  void fetchLater(const TeamKeyframeId& id);
+  /// The keyframes fetchLater() set aside may be asked for again.
+  void retryLater();
 
   /// Where this robot's keyframe meets the others': `points` as it was described (the keyframe's
   /// voxel-filtered cloud in its sensor frame). At most `max_fetch` candidates go into to_fetch.
@@ -98,14 +106,19 @@ class TeamMatcher {
   std::uint32_t firstMissing(const std::string& robot, std::uint64_t run, std::uint32_t count) const;
   /// Keyframes whose registration data are held.
   std::size_t clouds() const { return clouds_; }
+  /// Memory the records held take, as the database accounts its keyframes (Database::bytesPerKeyframe),
+  /// plus the bookkeeping of their ids [bytes]; registration data are not counted (the cloud store's own
+  /// budget, verify_max_bytes, bounds them).
+  std::size_t recordBytes() const;
   const LoopDetector& detector() const { return detector_; }
 
  private:
-  enum class Data : std::uint8_t { kNone, kAsked, kHeld, kFailed };
+  enum class Data : std::uint8_t { kNone, kAsked, kHeld, kFailed, kLater };
   LoopDetector detector_;
   std::vector<TeamKeyframeId> ids_;
   std::vector<std::uint32_t> sessions_;
   std::vector<Data> data_;
+  std::vector<std::size_t> later_;  // the indices set to kLater
   std::map<TeamKeyframeId, std::size_t> index_;
   std::map<std::pair<std::string, std::uint64_t>, std::set<std::uint32_t>> held_;  // numbers held per run
   std::size_t clouds_ = 0;

@@ -84,8 +84,9 @@ class PoseGraph {
   /// that chain); returns its index. Its estimate starts at the chain's previous keyframe's estimate
   /// moved by the odometry step, so earlier corrections carry on; a chain's first keyframe starts at
   /// its odometry pose and is the gauge of its chain until a loop joins the chain to another group.
-  /// Returns -1 (nothing added) if the pose is not finite or its rotation is not one, or `chain` is not
-  /// below kMaxChains.
+  /// Returns -1 (nothing added) if the pose is not finite, a coordinate is beyond kMaxCoordinate, its
+  /// rotation is not one, the odometry step's factor cannot be weighted, or `chain` is not below
+  /// kMaxChains.
   long addKeyframe(const Eigen::Isometry3d& odometry_pose, std::size_t chain = 0);
   /// Appends a keyframe held fixed at `pose` (T_world<-keyframe; a prior map's keyframe at its stored
   /// pose); returns its index, or -1 (nothing added) as addKeyframe. It belongs to no chain: no
@@ -114,6 +115,9 @@ class PoseGraph {
 
   /// Chains are numbered below this.
   static constexpr std::size_t kMaxChains = 1024;
+  /// Keyframe coordinates beyond this [m] are refused: no odometry drives that far (10,000 km), and a
+  /// step between such poses would overflow its covariance (its length squared).
+  static constexpr double kMaxCoordinate = 1e7;
   /// One more than the highest chain any keyframe was added to (0 before the first).
   std::size_t chains() const;
   /// The chain keyframe i was added to; -1 for a fixed keyframe.

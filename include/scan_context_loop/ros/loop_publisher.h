@@ -13,6 +13,7 @@
 #include "scan_context_loop/LoopClosure.h"
 #include "scan_context_loop/core/config.h"
 #include "scan_context_loop/core/detector.h"
+#include "scan_context_loop/core/rate_limit.h"
 #include "scan_context_loop/ros/marker_publisher.h"
 #include "scan_context_loop/ros/node_counters.h"
 #include "scan_context_loop/ros/parameters.h"
@@ -60,7 +61,7 @@ class LoopPublisher {
   NodeCounters* counters_;
   MarkerPublisher* markers_;
   ros::Publisher loop_pub_, rejected_pub_, lio_pub_, pair_pub_, array_pub_, relocalization_pub_, timing_pub_;
-  ros::Time lio_last_sent_;  // lio_loop: when the last message went out, and its query keyframe
+  MinInterval lio_interval_;  // lio_loop: when the last message went out (ROS time), and its query keyframe
   std::size_t lio_last_query_ = static_cast<std::size_t>(-1);
 };
 

@@ -39,6 +39,11 @@ struct NodeCounters {
   std::atomic<std::size_t> team_records_duplicate{0}, team_records_refused{0}, team_keyframes{0};
   std::atomic<std::size_t> team_clouds_served{0}, team_clouds_fetched{0}, team_fetch_failures{0}, team_busy{0};
   std::atomic<std::size_t> team_loops{0}, team_loops_dropped{0}, team_bytes_sent{0}, team_bytes_received{0};
+  // Peers that misbehave: claims to a robot id bound to another node (or with an invalid node name)
+  // refused, requests that got no answer in time, records refused over team_max_bytes, and the memory the
+  // records held take [bytes].
+  std::atomic<std::size_t> team_claims_refused{0}, team_requests_timed_out{0}, team_records_over_limit{0};
+  std::atomic<std::size_t> team_record_bytes{0};
   std::atomic<long long> heap_allocated{-1}, heap_free{-1};  ///< malloc's statistics at the worker's last read
   std::atomic<double> heap_statistics_ms{0.0};
   std::atomic<double> last_query_ms{0.0}, last_keyframe_ms{0.0}, max_keyframe_ms{0.0};

@@ -43,8 +43,12 @@ class TeamExchange {
 
   /// Keyframe worker: shares the keyframes that entered `detector`'s database since the last call, their
   /// poses in `frame`; `owner` keeps them alive while they are served. A database smaller than what was
-  /// shared (a ~reset) begins a new run.
+  /// shared begins a new run.
   void share(const LoopDetector& detector, const std::shared_ptr<const void>& owner, const std::string& frame);
+  /// Keyframe worker, after ~reset emptied the database: a new run begins, and the next share() shares the
+  /// database from its first keyframe (a ~load_database right after the reset as much as new keyframes),
+  /// so that no robot keeps the old run's records under the new keyframe numbers.
+  void restart();
   /// Keyframe worker: a keyframe just stored, to match against the other robots' keyframes.
   void match(std::shared_ptr<const OwnKeyframe> keyframe) { worker_->onOwnKeyframe(std::move(keyframe)); }
 
