@@ -4,11 +4,16 @@
 // are good.
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
 #include <diagnostic_msgs/DiagnosticArray.h>
+#include <std_srvs/Trigger.h>
 
 #include "harness.h"
 #include "scan_context_loop/GetKeyframeCloud.h"
 #include "scan_context_loop/GetKeyframeRecords.h"
+#include "scan_context_loop/LoadDatabase.h"
+#include "scan_context_loop/SaveDatabase.h"
 #include "scan_context_loop/KeyframeRecord.h"
 #include "scan_context_loop/TeamMember.h"
 #include "scan_context_loop/core/file_io.h"
@@ -164,6 +169,62 @@ TEST(TeamInput, HostileRecordsAnnouncementsAndCallsAreRefusedAndTheNodeGoesOn) {
   // And the node goes on: the rest of the drive is processed.
   harness.publish(drive, count, count + 20, 10.0);
   EXPECT_TRUE(harness.waitForKeyframes(count + 10, 60.0));
+}
+
+// ~reset then ~load_database of as many keyframes as were shared: the team must hear of it (a new run, its
+// keyframes shared again from the first), or the others would keep the old run's records under numbers
+// that now name other keyframes.
+TEST(TeamInput, AResetThenALoadOfAsManyKeyframesStartsANewRun) {
+  ros::NodeHandle nh;
+  Harness harness(nh);
+  ASSERT_TRUE(harness.waitForNode(30.0));
+  Latest<scan_context_loop::TeamMember> member(nh, "/team/members");
+  // Once the node has shared all it will (the last test's keyframes may still be in its queue): two
+  // announcements two seconds apart that agree.
+  scan_context_loop::TeamMember before, again;
+  for (int attempt = 0; attempt < 30; ++attempt) {
+    ASSERT_TRUE(member.waitFor([](const scan_context_loop::TeamMember& m) { return m.keyframes > 0; }, 30.0, &before));
+    ros::WallDuration(2.0).sleep();
+    ASSERT_TRUE(member.waitFor([](const scan_context_loop::TeamMember&) { return true; }, 5.0, &again));
+    if (again.keyframes == before.keyframes && again.run == before.run) break;
+  }
+  ASSERT_EQ(again.keyframes, before.keyframes) << "the node kept sharing keyframes";
+  const std::string node = before.node;
+  const std::string name = "scl_team_reset_" + std::to_string(::getpid()) + ".scdb";
+  SaveDatabase save;
+  save.request.path = name;
+  save.request.include_clouds = true;
+  ASSERT_TRUE(ros::service::call(node + "/save_database", save));
+  ASSERT_TRUE(save.response.success) << save.response.message;
+  ASSERT_EQ(save.response.keyframes, before.keyframes) << "the database holds what was shared";
+  std_srvs::Trigger reset;
+  ASSERT_TRUE(ros::service::call(node + "/reset", reset));
+  ASSERT_TRUE(reset.response.success);
+  LoadDatabase load;
+  load.request.path = "/tmp/" + name;
+  ASSERT_TRUE(ros::service::call(node + "/load_database", load));
+  ASSERT_TRUE(load.response.success) << load.response.message;
+  ::unlink(load.request.path.c_str());
+  EXPECT_EQ(load.response.keyframes, save.response.keyframes);
+
+  scan_context_loop::TeamMember after;
+  ASSERT_TRUE(member.waitFor(
+      [&](const scan_context_loop::TeamMember& m) { return m.run != before.run && m.keyframes == load.response.keyframes; },
+      10.0, &after))
+      << "still run " << after.run << " with " << after.keyframes << " keyframes after the reset and the load";
+  // The new run serves the loaded keyframes from the first; the old run is no more.
+  scan_context_loop::GetKeyframeRecords list;
+  list.request.run = after.run;
+  list.request.first = 0;
+  list.request.count = 5;
+  ASSERT_TRUE(ros::service::call(node + "/team_records", list));
+  ASSERT_TRUE(list.response.ok) << list.response.message;
+  ASSERT_FALSE(list.response.records.empty());
+  EXPECT_EQ(list.response.records.front().run, after.run);
+  EXPECT_EQ(list.response.records.front().keyframe, 0u);
+  list.request.run = before.run;
+  ASSERT_TRUE(ros::service::call(node + "/team_records", list));
+  EXPECT_FALSE(list.response.ok);
 }
 
 }  // namespace
