@@ -387,15 +387,13 @@ TEST(Relocalization, AMapAtDatabaseSaveThatWasNotLoadedIsReplacedOnlyWhenAllowed
   for (const auto& path : tmpFiles(prefix, "")) ::unlink(path.c_str());
 }
 
-/// The diagnostics' `key` of the watched node once it is above `above` (at most `seconds`); the largest
-/// seen, -1 when none came. Any status counts, however late: a loaded machine delays some.
-long waitForDiagnostic(const DiagnosticsWatch& watch, const std::string& key, long above, double seconds) {
+/// The diagnostics' `key` of the watched node, from a status that arrived after `after`, once it is above
+/// `above` (at most `seconds`); the largest seen, -1 when none came.
+long waitForDiagnostic(const DiagnosticsWatch& watch, const std::string& key, long above, const ros::WallTime& after,
+                       double seconds) {
   const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(seconds);
   long seen = -1;
-  while (seen <= above && ros::WallTime::now() < end) {
-    seen = std::max(seen, watch.value(key, ros::WallTime(), 1.0));
-    ros::WallDuration(0.2).sleep();
-  }
+  while (seen <= above && ros::WallTime::now() < end) seen = std::max(seen, watch.value(key, after, 1.0));
   return seen;
 }
 
@@ -419,9 +417,9 @@ TEST(Relocalization, AFailedAutosaveIsTriedAgainUntilItIsWritten) {
   f.publish(drive, 0, n, 15.0);
   ASSERT_TRUE(f.waitForKeyframes(n, 60.0));
   ros::WallDuration(1.5).sleep();  // the autosaves of the whole database have begun to fail
-  const long failed = waitForDiagnostic(diagnostics, "database saves failed", 0, 10.0);
+  const long failed = waitForDiagnostic(diagnostics, "database saves failed", 0, ros::WallTime::now(), 10.0);
   EXPECT_GT(failed, 0) << "no autosave failed";
-  EXPECT_GT(waitForDiagnostic(diagnostics, "database saves failed", failed, 15.0), failed)
+  EXPECT_GT(waitForDiagnostic(diagnostics, "database saves failed", failed, ros::WallTime::now(), 15.0), failed)
       << "the database no longer changes, and the failed autosave is not tried again";
   EXPECT_TRUE(tmpFiles(prefix, "").empty()) << "nothing written, and no temporary file left";
 
