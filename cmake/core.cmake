@@ -79,10 +79,12 @@ if(CATKIN_ENABLE_TESTING)
     test/core/test_task_thread.cpp
     test/core/test_team_consistency.cpp
     test/core/test_principal_axes.cpp
+    test/common/file_faults.cpp
   )
   # The real-data tests read KITTI scans (eval/kitti_io.h); the simulated-data tests cast scans with the
-  # simulator.
-  target_link_libraries(test_core scan_context_loop_eval scan_context_sim ${PCL_IO_LIBRARIES})
+  # simulator. file_faults.cpp's link, fsync, ... take precedence over the C library's for the core
+  # library's calls (test/common/file_faults.h); they find the real ones with dlsym.
+  target_link_libraries(test_core scan_context_loop_eval scan_context_sim ${PCL_IO_LIBRARIES} ${CMAKE_DL_LIBS})
   target_compile_definitions(test_core PRIVATE SCL_SHARED_DATA="${SCL_SHARED_DATA}")
   target_include_directories(test_core PRIVATE src/core)  # principal_axes.h, a private header
 
@@ -95,5 +97,9 @@ if(CATKIN_ENABLE_TESTING)
   )
   target_link_libraries(test_database_writer scan_context_loop_eval)
   target_compile_definitions(test_database_writer PRIVATE SCL_SHARED_DATA="${SCL_SHARED_DATA}")
+
+  # The same faults preloaded into a node's process (LD_PRELOAD), chosen by the file SCL_FILE_FAULTS names.
+  add_library(scl_file_faults SHARED test/common/file_faults.cpp)
+  target_link_libraries(scl_file_faults ${CMAKE_DL_LIBS})
 
 endif()

@@ -26,8 +26,51 @@ bool fail(std::string* error, const std::string& what) {
   return false;
 }
 
-/// Makes the file at `path` (if there is one) also `backup`: a hard link under a temporary name renamed
-/// over `backup`, so that `backup` is at every moment a whole file, the old backup or the new one.
+/// Whether link(2) failed for want of hard links rather than for a fault: vfat and exFAT refuse every
+/// link (EPERM), some network and FUSE file systems say they do not support it (EOPNOTSUPP, which is
+/// ENOTSUP on Linux), and EXDEV (a bind mount) and EMLINK (a file at its link limit) leave no other way
+/// either. The backup is then a copy.
+bool withoutHardLinks(int error) { return error == EPERM || error == EOPNOTSUPP || error == EXDEV || error == EMLINK; }
+
+/// Copies the file at `path` to the new file `name` with `mode` and flushes the copy to disk; the open
+/// copy, or -1 with *error (nothing left at `name`). It stays locked (flock) while open, so that
+/// removeAbandonedTemporaries() leaves it to this writer until it is renamed.
+int copyForBackup(const std::string& path, const std::string& name, mode_t mode, std::string* error) {
+  const int in = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  if (in < 0) {
+    fail(error, "cannot read " + path + " to keep a copy of it");
+    return -1;
+  }
+  const int out = ::open(name.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0600);
+  if (out < 0) {
+    fail(error, "cannot create " + name);
+    ::close(in);
+    return -1;
+  }
+  ::flock(out, LOCK_EX | LOCK_NB);
+  std::vector<char> buffer(std::size_t(1) << 20);
+  bool ok = true;
+  for (ssize_t got = 1; ok && got != 0;) {
+    got = ::read(in, buffer.data(), buffer.size());
+    if (got < 0 && errno != EINTR) ok = fail(error, "cannot read " + path + " to keep a copy of it");
+    for (ssize_t done = 0; ok && done < got;) {
+      const ssize_t n = ::write(out, buffer.data() + done, static_cast<std::size_t>(got - done));
+      if (n >= 0) done += n;
+      else if (errno != EINTR) ok = fail(error, "cannot write " + name);
+    }
+  }
+  ::fchmod(out, mode);  // advisory: vfat has no modes to set
+  if (ok && ::fsync(out) != 0) ok = fail(error, "cannot flush " + name);
+  ::close(in);
+  if (ok) return out;
+  ::unlink(name.c_str());
+  ::close(out);
+  return -1;
+}
+
+/// Makes the file at `path` (if there is one) also `backup`: a hard link (or, on a file system without
+/// them, a copy) under a temporary name renamed over `backup`, so that `backup` is at every moment a
+/// whole file, the old backup or the new one.
 bool linkBackup(const std::string& path, const std::string& backup, std::string* error) {
   struct stat st;
   if (::lstat(path.c_str(), &st) != 0 || !S_ISREG(st.st_mode)) return true;  // nothing to keep
@@ -36,13 +79,19 @@ bool linkBackup(const std::string& path, const std::string& backup, std::string*
   if (fd < 0) return fail(error, "cannot create a temporary file in " + directoryOf(backup));
   ::close(fd);
   ::unlink(name.c_str());
-  if (::link(path.c_str(), name.c_str()) != 0) return fail(error, "cannot keep " + path + " as " + backup);
-  if (::rename(name.c_str(), backup.c_str()) != 0) {
-    const bool ok = fail(error, "cannot rename " + name + " to " + backup);
-    ::unlink(name.c_str());
-    return ok;
+  int copy = -1;
+  if (::link(path.c_str(), name.c_str()) != 0) {
+    if (!withoutHardLinks(errno)) return fail(error, "cannot keep " + path + " as " + backup);
+    copy = copyForBackup(path, name, st.st_mode & 07777, error);
+    if (copy < 0) return false;
   }
-  return true;
+  bool ok = true;
+  if (::rename(name.c_str(), backup.c_str()) != 0) {
+    ok = fail(error, "cannot rename " + name + " to " + backup);
+    ::unlink(name.c_str());
+  }
+  if (copy >= 0) ::close(copy);  // after the rename: locked as long as it has a temporary name
+  return ok;
 }
 
 /// Why a file of `mode` is not read (" is a directory", ...), or nullptr for a regular file.
@@ -116,18 +165,21 @@ void AtomicFileWriter::discard() {
   if (!temporary_.empty()) ::unlink(temporary_.c_str());
   fd_ = -1;
   written_ = started_ = settled_ = 0;
+  write_behind_error_ = 0;
   temporary_.clear();
 }
 
 bool AtomicFileWriter::open(const std::string& path, std::string* error) {
   discard();
   path_ = path;
+  // Only a regular file is replaced: a directory, a FIFO, a socket or a device in its place is someone
+  // else's, and renaming over it would take it away.
   struct stat st;
-  if (::stat(path.c_str(), &st) == 0 && S_ISDIR(st.st_mode)) {
-    if (error) *error = "cannot write " + path + ": it is a directory";
+  const bool replacing = ::stat(path.c_str(), &st) == 0;
+  if (const char* what = replacing ? notRegular(st.st_mode) : nullptr) {
+    if (error) *error = "cannot write " + path + ": it" + what;
     return false;
   }
-  const bool replacing = ::stat(path.c_str(), &st) == 0;
   std::string name = path + ".tmp.XXXXXX";
   fd_ = ::mkstemp(&name[0]);
   if (fd_ < 0) return fail(error, "cannot create a temporary file in " + directoryOf(path));
@@ -135,8 +187,9 @@ bool AtomicFileWriter::open(const std::string& path, std::string* error) {
   // Locked until the rename: removeAbandonedTemporaries() leaves a locked temporary file alone.
   ::flock(fd_, LOCK_EX | LOCK_NB);
   // mkstemp makes the file private (0600): a new file is an ordinary data file, a replaced one keeps
-  // the mode its owner gave it.
-  ::fchmod(fd_, replacing ? (st.st_mode & 07777) : 0644);
+  // the mode its owner gave it, but always readable and writable by its owner, so that the next run
+  // can load and save it (a mode 000 file would otherwise stay unreadable).
+  ::fchmod(fd_, replacing ? ((st.st_mode & 07777) | 0600) : 0644);
   return true;
 }
 
@@ -152,16 +205,25 @@ void AtomicFileWriter::writeBehind() {
   // cache. At most two pieces are ever dirty, so the final fsync has little left to flush and other
   // processes' disk work never waits behind the whole file: a 1.2 GB save flushed at once by fsync
   // stalled a small write-and-rename elsewhere on the disk for up to 1.2 s.
-  // Advisory only: errors show at commit's fsync.
-  ::sync_file_range(fd_, static_cast<off_t>(started_), static_cast<off_t>(written_ - started_), SYNC_FILE_RANGE_WRITE);
+  // An error is kept for commit(): since Linux 4.14 the call that reports a writeback error (EIO) also
+  // clears it, so the final fsync would succeed on a file with lost pages.
+  keepError(::sync_file_range(fd_, static_cast<off_t>(started_), static_cast<off_t>(written_ - started_),
+                              SYNC_FILE_RANGE_WRITE));
   if (started_ > settled_) {
     const auto begin = static_cast<off_t>(settled_), length = static_cast<off_t>(started_ - settled_);
-    ::sync_file_range(fd_, begin, length,
-                      SYNC_FILE_RANGE_WAIT_BEFORE | SYNC_FILE_RANGE_WRITE | SYNC_FILE_RANGE_WAIT_AFTER);
+    keepError(::sync_file_range(fd_, begin, length,
+                                SYNC_FILE_RANGE_WAIT_BEFORE | SYNC_FILE_RANGE_WRITE | SYNC_FILE_RANGE_WAIT_AFTER));
     ::posix_fadvise(fd_, begin, length, POSIX_FADV_DONTNEED);
   }
   settled_ = started_;
   started_ = written_;
+}
+
+void AtomicFileWriter::keepError(int result) {
+  // ENOSYS, EINVAL and ESPIPE say that sync_file_range is not supported here (a kernel or a file system
+  // without it): nothing was lost, and commit's fsync does the work.
+  if (result == 0 || write_behind_error_ != 0 || errno == ENOSYS || errno == EINVAL || errno == ESPIPE) return;
+  write_behind_error_ = errno;
 }
 
 bool AtomicFileWriter::writeAt(std::size_t offset, const void* data, std::size_t size, std::string* error) {
@@ -185,6 +247,12 @@ bool AtomicFileWriter::commit(std::string* error) {
   if (fd_ < 0) {
     if (error) *error = "nothing to commit for " + path_;
     return false;
+  }
+  if (write_behind_error_ != 0) {
+    errno = write_behind_error_;
+    const bool ok = fail(error, "cannot write " + temporary_ + " to disk");
+    discard();
+    return ok;
   }
   if (::fsync(fd_) != 0) {
     const bool ok = fail(error, "cannot flush " + temporary_);

@@ -154,6 +154,8 @@ std::vector<Setting<NodeOptions>> makeNodeSettings() {
       stringSetting<O>("map_frame", N(map_frame), {}, "relocalize: the frame of the loaded map's poses"),
       stringSetting<O>("database_load", N(database_load), {}, "database file loaded at start (empty: none)"),
       stringSetting<O>("database_save", N(database_save), {}, "database file written at shutdown (empty: none)"),
+      boolSetting<O>("database_save_overwrite", N(database_save_overwrite),
+                     "replace a database_save file this run did not load (false: save beside it)"),
       boolSetting<O>("database_save_clouds", N(database_save_clouds), "saved databases include the registration clouds"),
       doubleSetting<O>("database_autosave_seconds", N(database_autosave_seconds), closed(0, 1e6),
                        "with database_save: also written there this often while it changes [s] (0: at shutdown only)"),

@@ -73,6 +73,18 @@ std::string LoopClosureRos::saveTarget() {
   return beside_path_;
 }
 
+void LoopClosureRos::keepUnloadedSaveFile(bool loaded) {
+  const std::string& path = options_.database_save;
+  // A file there at start that this run's database does not hold is someone's map: database_load was
+  // left empty, misspelt or names another file. Replacing it would lose it within two saves (the first
+  // makes it the .bak, the second replaces that).
+  if (options_.database_save_overwrite || !fileExists(path) || sameFile(path, kept_file_)) return;
+  if (loaded && sameFile(path, options_.database_load)) return;
+  kept_file_ = path;
+  keep_reason_ = "this run did not load it (database_load: \"" + options_.database_load +
+                 "\"); database_save_overwrite: true would replace it";
+}
+
 namespace {
 
 /// How a save's log line ends when it replaced a file: where that file is kept.
@@ -118,27 +130,32 @@ void LoopClosureRos::requestAutosave() {
 }
 
 void LoopClosureRos::autosave() {
-  const std::size_t size = processor_->database().size(), corrections = corrected_->version();
-  if (size == saved_size_ && resets_ == saved_resets_ && corrections == saved_corrections_) return;  // nothing new
+  const SavedState now{processor_->database().size(), resets_, corrected_->version()};
+  {
+    std::lock_guard<std::mutex> lock(saved_mutex_);
+    if (now == saved_) return;  // nothing new since the last write that landed
+  }
   const std::string path = saveTarget();
   DatabaseSnapshot snapshot = takeSnapshot(options_.database_save_clouds);
-  const bool started = writer_.writeInBackground(
-      std::move(snapshot), path, true, [this, path, size](const std::string& error, double seconds) {
-        if (!error.empty()) {
-          ++counters_.save_failures;
-          ROS_ERROR_THROTTLE_NAMED(60.0, name_, "autosave to %s failed: %s (%zu failures; the file there is as before)",
-                                   path.c_str(), error.c_str(), counters_.save_failures.load());
-          return;
-        }
-        ++counters_.saves;
-        counters_.last_save_keyframes = size;
-        counters_.last_save_seconds = seconds;
-        ROS_DEBUG_NAMED(name_, "autosaved %zu keyframes to %s in %.2f s", size, path.c_str(), seconds);
-      });
-  if (!started) return;  // a write is still in progress: the next autosave takes it up
-  saved_size_ = size;
-  saved_resets_ = resets_;
-  saved_corrections_ = corrections;
+  // Only a write that succeeded marks the database saved: after a failure (a full disk, EIO) the next
+  // autosave writes again, even when nothing changed meanwhile.
+  writer_.writeInBackground(std::move(snapshot), path, true, [this, path, now](const std::string& error, double seconds) {
+    if (!error.empty()) {
+      ++counters_.save_failures;
+      ROS_ERROR_THROTTLE_NAMED(60.0, name_, "autosave to %s failed: %s (%zu failures; the file there is as before)",
+                               path.c_str(), error.c_str(), counters_.save_failures.load());
+      return;
+    }
+    {
+      std::lock_guard<std::mutex> lock(saved_mutex_);
+      saved_ = now;
+    }
+    ++counters_.saves;
+    counters_.last_save_keyframes = now.size;
+    counters_.last_save_seconds = seconds;
+    ROS_DEBUG_NAMED(name_, "autosaved %zu keyframes to %s in %.2f s", now.size, path.c_str(), seconds);
+  });
+  // When a write is still in progress nothing starts: the next autosave takes up what changed.
 }
 
 bool LoopClosureRos::onSave(scan_context_loop::SaveDatabase::Request& request,

@@ -70,6 +70,7 @@ bool LoopClosureRos::start() {
   worker_.reset(new KeyframeWorker(name_, options_, queue_.get(), processor_.get(), markers_.get(), &counters_,
                                    [this] { takeReconfigured(); }));
   corrected_.reset(new CorrectedPoses(name_, &counters_));
+  bool loaded = false;
   if (!options_.database_load.empty()) {
     std::string error;
     try {
@@ -79,7 +80,8 @@ bool LoopClosureRos::start() {
     } catch (...) {
       error = "the load threw an unknown exception";
     }
-    if (!error.empty()) {
+    loaded = error.empty();
+    if (!loaded) {
       ROS_ERROR_NAMED(name_, "database_load %s: %s", options_.database_load.c_str(), error.c_str());
       // The file may be a map this build cannot read (other settings, another version, a read error):
       // the run goes on with an empty database, and the shutdown save never replaces that file.
@@ -89,8 +91,11 @@ bool LoopClosureRos::start() {
       }
     }
   }
-  saved_size_ = processor_->database().size();  // the map as loaded is on disk already
-  if (!options_.database_save.empty() && options_.mode != "relocalize") removeAbandonedWrites(options_.database_save);
+  saved_.size = processor_->database().size();  // the map as loaded is on disk already
+  if (!options_.database_save.empty() && options_.mode != "relocalize") {
+    keepUnloadedSaveFile(loaded);
+    removeAbandonedWrites(options_.database_save);
+  }
   if (options_.mode == "relocalize" && processor_->database().size() == 0) {
     ROS_WARN_NAMED(name_, "mode relocalize without a map: nothing is published until ~load_database loads one");
   }

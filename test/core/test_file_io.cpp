@@ -1,14 +1,19 @@
 // FileReader hands out contiguous pieces of any size across its buffer's refills; AtomicFileWriter
-// leaves nothing behind unless committed, and what a dead writer left is removed.
+// leaves nothing behind unless committed, replaces only a regular file, and keeps the old file (and
+// leaves no temporary file) when the file system fails it (faults injected with FileFaults); what a dead
+// writer left is removed.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <chrono>
+#include <cerrno>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <future>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <string>
 #include <vector>
 
@@ -22,6 +27,7 @@
 #include <unistd.h>
 
 #include "scan_context_loop/core/file_io.h"
+#include "../common/file_faults.h"
 #include "../common/temp_dir.h"
 
 namespace scan_context_loop {
@@ -58,16 +64,24 @@ TEST(FileReader, PiecesOfAnySizeAcrossRefillsHoldTheFileInOrder) {
   fs::remove(path);
 }
 
+/// A Unix socket bound at `path`, so that a socket file is there; -1 when it cannot be made.
+int bindSocket(const std::string& path) {
+  const int sock = ::socket(AF_UNIX, SOCK_STREAM, 0);
+  sockaddr_un address{};
+  address.sun_family = AF_UNIX;
+  std::snprintf(address.sun_path, sizeof(address.sun_path), "%s", path.c_str());
+  if (sock >= 0 && ::bind(sock, reinterpret_cast<const sockaddr*>(&address), sizeof(address)) == 0) return sock;
+  if (sock >= 0) ::close(sock);
+  return -1;
+}
+
 TEST(FileReader, RefusesFifosSocketsDevicesAndDirectoriesWithoutBlocking) {
   const fs::path dir = fs::temp_directory_path() / ("scl_file_types_" + std::to_string(::getpid()));
   fs::create_directory(dir);
   const std::string fifo = (dir / "fifo").string(), socket_path = (dir / "socket").string();
   ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
-  const int sock = ::socket(AF_UNIX, SOCK_STREAM, 0);
-  sockaddr_un address{};
-  address.sun_family = AF_UNIX;
-  std::snprintf(address.sun_path, sizeof(address.sun_path), "%s", socket_path.c_str());
-  ASSERT_EQ(::bind(sock, reinterpret_cast<const sockaddr*>(&address), sizeof(address)), 0);
+  const int sock = bindSocket(socket_path);
+  ASSERT_GE(sock, 0);
   const std::vector<std::pair<std::string, std::string>> cases = {
       {fifo, "named pipe (FIFO)"}, {socket_path, "socket"}, {"/dev/null", "device"}, {dir.string(), "directory"}};
   for (const auto& [path, word] : cases) {
@@ -150,6 +164,144 @@ TEST(AtomicFileWriter, WritesBehindSoThatCommitHasLittleLeftToFlush) {
   for (char c; in.get(c); ++at) wrong += static_cast<std::uint8_t>(c) != patternAt(at);
   EXPECT_EQ(at, total);
   EXPECT_EQ(wrong, 0u);
+}
+
+std::string readAll(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+/// Writes `bytes` to `path` through an AtomicFileWriter, keeping `path`.bak when `backup`; commit's result.
+bool save(const std::string& path, const std::string& bytes, bool backup, std::string* error) {
+  AtomicFileWriter writer;
+  if (!writer.open(path, error)) return false;
+  if (backup) writer.keepBackup(path + ".bak");
+  return writer.write(bytes.data(), bytes.size(), error) && writer.commit(error);
+}
+
+// A FIFO, a socket or a device where the file should be is not the writer's to replace: open() refuses
+// it, naming the path and what it is, and creates nothing.
+TEST(AtomicFileWriter, ATargetThatIsNoRegularFileIsRefusedAndLeftAlone) {
+  test::TempDir dir("scl_atomic_types");
+  const std::string fifo = dir.file("fifo"), socket_path = dir.file("socket");
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  const int sock = bindSocket(socket_path);
+  ASSERT_GE(sock, 0);
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {fifo, "named pipe (FIFO)"}, {socket_path, "socket"}, {"/dev/null", "device"}, {dir.file(""), "directory"}};
+  for (const auto& [path, word] : cases) {
+    SCOPED_TRACE(path);
+    AtomicFileWriter writer;
+    std::string error;
+    EXPECT_FALSE(writer.open(path, &error));
+    EXPECT_NE(error.find(path), std::string::npos) << error;
+    EXPECT_NE(error.find(word), std::string::npos) << error;
+  }
+  ::close(sock);
+  struct stat st;
+  ASSERT_EQ(::lstat(fifo.c_str(), &st), 0);
+  EXPECT_TRUE(S_ISFIFO(st.st_mode));
+  ASSERT_EQ(::lstat(socket_path.c_str(), &st), 0);
+  EXPECT_TRUE(S_ISSOCK(st.st_mode));
+  EXPECT_EQ(dir.entries(), (std::vector<std::string>{"fifo", "socket"})) << "no temporary file";
+}
+
+// A replaced file keeps its mode, but its owner can always read and write the new one: a map saved over
+// a mode 000 file must load in the next run. (Root reads a mode 000 file anyway: the bits are checked.)
+TEST(AtomicFileWriter, AReplacedFileKeepsItsModeWithReadAndWriteForItsOwner) {
+  test::TempDir dir("scl_atomic_mode");
+  const std::string path = dir.file("map");
+  for (const auto& [before, after] : std::vector<std::pair<mode_t, mode_t>>{{0, 0600}, {0444, 0644}, {0640, 0640}}) {
+    SCOPED_TRACE(before);
+    std::ofstream(path) << "old";
+    ASSERT_EQ(::chmod(path.c_str(), before), 0);
+    std::string error;
+    ASSERT_TRUE(save(path, "new", false, &error)) << error;
+    struct stat st;
+    ASSERT_EQ(::stat(path.c_str(), &st), 0);
+    EXPECT_EQ(st.st_mode & 07777, after);
+    EXPECT_EQ(readAll(path), "new");
+  }
+}
+
+/// Faults injected into the file-system calls of a save, cleared after each test.
+class SaveFaults : public ::testing::Test {
+ protected:
+  void SetUp() override { std::ofstream(path_, std::ios::binary) << old_; }
+  void TearDown() override { test::FileFaults::clear(); }
+  /// The old file is there as it was, and no temporary file is left (nor a backup, unless `backup`).
+  void expectOldFileAlone(bool backup) {
+    EXPECT_EQ(readAll(path_), old_);
+    std::vector<std::string> expected = {"map"};
+    if (backup) expected.push_back("map.bak");
+    EXPECT_EQ(dir_.entries(), expected);
+  }
+  test::TempDir dir_{"scl_save_faults"};
+  const std::string path_ = dir_.file("map"), old_ = "the old map";
+};
+
+// vfat and exFAT have no hard links (link fails with EPERM), some file systems say EOPNOTSUPP: the backup
+// is then a copy of the old file, and the save goes on.
+TEST_F(SaveFaults, WithoutHardLinksTheBackupIsACopyOfTheOldFile) {
+  for (const int error : {EPERM, EOPNOTSUPP, EXDEV, EMLINK}) {
+    SCOPED_TRACE(std::strerror(error));
+    SetUp();
+    ::unlink((path_ + ".bak").c_str());
+    test::FileFaults::fail("link", error);
+    std::string why;
+    EXPECT_TRUE(save(path_, "the new map", true, &why)) << why;
+    EXPECT_GE(test::FileFaults::failures("link"), 1);
+    EXPECT_EQ(readAll(path_), "the new map");
+    EXPECT_EQ(readAll(path_ + ".bak"), old_);
+    EXPECT_EQ(dir_.entries(), (std::vector<std::string>{"map", "map.bak"})) << "no temporary file";
+    test::FileFaults::clear();
+  }
+}
+
+// Any other link error (EIO, ENOSPC) fails the save before anything is replaced.
+TEST_F(SaveFaults, AFailedLinkOfTheBackupFailsTheSaveAndKeepsTheOldFile) {
+  test::FileFaults::fail("link", EIO);
+  std::string why;
+  EXPECT_FALSE(save(path_, "the new map", true, &why));
+  EXPECT_NE(why.find(path_ + ".bak"), std::string::npos) << why;
+  EXPECT_NE(why.find(std::strerror(EIO)), std::string::npos) << why;
+  expectOldFileAlone(false);
+}
+
+// A write-behind that reports EIO: since Linux 4.14 the report clears the error, so the fsync after it
+// succeeds; the writer must remember it and refuse to rename a file with lost pages over the old one.
+TEST_F(SaveFaults, AWriteErrorDuringTheWriteBehindFailsTheCommit) {
+  const std::string big(AtomicFileWriter::kWriteBehindBytes + 1000, 'x');
+  test::FileFaults::fail("sync_file_range", EIO);
+  std::string why;
+  EXPECT_FALSE(save(path_, big, true, &why));
+  EXPECT_GE(test::FileFaults::failures("sync_file_range"), 1) << "no write-behind";
+  EXPECT_NE(why.find(path_ + ".tmp."), std::string::npos) << why;
+  EXPECT_NE(why.find(std::strerror(EIO)), std::string::npos) << why;
+  expectOldFileAlone(false);
+  // ENOSYS, EINVAL, ESPIPE: no sync_file_range here; nothing was lost, and the save goes on.
+  for (const int unsupported : {ENOSYS, EINVAL, ESPIPE}) {
+    SCOPED_TRACE(std::strerror(unsupported));
+    test::FileFaults::fail("sync_file_range", unsupported);
+    EXPECT_TRUE(save(path_, big, false, &why)) << why;
+    EXPECT_EQ(readAll(path_).size(), big.size());
+  }
+}
+
+// A failed fsync keeps the old file and leaves no temporary file; a failed rename (here the backup's,
+// the first) too.
+TEST_F(SaveFaults, AFailedFlushOrRenameKeepsTheOldFile) {
+  test::FileFaults::fail("fsync", EIO);
+  std::string why;
+  EXPECT_FALSE(save(path_, "the new map", true, &why));
+  EXPECT_NE(why.find(std::strerror(EIO)), std::string::npos) << why;
+  expectOldFileAlone(false);
+  test::FileFaults::clear();
+  test::FileFaults::fail("rename", EIO);
+  EXPECT_FALSE(save(path_, "the new map", true, &why));
+  EXPECT_NE(why.find(path_), std::string::npos) << why;
+  EXPECT_GE(test::FileFaults::failures("rename"), 1);
+  expectOldFileAlone(false);
 }
 
 // A save whose process died leaves its temporary file (up to a gigabyte) beside the map for good:

@@ -1,10 +1,14 @@
 // rostest: the database services and relocalization. Node a maps a drive, saves its database, is reset
 // and loads it back, then closes loops from a second pass into the loaded session; node b loads the saved
-// map and relocalizes a second run whose odometry has its own origin, by topic and by service.
+// map and relocalizes a second run whose odometry has its own origin, by topic and by service. Nodelets
+// loaded by the tests themselves save and autosave, and keep maps they must not replace; a standalone
+// node whose file-system calls fail (test/common/file_faults.h) retries its autosaves.
 #include <dirent.h>
+#include <signal.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <fstream>
 #include <iterator>
 #include <map>
@@ -18,6 +22,7 @@
 #include <std_srvs/Trigger.h>
 #include <tf2_eigen/tf2_eigen.h>
 
+#include "child_process.h"
 #include "harness.h"
 #include "topic_watch.h"
 #include "scan_context_loop/LoadDatabase.h"
@@ -350,6 +355,81 @@ TEST(Relocalization, AMapThatFailedToLoadOrWasResetIsNeverSavedOver) {
 
   for (const auto& path : tmpFiles("scl_other_settings_" + id, "")) ::unlink(path.c_str());
   for (const auto& path : tmpFiles("scl_reset_" + id, "")) ::unlink(path.c_str());
+}
+
+// A map already at database_save that the node did not load (database_load misspelt, or empty) is not
+// the run's to replace: it stays byte for byte over two runs, each of which saves beside it. With
+// database_save_overwrite it is replaced, and kept as .bak.
+TEST(Relocalization, AMapAtDatabaseSaveThatWasNotLoadedIsReplacedOnlyWhenAllowed) {
+  ros::NodeHandle a_nh("a");
+  Harness a(a_nh);
+  ASSERT_TRUE(a.waitForNode(30.0));
+  const std::string id = std::to_string(getpid()), prefix = "scl_not_loaded_" + id + ".";
+  const std::string map = "/tmp/" + prefix + "scdb";
+  saveFromA(prefix + "scdb");
+  const std::string bytes = readFile(map);
+  ASSERT_FALSE(bytes.empty());
+
+  runNodelet("/g/loop_closure", {{"database_load", "/tmp/scl_not_laoded_" + id + ".scdb"}, {"database_save", map}},
+             [] {});
+  EXPECT_EQ(readFile(map), bytes) << "a misspelt database_load: the map is kept byte for byte";
+  EXPECT_EQ(tmpFiles(prefix, map).size(), 1u) << "the run's database goes beside the map";
+  runNodelet("/h/loop_closure", {{"database_save", map}}, [] {});
+  EXPECT_EQ(readFile(map), bytes) << "no database_load: the map is kept byte for byte";
+  EXPECT_FALSE(exists(map + ".bak"));
+  EXPECT_EQ(tmpFiles(prefix, map).size(), 2u) << "each run's database goes beside the map";
+
+  for (const auto& path : tmpFiles(prefix, map)) ::unlink(path.c_str());
+  runNodelet("/i/loop_closure", {{"database_save", map}, {"database_save_overwrite", true}}, [] {});
+  EXPECT_NE(readFile(map), bytes) << "database_save_overwrite: the map is replaced";
+  EXPECT_EQ(readFile(map + ".bak"), bytes) << "and kept as .bak";
+  EXPECT_EQ(tmpFiles(prefix, map), std::vector<std::string>{map + ".bak"}) << "nothing beside it";
+  for (const auto& path : tmpFiles(prefix, "")) ::unlink(path.c_str());
+}
+
+/// The diagnostics' `key` of the watched node, from a status that arrived after `after`, once it is above
+/// `above` (at most `seconds`); the largest seen, -1 when none came.
+long waitForDiagnostic(const DiagnosticsWatch& watch, const std::string& key, long above, const ros::WallTime& after,
+                       double seconds) {
+  const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(seconds);
+  long seen = -1;
+  while (seen <= above && ros::WallTime::now() < end) seen = std::max(seen, watch.value(key, after, 1.0));
+  return seen;
+}
+
+// An autosave that fails (fsync fails with EIO while the fault file exists: a failing or full disk) is
+// tried again at the next autosave, though the database no longer changes; once the fault is gone the
+// file is written. The node runs standalone, the file-fault library preloaded.
+TEST(Relocalization, AFailedAutosaveIsTriedAgainUntilItIsWritten) {
+  const std::string id = std::to_string(getpid()), prefix = "scl_retry_" + id + ".scdb";
+  const std::string map = "/tmp/" + prefix, faults = "/tmp/scl_faults_" + id;
+  ros::NodeHandle f_nh("f");
+  Harness f(f_nh);
+  DiagnosticsWatch diagnostics(f_nh, "f/loop_closure");
+  Child node({"scan_context_loop", "loop_closure_node", "__ns:=f", "__name:=loop_closure", "_database_save:=" + map,
+              "_database_autosave_seconds:=0.5", "_queue_size:=2000", "_exclude_recent_frames:=30"},
+             {std::string("LD_PRELOAD=") + SCL_FILE_FAULTS_LIBRARY, "SCL_FILE_FAULTS=" + faults});
+  ASSERT_GT(node.pid(), 0);
+  ASSERT_TRUE(f.waitForNode(60.0)) << "the node never subscribed";
+  writeFile(faults, "fsync EIO\n");
+  const Drive drive = blockDrive(true, 7);
+  const std::size_t n = 40;
+  f.publish(drive, 0, n, 15.0);
+  ASSERT_TRUE(f.waitForKeyframes(n, 60.0));
+  ros::WallDuration(1.5).sleep();  // the autosaves of the whole database have begun to fail
+  const long failed = waitForDiagnostic(diagnostics, "database saves failed", 0, ros::WallTime::now(), 10.0);
+  EXPECT_GT(failed, 0) << "no autosave failed";
+  EXPECT_GT(waitForDiagnostic(diagnostics, "database saves failed", failed, ros::WallTime::now(), 15.0), failed)
+      << "the database no longer changes, and the failed autosave is not tried again";
+  EXPECT_TRUE(tmpFiles(prefix, "").empty()) << "nothing written, and no temporary file left";
+
+  ::unlink(faults.c_str());
+  EXPECT_EQ(waitForFile(map, static_cast<long>(n), 10.0), static_cast<long>(n))
+      << "the fault is gone, and the next autosave does not write the file";
+  double took = 0.0;
+  EXPECT_TRUE(node.stop(SIGINT, 20.0, &took)) << "no exit after SIGINT";
+  EXPECT_TRUE(node.exitedCleanly()) << node.how();
+  for (const auto& path : tmpFiles(prefix, "")) ::unlink(path.c_str());
 }
 
 }  // namespace

@@ -6,8 +6,6 @@
 // `scripts/dev/test --sanitize` the processes run with AddressSanitizer and LeakSanitizer, whose report at
 // exit changes that status.
 #include <signal.h>
-#include <spawn.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <atomic>
@@ -22,9 +20,8 @@
 #include <nodelet/NodeletLoad.h>
 #include <nodelet/NodeletUnload.h>
 
+#include "child_process.h"
 #include "harness.h"
-
-extern char** environ;
 
 namespace scan_context_loop {
 namespace test {
@@ -99,61 +96,6 @@ bool waitForFullQueue(const DiagnosticsWatch& watch, double seconds) {
   }
   return false;
 }
-
-/// A child process (rosrun PACKAGE EXECUTABLE ARGS...), with the environment of this test.
-class Child {
- public:
-  explicit Child(const std::vector<std::string>& args) {
-    std::vector<char*> argv;
-    argv.push_back(const_cast<char*>("rosrun"));
-    for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
-    argv.push_back(nullptr);
-    if (posix_spawnp(&pid_, "rosrun", nullptr, nullptr, argv.data(), environ) != 0) pid_ = -1;
-  }
-  ~Child() {
-    if (pid_ > 0 && !exited_) {
-      kill(pid_, SIGKILL);
-      waitpid(pid_, nullptr, 0);
-    }
-  }
-  pid_t pid() const { return pid_; }
-  bool running() {
-    poll();
-    return pid_ > 0 && !exited_;
-  }
-  /// Sends `signal`, then waits up to `seconds` for the exit; false when it did not exit in time.
-  bool stop(int signal, double seconds, double* took) {
-    const double start = wallSeconds();
-    kill(pid_, signal);
-    while (wallSeconds() - start < seconds) {
-      if (poll()) {
-        *took = wallSeconds() - start;
-        return true;
-      }
-      std::this_thread::sleep_for(std::chrono::milliseconds(20));
-    }
-    *took = wallSeconds() - start;
-    return false;
-  }
-  /// The exit status (0 when it exited normally with 0), or a description of how it ended.
-  std::string how() const {
-    if (!exited_) return "still running";
-    if (WIFEXITED(status_)) return "exit status " + std::to_string(WEXITSTATUS(status_));
-    return "killed by signal " + std::to_string(WTERMSIG(status_));
-  }
-  bool exitedCleanly() const { return exited_ && WIFEXITED(status_) && WEXITSTATUS(status_) == 0; }
-
- private:
-  bool poll() {
-    if (exited_) return true;
-    if (pid_ <= 0) return false;
-    if (waitpid(pid_, &status_, WNOHANG) == pid_) exited_ = true;
-    return exited_;
-  }
-  pid_t pid_ = -1;
-  int status_ = 0;
-  bool exited_ = false;
-};
 
 bool waitForService(const std::string& name, double seconds) {
   return ros::service::waitForService(name, ros::Duration(seconds));

@@ -72,8 +72,9 @@ class FileReader : public ByteSource {
 /// temporary file in the target's directory, which commit() flushes to disk (fsync) and renames over
 /// the target. Until commit() succeeds the target is untouched; a writer destroyed without a successful
 /// commit removes its temporary file, which stays locked (flock) while it exists, so that
-/// removeAbandonedTemporaries() tells it from one a dead process left. A file replaced keeps its mode
-/// (a new one is 0644). Not copyable.
+/// removeAbandonedTemporaries() tells it from one a dead process left. Only a regular file is replaced.
+/// A file replaced keeps its mode, with read and write for its owner added (a new one is 0644). A write
+/// error the kernel reports during the write-behind fails commit(), as fsync's would. Not copyable.
 class AtomicFileWriter {
  public:
   AtomicFileWriter() = default;
@@ -82,9 +83,11 @@ class AtomicFileWriter {
   AtomicFileWriter& operator=(const AtomicFileWriter&) = delete;
 
   /// Creates the temporary file for `path`; false with *error when the directory does not exist or
-  /// is not writable.
+  /// is not writable, or when `path` is something other than a regular file (a directory, a FIFO, a
+  /// socket, a device: named in *error).
   bool open(const std::string& path, std::string* error);
-  /// commit() first makes the file it replaces (if any) `backup`, itself replaced atomically.
+  /// commit() first makes the file it replaces (if any) `backup`, itself replaced atomically: a hard
+  /// link, or a copy flushed to disk where the file system has no hard links (vfat, exFAT).
   void keepBackup(const std::string& backup) { backup_ = backup; }
   /// Appends to the temporary file. Every kWriteBehindBytes appended go to disk while the next are
   /// written (write-behind), so commit() has little left to flush.
@@ -99,10 +102,13 @@ class AtomicFileWriter {
   void discard();
   /// Starts the write of [started_, written_) to disk and waits for [settled_, started_).
   void writeBehind();
+  /// Keeps the first real error of a sync_file_range that returned `result` for commit().
+  void keepError(int result);
   std::string path_, temporary_, backup_;
   int fd_ = -1;
   std::size_t written_ = 0;
   std::size_t started_ = 0, settled_ = 0;  // bytes whose write to disk was started / is done
+  int write_behind_error_ = 0;              // the first errno of writeBehind, 0 when none
 };
 
 /// A file removeAbandonedTemporaries() removed, and its size.

@@ -33,6 +33,9 @@ struct NodeOptions {
   std::string map_frame = "map";        ///< relocalize: the frame of the loaded map's poses
   std::string database_load;            ///< a database file loaded at start as prior sessions ("": none)
   std::string database_save;            ///< the database saved here at shutdown ("": not saved)
+  /// With database_save: a file already there that this run did not load (database_load empty, misspelt
+  /// or another file) is replaced only when true; else this run's database is saved beside it.
+  bool database_save_overwrite = false;
   bool database_save_clouds = true;     ///< saves include the registration clouds (needed to verify later)
   /// With database_save: the database is also written there every this many seconds (wall time) while
   /// it changes, on a thread of its own, so a crash loses at most that much; 0 saves at shutdown only.

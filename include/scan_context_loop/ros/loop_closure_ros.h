@@ -86,9 +86,13 @@ class LoopClosureRos {
   /// Loads a database file into the pipeline (worker, or start() before the worker runs); "" or why not.
   std::string loadFile(const std::string& path);
   /// Where this run's database is saved (worker, or after it ended): `database_save`, or a file beside
-  /// it when that is the map a failed start-up load or a ~reset left out of this run's database
+  /// it when that is a map this run's database does not hold: one that was there at start and not
+  /// loaded (unless database_save_overwrite), one whose start-up load failed, or one a ~reset emptied
   /// (keep_reason_, reset_): the same file beside it all run, named in one warning.
   std::string saveTarget();
+  /// start(), after database_load (`loaded`: it loaded): keeps a file at database_save that this run did
+  /// not load, unless database_save_overwrite.
+  void keepUnloadedSaveFile(bool loaded);
   /// Removes, with a warning, the temporary files that writes of `path` left when their process died.
   void removeAbandonedWrites(const std::string& path);
   /// The database to saveTarget() at shutdown, after the autosave in progress.
@@ -109,14 +113,22 @@ class LoopClosureRos {
   ros::NodeHandle nh_, pnh_;
   std::string name_;
   // Set by start() and the worker; read by the destructor after the worker stopped. A file that a
-  // shutdown save must not replace (the map whose start-up load failed), and why; after a ~reset,
-  // database_save's file is not replaced either.
+  // save must not replace (the map whose start-up load failed, or a database_save file not loaded), and
+  // why; after a ~reset, database_save's file is not replaced either.
   std::string kept_file_, keep_reason_;
   bool reset_ = false;
-  // The worker's: the file beside database_save once saveTarget() chose one, and the database as the
-  // last save saw it (its size and the ~resets so far), so that an unchanged database is not written again.
+  // The worker's: the file beside database_save once saveTarget() chose one, and the ~resets so far.
   std::string beside_path_;
-  std::size_t resets_ = 0, saved_size_ = 0, saved_resets_ = 0, saved_corrections_ = 0;
+  std::size_t resets_ = 0;
+  /// The database as a save saw it: its size, the ~resets and the corrections' version then.
+  struct SavedState {
+    std::size_t size = 0, resets = 0, corrections = 0;
+    bool operator==(const SavedState& o) const { return size == o.size && resets == o.resets && corrections == o.corrections; }
+  };
+  // What the last autosave that succeeded wrote, so that an unchanged database is not written again and
+  // a failed write is retried. Set by the writer's thread when a write lands, read by the worker.
+  std::mutex saved_mutex_;
+  SavedState saved_;
   // Read in start(); then config_ is the worker's, and options_ is read by callbacks too, so the worker
   // changes only its live members, which callbacks never read (takeReconfigured).
   Config config_;

@@ -1,0 +1,119 @@
+// The fault interposer of file_faults.h: link, rename, fsync, fdatasync and sync_file_range, each
+// failing when FileFaults or the SCL_FILE_FAULTS file says so, else passed to the next definition
+// (the C library's), found with dlsym(RTLD_NEXT).
+#include "file_faults.h"
+
+#include <dlfcn.h>
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <cerrno>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <stdexcept>
+
+namespace scan_context_loop {
+namespace test {
+namespace {
+
+enum Call { kLink, kRename, kFsync, kFdatasync, kSyncFileRange, kCalls };
+const char* const kCallNames[kCalls] = {"link", "rename", "fsync", "fdatasync", "sync_file_range"};
+
+// Atomic: the calls come from any thread (a save runs on a writer thread of its own).
+std::atomic<int> chosen[kCalls];
+std::atomic<int> failed[kCalls];
+
+Call callNamed(const std::string& name) {
+  for (int c = 0; c < kCalls; ++c) {
+    if (name == kCallNames[c]) return static_cast<Call>(c);
+  }
+  throw std::invalid_argument("FileFaults: no fault for a call named " + name);
+}
+
+/// The errno that the SCL_FILE_FAULTS file chooses for `call` (a name such as EIO, as strerrorname_np
+/// gives it), 0 when there is no such file or no line for it. Read at every call, so that a test
+/// starts and ends the fault by writing and removing the file.
+int chosenByFile(Call call) {
+  const char* path = std::getenv("SCL_FILE_FAULTS");
+  if (!path || !*path) return 0;
+  FILE* file = std::fopen(path, "re");
+  if (!file) return 0;
+  int chosen_errno = 0;
+  char name[64], error[64];
+  while (chosen_errno == 0 && std::fscanf(file, "%63s %63s", name, error) == 2) {
+    if (std::strcmp(name, kCallNames[call]) != 0) continue;
+    for (int e = 1; e < 256 && chosen_errno == 0; ++e) {
+      const char* known = strerrorname_np(e);
+      if (known && std::strcmp(known, error) == 0) chosen_errno = e;
+    }
+  }
+  std::fclose(file);
+  return chosen_errno;
+}
+
+/// True, with errno set, when `call` is to fail now.
+bool injected(Call call) {
+  const int saved = errno;
+  int error = chosen[call].load();
+  if (error == 0) error = chosenByFile(call);
+  if (error == 0) {
+    errno = saved;
+    return false;
+  }
+  ++failed[call];
+  errno = error;
+  return true;
+}
+
+template <typename Function>
+Function* next(const char* name) {
+  return reinterpret_cast<Function*>(::dlsym(RTLD_NEXT, name));
+}
+
+}  // namespace
+
+void FileFaults::fail(const std::string& call, int error) { chosen[callNamed(call)] = error; }
+
+void FileFaults::clear() {
+  for (int c = 0; c < kCalls; ++c) chosen[c] = failed[c] = 0;
+}
+
+int FileFaults::failures(const std::string& call) { return failed[callNamed(call)].load(); }
+
+}  // namespace test
+}  // namespace scan_context_loop
+
+using scan_context_loop::test::injected;
+using scan_context_loop::test::next;
+
+// The C library's declarations, exception specifications included (link and rename are __THROW).
+extern "C" {
+
+int link(const char* from, const char* to) __THROW {
+  static auto* real = next<int(const char*, const char*)>("link");
+  return injected(scan_context_loop::test::kLink) ? -1 : real(from, to);
+}
+
+int rename(const char* from, const char* to) __THROW {
+  static auto* real = next<int(const char*, const char*)>("rename");
+  return injected(scan_context_loop::test::kRename) ? -1 : real(from, to);
+}
+
+int fsync(int fd) {
+  static auto* real = next<int(int)>("fsync");
+  return injected(scan_context_loop::test::kFsync) ? -1 : real(fd);
+}
+
+int fdatasync(int fd) {
+  static auto* real = next<int(int)>("fdatasync");
+  return injected(scan_context_loop::test::kFdatasync) ? -1 : real(fd);
+}
+
+int sync_file_range(int fd, __off64_t offset, __off64_t count, unsigned int flags) {
+  static auto* real = next<int(int, __off64_t, __off64_t, unsigned int)>("sync_file_range");
+  return injected(scan_context_loop::test::kSyncFileRange) ? -1 : real(fd, offset, count, flags);
+}
+
+}  // extern "C"
