@@ -90,6 +90,17 @@ class MapFilesTest : public ::testing::Test {
     ASSERT_GT(files_.cloud.size(), 100u);
   }
 
+  /// The graph one keyframe longer and the map one point larger: every file of the set changes.
+  MapFiles changedFiles() {
+    graph_.addKeyframe(graph_.odometryPose(7) * Eigen::Translation3d(1.0, 0.0, 0.0));
+    stamps_.push_back(stamps_.back() + 100000000);
+    MapFiles changed = mapFilesOf(graph_, stamps_);
+    changed.cloud = files_.cloud;
+    changed.cloud.push_back(pcl::PointXYZ(1.0f, 2.0f, 3.0f));
+    changed.has_cloud = true;
+    return changed;
+  }
+
   std::vector<Eigen::Isometry3d> truth_;
   std::vector<std::int64_t> stamps_;
   PoseGraph graph_;
@@ -288,12 +299,7 @@ TEST_F(MapFilesTest, AFailedSaveKeepsTheFilesItWouldHaveReplacedWhole) {
   // the other five were written: none of them may have replaced its file, and no temporary file stays.
   ASSERT_EQ(std::remove((out + "/pose_graph.g2o").c_str()), 0);
   ASSERT_EQ(::mkdir((out + "/pose_graph.g2o").c_str(), 0755), 0);
-  graph_.addKeyframe(graph_.odometryPose(7) * Eigen::Translation3d(1.0, 0.0, 0.0));
-  stamps_.push_back(stamps_.back() + 100000000);
-  MapFiles changed = mapFilesOf(graph_, stamps_);
-  changed.cloud = files_.cloud;
-  changed.cloud.push_back(pcl::PointXYZ(1.0f, 2.0f, 3.0f));
-  changed.has_cloud = true;
+  const MapFiles changed = changedFiles();
   EXPECT_FALSE(writeMapFiles(out, changed, nullptr, &error));
   EXPECT_NE(error.find("is a directory"), std::string::npos) << error;
   for (const auto& name : mapFileNames(true)) {
@@ -333,12 +339,7 @@ TEST_F(MapFilesTest, ASaveKilledAtAnyRenameLeavesOneWholeSet) {
   ASSERT_TRUE(writeMapFiles(out, files_, nullptr, &error)) << error;
   std::ofstream(out + "/notes.txt") << "the user's own file";
   const std::map<std::string, std::string> before = setIn(out);
-  graph_.addKeyframe(graph_.odometryPose(7) * Eigen::Translation3d(1.0, 0.0, 0.0));
-  stamps_.push_back(stamps_.back() + 100000000);
-  MapFiles changed = mapFilesOf(graph_, stamps_);
-  changed.cloud = files_.cloud;
-  changed.cloud.push_back(pcl::PointXYZ(1.0f, 2.0f, 3.0f));
-  changed.has_cloud = true;
+  const MapFiles changed = changedFiles();
   ASSERT_TRUE(writeMapFiles(dir.file("reference"), changed, nullptr, &error)) << error;
   const std::map<std::string, std::string> after = setIn(dir.file("reference"));
   for (const auto& [name, bytes] : after) ASSERT_NE(bytes, before.at(name)) << name << " is the same in both sets";
