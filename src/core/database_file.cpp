@@ -575,11 +575,13 @@ bool writeImage(const DatabaseSnapshot& snapshot, Sink* file, std::string* error
   return file->writeAt(0, head.data(), head.size(), error);
 }
 
-bool writeDatabase(const DatabaseSnapshot& snapshot, const std::string& path, bool keep_backup, std::string* error) {
+bool writeDatabase(const DatabaseSnapshot& snapshot, const std::string& path, bool keep_backup, std::string* error,
+                   const std::atomic<bool>* cancel) {
   if (!mayReplace(path, error)) return false;
   AtomicFileWriter file;
   if (!file.open(path, error)) return false;
   if (keep_backup) file.keepBackup(path + ".bak");
+  file.cancelWhen(cancel);
   return writeImage(snapshot, &file, error) && file.commit(error);
 }
 

@@ -19,7 +19,7 @@ bool DatabaseWriter::write(const DatabaseSnapshot& snapshot, const std::string& 
 bool DatabaseWriter::writeNow(const DatabaseSnapshot& snapshot, const std::string& path, bool keep_backup,
                               std::string* error) {
   std::lock_guard<std::mutex> lock(write_mutex_);
-  return writeDatabase(snapshot, path, keep_backup, error);
+  return writeDatabase(snapshot, path, keep_backup, error, &cancel_);
 }
 
 bool DatabaseWriter::writeInBackground(DatabaseSnapshot snapshot, const std::string& path, bool keep_backup,
@@ -61,6 +61,20 @@ bool DatabaseWriter::writeInBackground(DatabaseSnapshot snapshot, const std::str
 void DatabaseWriter::wait() {
   std::lock_guard<std::mutex> lock(thread_mutex_);
   if (thread_.joinable()) thread_.join();
+}
+
+bool DatabaseWriter::waitFor(double seconds) {
+  const auto until = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
+  while (busy_.load() && std::chrono::steady_clock::now() < until) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  return !busy_.load();
+}
+
+void DatabaseWriter::cancel() {
+  cancel_ = true;
+  wait();
+  cancel_ = false;
 }
 
 }  // namespace scan_context_loop

@@ -193,8 +193,15 @@ bool AtomicFileWriter::open(const std::string& path, std::string* error) {
   return true;
 }
 
+bool AtomicFileWriter::cancelled(std::string* error) {
+  if (cancel_ == nullptr || !cancel_->load()) return false;
+  if (error) *error = "the write of " + path_ + " was cancelled; the file there is as it was";
+  discard();
+  return true;
+}
+
 bool AtomicFileWriter::write(const void* data, std::size_t size, std::string* error) {
-  if (!writeAt(written_, data, size, error)) return false;
+  if (cancelled(error) || !writeAt(written_, data, size, error)) return false;
   written_ += size;
   if (written_ - started_ >= kWriteBehindBytes) writeBehind();
   return true;
@@ -248,6 +255,7 @@ bool AtomicFileWriter::commit(std::string* error) {
     if (error) *error = "nothing to commit for " + path_;
     return false;
   }
+  if (cancelled(error)) return false;
   if (write_behind_error_ != 0) {
     errno = write_behind_error_;
     const bool ok = fail(error, "cannot write " + temporary_ + " to disk");

@@ -159,6 +159,9 @@ std::vector<Setting<NodeOptions>> makeNodeSettings() {
       boolSetting<O>("database_save_clouds", N(database_save_clouds), "saved databases include the registration clouds"),
       doubleSetting<O>("database_autosave_seconds", N(database_autosave_seconds), closed(0, 1e6),
                        "with database_save: also written there this often while it changes [s] (0: at shutdown only)"),
+      doubleSetting<O>("database_shutdown_seconds", N(database_shutdown_seconds), closed(0.1, 1e6),
+                       "the shutdown save (and the autosave in progress) takes at most this long; the rest is "
+                       "cancelled and named in the log [s]"),
       stringSetting<O>("database_directory", N(database_directory), {},
                        "~save_database writes only here (empty: the directory of database_save, else of "
                        "database_load, else $ROS_HOME/scan_context_loop)"),

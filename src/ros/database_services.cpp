@@ -1,6 +1,7 @@
 // The node's database services (save, load, reset), relocalization in a loaded map, and the database
 // file at start, every database_autosave_seconds and at shutdown. The worker owns the database: each
 // service hands it a task and waits; a save takes a snapshot on the worker and writes it off the worker.
+#include <algorithm>
 #include <chrono>
 #include <ctime>
 #include <future>
@@ -102,17 +103,63 @@ void LoopClosureRos::removeAbandonedWrites(const std::string& path) {
 }
 
 void LoopClosureRos::saveAtShutdown() {
-  writer_.wait();  // the autosave in progress lands before the final save
-  const std::string path = saveTarget();
-  const DatabaseSnapshot snapshot = takeSnapshot(options_.database_save_clouds);
-  const bool replacing = fileExists(path);
+  // Within database_shutdown_seconds in all, the autosave in progress included: roslaunch follows SIGINT
+  // with SIGTERM after 15 s, and a save cut off there leaves nothing but a temporary file. A write that
+  // does not fit is cancelled (the file it would replace stays as it was) and the log says what the file
+  // holds and what is lost.
   const auto started = std::chrono::steady_clock::now();
+  const auto left = [&] {
+    return options_.database_shutdown_seconds -
+           std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+  };
+  if (!writer_.waitFor(left())) {
+    writer_.cancel();
+    ROS_WARN_NAMED(name_, "the autosave in progress did not finish within database_shutdown_seconds (%.1f s): cancelled",
+                   options_.database_shutdown_seconds);
+  }
+  const std::string path = saveTarget();
+  const bool replacing = fileExists(path);
+  std::size_t on_disk = 0;  // the keyframes the last save that landed wrote (or the map loaded at start)
+  {
+    std::lock_guard<std::mutex> lock(saved_mutex_);
+    on_disk = saved_.size;
+  }
+  struct Outcome {
+    std::mutex mutex;
+    std::string error = "the write did not start";
+  };
+  const auto outcome = std::make_shared<Outcome>();
+  DatabaseSnapshot snapshot = takeSnapshot(options_.database_save_clouds);
+  const std::size_t keyframes = snapshot.size();
+  writer_.writeInBackground(std::move(snapshot), path, true, [outcome](const std::string& error, double) {
+    std::lock_guard<std::mutex> lock(outcome->mutex);
+    outcome->error = error;
+  });
+  const bool in_time = writer_.waitFor(std::max(0.0, left()));
+  if (!in_time) writer_.cancel();
+  writer_.wait();
   std::string error;
-  if (writer_.write(snapshot, path, true, &error)) {
+  {
+    std::lock_guard<std::mutex> lock(outcome->mutex);
+    error = outcome->error;
+  }
+  const std::string kept = replacing ? "the file there holds the " + std::to_string(on_disk) + " keyframes it held"
+                                     : "no file was written there";
+  if (error.empty()) {
     ++counters_.saves;
-    ROS_INFO_NAMED(name_, "database saved to %s (%zu keyframes) in %.1f s%s", path.c_str(), snapshot.size(),
+    ROS_INFO_NAMED(name_, "database saved to %s (%zu keyframes) in %.1f s%s", path.c_str(), keyframes,
                    std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count(),
                    backupNote(path, replacing).c_str());
+  } else if (!in_time) {
+    ++counters_.save_failures;
+    ROS_ERROR_NAMED(name_,
+                    "database not saved at shutdown: writing %zu keyframes to %s did not finish within "
+                    "database_shutdown_seconds (%.1f s) and was cancelled; %s, so %zu keyframes of this run are "
+                    "lost. Raise database_shutdown_seconds (roslaunch sends SIGTERM 15 s after SIGINT) or lower "
+                    "database_autosave_seconds",
+                    keyframes, path.c_str(), options_.database_shutdown_seconds,
+                    kept.c_str(),
+                    keyframes > on_disk ? keyframes - on_disk : keyframes);
   } else {
     ++counters_.save_failures;
     ROS_ERROR_NAMED(name_, "database not saved: %s", error.c_str());

@@ -7,6 +7,7 @@
 #include <fcntl.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cerrno>
 #include <cstdio>
@@ -18,8 +19,8 @@ namespace scan_context_loop {
 namespace test {
 namespace {
 
-enum Call { kLink, kRename, kFsync, kFdatasync, kSyncFileRange, kCalls };
-const char* const kCallNames[kCalls] = {"link", "rename", "fsync", "fdatasync", "sync_file_range"};
+enum Call { kLink, kRename, kFsync, kFdatasync, kSyncFileRange, kPwrite, kCalls };
+const char* const kCallNames[kCalls] = {"link", "rename", "fsync", "fdatasync", "sync_file_range", "pwrite"};
 
 // Atomic: the calls come from any thread (a save runs on a writer thread of its own).
 std::atomic<int> chosen[kCalls];
@@ -33,8 +34,9 @@ Call callNamed(const std::string& name) {
 }
 
 /// The errno that the SCL_FILE_FAULTS file chooses for `call` (a name such as EIO, as strerrorname_np
-/// gives it), 0 when there is no such file or no line for it. Read at every call, so that a test
-/// starts and ends the fault by writing and removing the file.
+/// gives it), 0 when there is no such file or no line for it; for "DELAY<ms>" (a slow disk: the call
+/// waits, then works), minus the milliseconds. Read at every call, so that a test starts and ends the
+/// fault by writing and removing the file.
 int chosenByFile(Call call) {
   const char* path = std::getenv("SCL_FILE_FAULTS");
   if (!path || !*path) return 0;
@@ -44,6 +46,7 @@ int chosenByFile(Call call) {
   char name[64], error[64];
   while (chosen_errno == 0 && std::fscanf(file, "%63s %63s", name, error) == 2) {
     if (std::strcmp(name, kCallNames[call]) != 0) continue;
+    if (std::strncmp(error, "DELAY", 5) == 0) chosen_errno = -std::max(1, std::atoi(error + 5));
     for (int e = 1; e < 256 && chosen_errno == 0; ++e) {
       const char* known = strerrorname_np(e);
       if (known && std::strcmp(known, error) == 0) chosen_errno = e;
@@ -58,7 +61,8 @@ bool injected(Call call) {
   const int saved = errno;
   int error = chosen[call].load();
   if (error == 0) error = chosenByFile(call);
-  if (error == 0) {
+  if (error < 0) ::usleep(static_cast<useconds_t>(-error) * 1000u);  // slow, then as usual
+  if (error <= 0) {
     errno = saved;
     return false;
   }
@@ -109,6 +113,11 @@ int fsync(int fd) {
 int fdatasync(int fd) {
   static auto* real = next<int(int)>("fdatasync");
   return injected(scan_context_loop::test::kFdatasync) ? -1 : real(fd);
+}
+
+ssize_t pwrite(int fd, const void* data, size_t size, off_t offset) {
+  static auto* real = next<ssize_t(int, const void*, size_t, off_t)>("pwrite");
+  return injected(scan_context_loop::test::kPwrite) ? -1 : real(fd, data, size, offset);
 }
 
 int sync_file_range(int fd, __off64_t offset, __off64_t count, unsigned int flags) {

@@ -1,12 +1,12 @@
 // Makes chosen file-system calls fail, to test what a save leaves on disk when the disk does not do its
 // part (EIO from a failing disk, EPERM from link on vfat, ...). file_faults.cpp defines link, rename,
-// fsync, fdatasync and sync_file_range; each fails with the errno chosen for it and otherwise calls the
-// C library's. Two ways in:
+// fsync, fdatasync, sync_file_range and pwrite; each fails with the errno chosen for it and otherwise calls
+// the C library's. Two ways in:
 // - linked into a test binary: its definitions take precedence over the C library's for the calls the
 //   project's shared libraries make, and the test chooses with FileFaults::fail;
 // - preloaded into a node (LD_PRELOAD=libscl_file_faults.so): while the file that the environment
 //   variable SCL_FILE_FAULTS names exists, each of its lines "<call> <errno name>" ("fsync EIO") makes
-//   that call fail.
+//   that call fail, and "<call> DELAY<ms>" makes it wait that long first (a slow disk).
 #pragma once
 
 #include <string>

@@ -228,9 +228,10 @@ TEST(DatabaseFile, ALoadedDatabaseHoldsTheSameKeyframesAndAnswersEveryQueryExact
     EXPECT_EQ(x.descriptor.sector_key, y.descriptor.sector_key);
     EXPECT_EQ(x.descriptor.occupied_columns, y.descriptor.occupied_columns);
   }
-  // The loaded descriptors stayed in the arena they were decoded into (one per file, not the heap).
+  // A file this small (under 1 MB of descriptors: a team's record, a few keyframes) is decoded onto the
+  // heap; a large one into an arena (ALargeFileIsDecodedIntoOneArenaThatTheDatabaseKeeps).
   const std::pmr::memory_resource* memory = b.keyframe(0).descriptor.unit_columns.get_allocator().resource();
-  EXPECT_NE(memory, std::pmr::get_default_resource());
+  EXPECT_EQ(memory, std::pmr::get_default_resource());
   EXPECT_EQ(b.keyframe(a.size() - 1).descriptor.sector_key.get_allocator().resource(), memory);
   EXPECT_EQ(a.keyframe(17).session, 1u);
   // Into an empty database the sessions keep their numbers, and the next keyframe starts session 2.
@@ -254,6 +255,33 @@ TEST(DatabaseFile, ALoadedDatabaseHoldsTheSameKeyframesAndAnswersEveryQueryExact
     matched += x.query.matched;
   }
   EXPECT_EQ(matched, 3) << "the three revisits match, the new street does not";
+}
+
+// A large file's descriptors are decoded into one arena (far fewer page faults in a new process), and they
+// stay there when the database takes them (moved, not copied to the heap).
+TEST(DatabaseFile, ALargeFileIsDecodedIntoOneArenaThatTheDatabaseKeeps) {
+  TempDir dir;
+  LoopDetector small(descriptorConfig());
+  drive(&small);
+  PriorSessions many;
+  for (std::size_t i = 0; i < 800; ++i) {  // 800 descriptors of about 1.7 KB: over the 1 MB threshold
+    Keyframe k = small.database().keyframe(i % small.database().size());
+    k.info.stamp = 1.0 + 0.1 * static_cast<double>(i);
+    k.session = 0;
+    many.keyframes.push_back(std::move(k));
+  }
+  LoopDetector original(descriptorConfig());
+  std::string error;
+  ASSERT_TRUE(original.appendSessions(std::move(many), &error)) << error;
+  ASSERT_TRUE(saveDatabase(original, dir.file("many.scl"), SaveOptions(), &error)) << error;
+  LoopDetector loaded(descriptorConfig());
+  ASSERT_TRUE(loadDatabase(dir.file("many.scl"), &loaded, &error)) << error;
+  ASSERT_EQ(loaded.database().size(), 800u);
+  const std::pmr::memory_resource* memory =
+      loaded.database().keyframe(0).descriptor.unit_columns.get_allocator().resource();
+  EXPECT_NE(memory, std::pmr::get_default_resource());
+  EXPECT_EQ(loaded.database().keyframe(799).descriptor.sector_key.get_allocator().resource(), memory);
+  EXPECT_EQ(loaded.database().keyframe(799).descriptor.ring_key, small.database().keyframe(799 % small.database().size()).descriptor.ring_key);
 }
 
 TEST(DatabaseFile, LoadedSessionsFollowTheRunningOnesAndANewSessionBegins) {

@@ -125,6 +125,33 @@ TEST(AtomicFileWriter, WithoutCommitNothingIsLeftAndTheTargetIsUntouched) {
   fs::remove_all(dir);
 }
 
+// A cancelled write (a shutdown save past its time) stops at its next piece: the target stays as it was
+// and the temporary file goes.
+TEST(AtomicFileWriter, ACancelledWriteLeavesTheTargetAndNoTemporaryFile) {
+  const fs::path dir = fs::temp_directory_path() / ("scl_cancel_" + std::to_string(::getpid()));
+  fs::create_directory(dir);
+  const std::string target = (dir / "file").string();
+  std::ofstream(target) << "old";
+  std::atomic<bool> cancel{false};
+  for (const bool at_commit : {false, true}) {
+    AtomicFileWriter writer;
+    writer.cancelWhen(&cancel);
+    std::string error;
+    ASSERT_TRUE(writer.open(target, &error)) << error;
+    ASSERT_TRUE(writer.write("new ", 4, &error)) << error;
+    cancel = true;
+    if (!at_commit) EXPECT_FALSE(writer.write("contents", 8, &error));
+    EXPECT_FALSE(writer.commit(&error));
+    EXPECT_NE(error.find("cancelled"), std::string::npos) << error;
+    EXPECT_EQ(std::distance(fs::directory_iterator(dir), fs::directory_iterator()), 1) << "a temporary file is left";
+    std::string text;
+    std::ifstream(target) >> text;
+    EXPECT_EQ(text, "old");
+    cancel = false;
+  }
+  fs::remove_all(dir);
+}
+
 // A large save goes to disk while it is written: every piece but the last two is on disk and out of the
 // page cache before commit(), so its fsync has little left to flush (other processes' disk writes
 // never wait behind the whole file), and the file is whole.

@@ -432,6 +432,37 @@ TEST(Relocalization, AFailedAutosaveIsTriedAgainUntilItIsWritten) {
   for (const auto& path : tmpFiles(prefix, "")) ::unlink(path.c_str());
 }
 
+// The shutdown save is bounded (database_shutdown_seconds, 1 s here): on a disk so slow that it cannot
+// finish in time (each pwrite waits 2 s while the fault file exists; a save makes three or more), SIGINT
+// ends the node within the bound and one slow call, the write is cancelled, and nothing is left at
+// database_save, neither a file nor a temporary one. Unbounded, the node would exit only once the file was
+// written.
+TEST(Relocalization, AShutdownSaveThatDoesNotFitIsCancelled) {
+  const std::string id = std::to_string(getpid()), prefix = "scl_bounded_" + id + ".scdb";
+  const std::string map = "/tmp/" + prefix, faults = "/tmp/scl_slow_" + id;
+  ros::NodeHandle g_nh("g");
+  Harness g(g_nh);
+  Child node({"scan_context_loop", "loop_closure_node", "__ns:=g", "__name:=loop_closure", "_database_save:=" + map,
+              "_database_autosave_seconds:=0", "_database_shutdown_seconds:=1.0", "_queue_size:=2000",
+              "_exclude_recent_frames:=30"},
+             {std::string("LD_PRELOAD=") + SCL_FILE_FAULTS_LIBRARY, "SCL_FILE_FAULTS=" + faults});
+  ASSERT_GT(node.pid(), 0);
+  ASSERT_TRUE(g.waitForNode(60.0)) << "the node never subscribed";
+  const Drive drive = blockDrive(true, 7);
+  const std::size_t n = 40;
+  g.publish(drive, 0, n, 15.0);
+  ASSERT_TRUE(g.waitForKeyframes(n, 60.0));
+  writeFile(faults, "pwrite DELAY2000\n");
+  double took = 0.0;
+  EXPECT_TRUE(node.stop(SIGINT, 30.0, &took)) << "no exit after SIGINT";
+  EXPECT_LT(took, 5.5) << "the shutdown save took longer than its bound and one slow write";
+  EXPECT_TRUE(node.exitedCleanly()) << node.how();
+  ::unlink(faults.c_str());
+  EXPECT_FALSE(exists(map)) << "the save was not cancelled";
+  EXPECT_TRUE(tmpFiles(prefix, "").empty()) << "the cancelled save left a temporary file";
+  ::unlink(map.c_str());
+}
+
 }  // namespace
 }  // namespace test
 }  // namespace scan_context_loop

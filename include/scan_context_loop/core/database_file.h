@@ -80,8 +80,10 @@ class DatabaseSnapshot {
 };
 
 /// Writes `snapshot` to `path` atomically, as saveDatabase does; `keep_backup` as SaveOptions::keep_backup.
-/// Two writes to one path must not run at once (DatabaseWriter serialises them).
-bool writeDatabase(const DatabaseSnapshot& snapshot, const std::string& path, bool keep_backup, std::string* error);
+/// Two writes to one path must not run at once (DatabaseWriter serialises them). Once `*cancel` is set the
+/// write stops, leaving `path` as it was (AtomicFileWriter::cancelWhen).
+bool writeDatabase(const DatabaseSnapshot& snapshot, const std::string& path, bool keep_backup, std::string* error,
+                   const std::atomic<bool>* cancel = nullptr);
 
 /// The bytes writeDatabase would write for `snapshot`, in memory (a small snapshot: a keyframe or a few).
 std::vector<std::uint8_t> encodeDatabase(const DatabaseSnapshot& snapshot);

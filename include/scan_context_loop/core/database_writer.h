@@ -38,6 +38,11 @@ class DatabaseWriter {
   bool busy() const { return busy_.load(); }
   /// Waits for the background write in progress, if any.
   void wait();
+  /// Waits at most `seconds` for it; true when none is in progress (any more).
+  bool waitFor(double seconds);
+  /// Stops the background write in progress at its next piece (the file it would replace stays as it
+  /// was; its Done reports the cancellation) and waits for its thread.
+  void cancel();
 
  private:
   /// writeDatabase under write_mutex_ (the background thread's write, and write()'s after the wait).
@@ -47,6 +52,7 @@ class DatabaseWriter {
   std::mutex thread_mutex_;
   std::thread thread_;
   std::atomic<bool> busy_{false};
+  std::atomic<bool> cancel_{false};  // set by cancel() while it stops the background write
 };
 
 }  // namespace scan_context_loop

@@ -2,6 +2,7 @@
 // name the path and the cause.
 #pragma once
 
+#include <atomic>
 #include <cstddef>
 #include <cstdint>
 #include <string>
@@ -89,6 +90,9 @@ class AtomicFileWriter {
   /// commit() first makes the file it replaces (if any) `backup`, itself replaced atomically: a hard
   /// link, or a copy flushed to disk where the file system has no hard links (vfat, exFAT).
   void keepBackup(const std::string& backup) { backup_ = backup; }
+  /// Once `*cancel` is set, the next write() or commit() fails ("cancelled") and removes the temporary
+  /// file: the target stays as it was. `cancel` must outlive the writer; null: never cancelled.
+  void cancelWhen(const std::atomic<bool>* cancel) { cancel_ = cancel; }
   /// Appends to the temporary file. Every kWriteBehindBytes appended go to disk while the next are
   /// written (write-behind), so commit() has little left to flush.
   bool write(const void* data, std::size_t size, std::string* error);
@@ -104,11 +108,14 @@ class AtomicFileWriter {
   void writeBehind();
   /// Keeps the first real error of a sync_file_range that returned `result` for commit().
   void keepError(int result);
+  /// Whether cancelWhen's flag is set; then the write is discarded and *error says so.
+  bool cancelled(std::string* error);
   std::string path_, temporary_, backup_;
   int fd_ = -1;
   std::size_t written_ = 0;
   std::size_t started_ = 0, settled_ = 0;  // bytes whose write to disk was started / is done
   int write_behind_error_ = 0;              // the first errno of writeBehind, 0 when none
+  const std::atomic<bool>* cancel_ = nullptr;
 };
 
 /// A file removeAbandonedTemporaries() removed, and its size.

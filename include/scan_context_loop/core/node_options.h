@@ -40,6 +40,9 @@ struct NodeOptions {
   /// With database_save: the database is also written there every this many seconds (wall time) while
   /// it changes, on a thread of its own, so a crash loses at most that much; 0 saves at shutdown only.
   double database_autosave_seconds = 300.0;
+  /// The shutdown save, with the autosave in progress, takes at most this long; what does not fit is
+  /// cancelled, the file at database_save stays as the last save left it, and the log says what is lost [s].
+  double database_shutdown_seconds = 10.0;
   /// The map directory ~save_database writes in ("": that of database_save, else of database_load, else
   /// $ROS_HOME/scan_context_loop).
   std::string database_directory;
