@@ -6,10 +6,10 @@ TaskThread::TaskThread(std::size_t capacity) : capacity_(capacity), thread_([thi
 
 TaskThread::~TaskThread() { stop(); }
 
-bool TaskThread::post(std::function<void()> task) {
+bool TaskThread::post(std::function<void()> task, bool beyond_capacity) {
   {
     std::lock_guard<std::mutex> lock(mutex_);
-    if (stop_ || tasks_.size() >= capacity_) return false;
+    if (stop_ || (tasks_.size() >= capacity_ && !beyond_capacity)) return false;
     tasks_.push_back(std::move(task));
   }
   cv_.notify_one();

@@ -81,7 +81,10 @@ void TeamWorker::stop() {
 void TeamWorker::onRecord(const scan_context_loop::KeyframeRecordConstPtr& record, std::size_t bytes,
                           const std::string& publisher) {
   counters_->team_bytes_received += bytes;
-  matcher_thread_.post([this, record, publisher] { addRecord(*record, publisher); });
+  if (!matcher_thread_.post([this, record, publisher] { addRecord(*record, publisher); })) {
+    ROS_WARN_THROTTLE_NAMED(10.0, name_, "team: a record of robot %s dropped: the team's queue is full",
+                            peerText(record->robot).c_str());
+  }
 }
 
 void TeamWorker::onMember(const scan_context_loop::TeamMemberConstPtr& member, std::size_t bytes,
@@ -347,14 +350,13 @@ void TeamWorker::requestRecords(const std::string& node, const Run& run, std::ui
     call.response.records.clear();
   }
   auto records = std::make_shared<std::vector<scan_context_loop::KeyframeRecord>>(std::move(call.response.records));
-  // Refused only while stopping, or with the matcher's queue full: the request is then forgotten after a
-  // while (takeMember).
+  // Beyond the queue's capacity: a flood of records must not lose the reply (refused only while stopping).
   matcher_thread_.post([this, records, run] {
     for (const auto& record : *records) {
       if (record.robot == run.first && record.run == run.second) addRecord(record, "");
     }
     asking_.erase(run);
-  });
+  }, true);
 }
 
 void TeamWorker::requestCloud(const std::string& node, const TeamKeyframeId& id) {
@@ -383,7 +385,7 @@ void TeamWorker::requestCloud(const std::string& node, const TeamKeyframeId& id)
     std::this_thread::sleep_for(std::chrono::milliseconds(500));
   }
   auto data = std::make_shared<std::vector<std::uint8_t>>(std::move(call.response.data));
-  matcher_thread_.post([this, id, data, failure, later] { onCloud(id, *data, failure, later); });
+  matcher_thread_.post([this, id, data, failure, later] { onCloud(id, *data, failure, later); }, true);
 }
 
 }  // namespace scan_context_loop

@@ -45,9 +45,12 @@ TEST(TaskThread, RefusesPostsBeyondItsCapacityAndAfterStop) {
   EXPECT_TRUE(thread.post([] {}));
   EXPECT_FALSE(thread.post([] {}));  // full
   EXPECT_EQ(thread.waiting(), 2u);
+  EXPECT_TRUE(thread.post([] {}, true)) << "a reply is taken beyond the capacity";
+  EXPECT_EQ(thread.waiting(), 3u);
   release.set_value();
   thread.stop();
   EXPECT_FALSE(thread.post([] {}));
+  EXPECT_FALSE(thread.post([] {}, true)) << "nothing is taken once stopped";
   thread.stop();  // idempotent
 }
 

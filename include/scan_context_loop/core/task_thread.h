@@ -22,8 +22,10 @@ class TaskThread {
   TaskThread(const TaskThread&) = delete;
   TaskThread& operator=(const TaskThread&) = delete;
 
-  /// Queues `task`; false (dropped) when the queue is full or the thread stopped.
-  bool post(std::function<void()> task);
+  /// Queues `task`; false (dropped) when the queue is full or the thread stopped. With `beyond_capacity`
+  /// a full queue takes it all the same: for the replies to requests this thread made, which are as many as
+  /// those requests, and which must not be lost to a flood of other tasks.
+  bool post(std::function<void()> task, bool beyond_capacity = false);
   /// Ends the thread after the task in hand; later posts are refused. Idempotent.
   void stop();
   /// Tasks waiting.
