@@ -3,8 +3,10 @@
 // never answer, announces a node name that is no ROS name, and claims robot1's id and run from another
 // node. The real nodes must keep finding their loops into each other's keyframes, all true and all into
 // the robot that made them; robot2's records stay within team_max_bytes; and robot3, a nodelet in the
-// middle of a request that never returns, unloads within the shutdown limit.
+// middle of a request that never returns, unloads within the shutdown limit, as robot4, a standalone node,
+// stops on SIGINT.
 #include <atomic>
+#include <csignal>
 #include <cstdio>
 #include <mutex>
 #include <set>
@@ -13,6 +15,7 @@
 #include <nodelet/NodeletUnload.h>
 #include <ros/callback_queue.h>
 
+#include "child_process.h"
 #include "harness.h"
 #include "scan_context_loop/GetKeyframeCloud.h"
 #include "scan_context_loop/GetKeyframeRecords.h"
@@ -85,10 +88,16 @@ TEST(TeamHostile, TheRealRobotsKeepFindingTheirLoopsAndAHungPeerDoesNotHoldUpAnU
   ros::NodeHandle nh, one_nh("robot1"), two_nh("robot2"), three_nh("robot3");
   double shutdown_limit = 5.0;
   ros::NodeHandle("~").getParam("shutdown_limit", shutdown_limit);
-  Harness one(one_nh), two(two_nh), three(three_nh);
+  ros::NodeHandle four_nh("robot4");
+  Harness one(one_nh), two(two_nh), three(three_nh), four(four_nh);
+  // Robot4: a standalone node whose requests wait a minute, stopped with SIGINT while one of them hangs.
+  Child robot4({"scan_context_loop", "loop_closure_node", "__ns:=robot4", "__name:=loop_closure", "_robot_id:=robot4",
+                "_team_request_timeout:=60.0", "_exclude_recent_frames:=30", "_queue_size:=2000"});
+  ASSERT_GT(robot4.pid(), 0);
   ASSERT_TRUE(one.waitForNode(30.0));
   ASSERT_TRUE(two.waitForNode(30.0));
   ASSERT_TRUE(three.waitForNode(30.0));
+  ASSERT_TRUE(four.waitForNode(60.0));
   DiagnosticsWatch two_diagnostics(nh, "robot2/loop_closure");
   Collected<scan_context_loop::KeyframeRecord> shared(nh, "/team/keyframe_records");
   Latest<scan_context_loop::TeamMember> members(nh, "/team/members");
@@ -152,6 +161,18 @@ TEST(TeamHostile, TheRealRobotsKeepFindingTheirLoopsAndAHungPeerDoesNotHoldUpAnU
   EXPECT_TRUE(unload.response.success);
   EXPECT_LT(unload_seconds, shutdown_limit) << "unloading with a request hung in a peer";
 
+  // Robot4 the same, stopped with SIGINT as roslaunch stops a node.
+  four.publish(drive, 0, 20, 15.0);
+  while (!hung.calledBy("/robot4/loop_closure") && ros::WallTime::now() < asked_by + ros::WallDuration(60.0)) {
+    ros::WallDuration(0.1).sleep();
+  }
+  ASSERT_TRUE(hung.calledBy("/robot4/loop_closure")) << "robot4 never asked the hung node";
+  ros::WallDuration(0.5).sleep();
+  double sigint_seconds = 0.0;
+  EXPECT_TRUE(robot4.stop(SIGINT, 30.0, &sigint_seconds)) << "no exit after SIGINT";
+  EXPECT_LT(sigint_seconds, shutdown_limit) << "SIGINT with a request hung in a peer";
+  EXPECT_TRUE(robot4.exitedCleanly()) << robot4.how();
+
   // Robot2 drives the lap: its loops go into robot1's keyframes, each true, none into another robot's.
   two.publish(drive, 0, n, 15.0);
   ASSERT_TRUE(two.waitForKeyframes(n, 60.0));
@@ -166,8 +187,9 @@ TEST(TeamHostile, TheRealRobotsKeepFindingTheirLoopsAndAHungPeerDoesNotHoldUpAnU
     expectTrueLoop(drive, static_cast<int>(loop.query_id), static_cast<int>(loop.match_id), loop);
   }
   EXPECT_GE(into_robot1, n / 4) << "loops from robot2 into robot1, of " << n << " keyframes";
-  std::printf("robot2: %zu loops into robot1 over %zu keyframes; robot3 unloaded in %.2f s during a hung request\n",
-              into_robot1, n, unload_seconds);
+  std::printf("robot2: %zu loops into robot1 over %zu keyframes; during a hung request robot3 unloaded in %.2f s, "
+              "robot4 exited on SIGINT in %.2f s\n",
+              into_robot1, n, unload_seconds, sigint_seconds);
 
   const ros::WallTime now = ros::WallTime::now();
   EXPECT_GE(two_diagnostics.value("team claims refused (robot id bound to another node)", now, 10.0), 3)
