@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <csignal>
 #include <cerrno>
 #include <cstdio>
 #include <cstdlib>
@@ -25,6 +26,8 @@ const char* const kCallNames[kCalls] = {"link", "rename", "fsync", "fdatasync", 
 // Atomic: the calls come from any thread (a save runs on a writer thread of its own).
 std::atomic<int> chosen[kCalls];
 std::atomic<int> failed[kCalls];
+std::atomic<int> made[kCalls];     // calls since the last clear()
+std::atomic<int> kill_at[kCalls];  // the call (counted in made) that kills the process; 0: none
 
 Call callNamed(const std::string& name) {
   for (int c = 0; c < kCalls; ++c) {
@@ -33,8 +36,19 @@ Call callNamed(const std::string& name) {
   throw std::invalid_argument("FileFaults: no fault for a call named " + name);
 }
 
-/// The errno that the SCL_FILE_FAULTS file chooses for `call` (a name such as EIO, as strerrorname_np
-/// gives it), 0 when there is no such file or no line for it; for "DELAY<ms>" (a slow disk: the call
+/// The errno names a fault file may give (a table: strerrorname_np is glibc 2.32's, newer than Ubuntu
+/// 20.04's).
+struct ErrnoName {
+  const char* name;
+  int value;
+};
+const ErrnoName kErrnoNames[] = {{"EIO", EIO},         {"ENOSPC", ENOSPC}, {"EDQUOT", EDQUOT},
+                                 {"EROFS", EROFS},     {"EPERM", EPERM},   {"EACCES", EACCES},
+                                 {"EOPNOTSUPP", EOPNOTSUPP}, {"EXDEV", EXDEV}, {"EMLINK", EMLINK},
+                                 {"ENOSYS", ENOSYS},   {"EINVAL", EINVAL}, {"ESPIPE", ESPIPE}};
+
+/// The errno that the SCL_FILE_FAULTS file chooses for `call` (a name of kErrnoNames, such as
+/// EIO), 0 when there is no such file or no line for it; for "DELAY<ms>" (a slow disk: the call
 /// waits, then works), minus the milliseconds. Read at every call, so that a test starts and ends the
 /// fault by writing and removing the file.
 int chosenByFile(Call call) {
@@ -47,9 +61,8 @@ int chosenByFile(Call call) {
   while (chosen_errno == 0 && std::fscanf(file, "%63s %63s", name, error) == 2) {
     if (std::strcmp(name, kCallNames[call]) != 0) continue;
     if (std::strncmp(error, "DELAY", 5) == 0) chosen_errno = -std::max(1, std::atoi(error + 5));
-    for (int e = 1; e < 256 && chosen_errno == 0; ++e) {
-      const char* known = strerrorname_np(e);
-      if (known && std::strcmp(known, error) == 0) chosen_errno = e;
+    for (const auto& known : kErrnoNames) {
+      if (chosen_errno == 0 && std::strcmp(known.name, error) == 0) chosen_errno = known.value;
     }
   }
   std::fclose(file);
@@ -58,6 +71,7 @@ int chosenByFile(Call call) {
 
 /// True, with errno set, when `call` is to fail now.
 bool injected(Call call) {
+  if (const int n = ++made[call]; kill_at[call] > 0 && n == kill_at[call]) ::raise(SIGKILL);
   const int saved = errno;
   int error = chosen[call].load();
   if (error == 0) error = chosenByFile(call);
@@ -81,10 +95,14 @@ Function* next(const char* name) {
 void FileFaults::fail(const std::string& call, int error) { chosen[callNamed(call)] = error; }
 
 void FileFaults::clear() {
-  for (int c = 0; c < kCalls; ++c) chosen[c] = failed[c] = 0;
+  for (int c = 0; c < kCalls; ++c) chosen[c] = failed[c] = made[c] = kill_at[c] = 0;
 }
 
 int FileFaults::failures(const std::string& call) { return failed[callNamed(call)].load(); }
+
+void FileFaults::killAt(const std::string& call, int n) { kill_at[callNamed(call)] = n; }
+
+int FileFaults::calls(const std::string& call) { return made[callNamed(call)].load(); }
 
 }  // namespace test
 }  // namespace scan_context_loop
@@ -103,6 +121,12 @@ int link(const char* from, const char* to) __THROW {
 int rename(const char* from, const char* to) __THROW {
   static auto* real = next<int(const char*, const char*)>("rename");
   return injected(scan_context_loop::test::kRename) ? -1 : real(from, to);
+}
+
+// A rename too (a directory exchange), counted and failed as "rename".
+int renameat2(int from_dir, const char* from, int to_dir, const char* to, unsigned int flags) __THROW {
+  static auto* real = next<int(int, const char*, int, const char*, unsigned int)>("renameat2");
+  return injected(scan_context_loop::test::kRename) ? -1 : real(from_dir, from, to_dir, to, flags);
 }
 
 int fsync(int fd) {

@@ -1,6 +1,6 @@
 // Makes chosen file-system calls fail, to test what a save leaves on disk when the disk does not do its
-// part (EIO from a failing disk, EPERM from link on vfat, ...). file_faults.cpp defines link, rename,
-// fsync, fdatasync, sync_file_range and pwrite; each fails with the errno chosen for it and otherwise calls
+// part (EIO from a failing disk, EPERM from link on vfat, ...). file_faults.cpp defines link, rename and
+// renameat2, fsync, fdatasync, sync_file_range and pwrite; each fails with the errno chosen for it and otherwise calls
 // the C library's. Two ways in:
 // - linked into a test binary: its definitions take precedence over the C library's for the calls the
 //   project's shared libraries make, and the test chooses with FileFaults::fail;
@@ -23,6 +23,11 @@ class FileFaults {
   static void clear();
   /// How many calls of `call` failed since the last clear().
   static int failures(const std::string& call);
+  /// The n-th call of `call` after the last clear() kills the process (SIGKILL), as a power cut would
+  /// stop it there; 0: none.
+  static void killAt(const std::string& call, int n);
+  /// How many calls of `call` were made since the last clear() (renameat2 counts as "rename").
+  static int calls(const std::string& call);
 };
 
 }  // namespace test

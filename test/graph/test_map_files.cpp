@@ -21,7 +21,7 @@
 
 #include "../common/map_file_readers.h"
 #include "../common/temp_dir.h"
-#include "rename_faults.h"
+#include "../common/file_faults.h"
 #include "scan_context_loop/graph/keyframe_map.h"
 #include "scan_context_loop/graph/map_files.h"
 #include "scan_context_loop/graph/pose_graph.h"
@@ -345,15 +345,16 @@ TEST_F(MapFilesTest, ASaveKilledAtAnyRenameLeavesOneWholeSet) {
   for (const auto& [name, bytes] : after) ASSERT_NE(bytes, before.at(name)) << name << " is the same in both sets";
 
   // How many renames a save over an existing set makes.
-  test::killAtRename(0);
+  test::FileFaults::clear();
   ASSERT_TRUE(writeMapFiles(dir.file("reference"), changed, nullptr, &error)) << error;
-  const int renames = test::renamesSeen();
+  const int renames = test::FileFaults::calls("rename");
   ASSERT_GE(renames, 6);
   for (int k = 1; k <= renames; ++k) {
     const pid_t child = ::fork();
     ASSERT_GE(child, 0);
     if (child == 0) {
-      test::killAtRename(k);
+      test::FileFaults::clear();
+      test::FileFaults::killAt("rename", k);
       std::string child_error;
       writeMapFiles(out, changed, nullptr, &child_error);
       ::_exit(3);  // not killed: the test below says so
@@ -369,7 +370,7 @@ TEST_F(MapFilesTest, ASaveKilledAtAnyRenameLeavesOneWholeSet) {
     ASSERT_TRUE(writeMapFiles(out, files_, nullptr, &error)) << error;
     ASSERT_EQ(setIn(out), before);
   }
-  test::killAtRename(0);
+  test::FileFaults::clear();
   ASSERT_TRUE(writeMapFiles(out, changed, nullptr, &error)) << error;
   EXPECT_EQ(setIn(out), after);
   EXPECT_EQ(readText(out + "/notes.txt"), "the user's own file");
