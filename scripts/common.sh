@@ -9,7 +9,7 @@ SCL_WS="${SCL_WS:-$SCL_ROOT/build/ws}"
 export PATH="/usr/bin:/bin:$PATH"
 
 SCL_PACKAGES=(
-  build-essential cmake pkg-config catkin python3-catkin-pkg
+  build-essential cmake pkg-config ccache catkin python3-catkin-pkg
   ros-base-dev libnodeletlib-dev libnodelet-dev libnodeletlib-tools rosbash
   libpcl-conversions-dev libpcl-dev libflann-dev libeigen3-dev liblz4-dev libceres-dev
   libtf2-ros-dev libtf2-eigen-dev libvisualization-msgs-dev libnav-msgs-dev libgeometry-msgs-dev
@@ -24,7 +24,25 @@ SCL_DEMO_PACKAGES=(xvfb xauth x11-apps imagemagick python3-rospy python3-geometr
 
 scl_log() { echo "[scan_context_loop] $*" >&2; }
 
+# Compiler caching: every CMake build the scripts make (the workspace, catkin build's, the sanitizers',
+# the fuzzers') compiles through ccache (CMake reads CMAKE_<LANG>_COMPILER_LAUNCHER from the environment
+# when it first configures a build folder). Paths under the repository are hashed relative to it
+# (CCACHE_BASEDIR, CCACHE_NOHASHDIR), so a fresh clone in another folder of a machine that built before
+# reuses its objects. The cache is the user's (~/.cache/ccache unless CCACHE_DIR says otherwise).
+scl_use_ccache() {
+  command -v ccache >/dev/null 2>&1 || return 0
+  export CCACHE_BASEDIR="$SCL_ROOT" CCACHE_NOHASHDIR=true
+  export CCACHE_MAXSIZE="${CCACHE_MAXSIZE:-10G}"
+  export CMAKE_CXX_COMPILER_LAUNCHER=ccache CMAKE_C_COMPILER_LAUNCHER=ccache
+}
+
+# Installs what is missing, then turns on the compiler cache.
 scl_install_deps() {
+  scl_install_missing "$@"
+  scl_use_ccache
+}
+
+scl_install_missing() {
   local missing=()
   local pkg installed
   # One dpkg-query for all of them (one call per package took seconds).
