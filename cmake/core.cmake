@@ -15,6 +15,8 @@ add_library(scan_context_loop_core
   src/core/free_space.cpp
   src/core/pcl_refinement.cpp
   src/core/verification.cpp
+  src/core/acceptance_rule.cpp
+  src/core/cloud_store.cpp
   src/core/consistency.cpp
   src/core/loop_tracking.cpp
   src/core/gravity_alignment.cpp
@@ -56,6 +58,8 @@ if(CATKIN_ENABLE_TESTING)
     test/core/test_real_data.cpp
     test/core/test_scenes.cpp
     test/core/test_verification.cpp
+    test/core/test_acceptance_rule.cpp
+    test/core/test_cloud_store.cpp
     test/core/test_free_space.cpp
     test/core/test_consistency.cpp
     test/core/test_loop_tracking.cpp

@@ -206,4 +206,11 @@ std::vector<Alignment> alignHypotheses(const Descriptor& query, const Descriptor
   return out;
 }
 
+Eigen::Isometry3d priorPose(double yaw, const Eigen::Vector2d& viewpoint) {
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  pose.linear() = Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  pose.translation() << viewpoint.x(), viewpoint.y(), 0.0;
+  return pose;
+}
+
 }  // namespace scan_context_loop

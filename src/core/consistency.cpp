@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "scan_context_loop/core/acceptance_rule.h"
 #include "scan_context_loop/core/database.h"
 
 namespace scan_context_loop {
@@ -46,7 +47,13 @@ bool loopsAgree(const Loop& a, const Loop& b, const Database& database, double* 
 void ConsistencyFilter::advance(std::size_t query, std::vector<Loop>* dropped) {
   const std::size_t window = static_cast<std::size_t>(config_.consistency_window);
   while (!recent_.empty() && recent_.front().loop.query + window < query) {
-    if (!recent_.front().confirmed) dropped->push_back(recent_.front().loop);
+    if (!recent_.front().confirmed) {
+      // Reported as turned down by the consistency check, with the support it had and needed.
+      Loop loop = recent_.front().loop;
+      loop.verified = false;
+      loop.verification.record(unsupportedVerdict(loop.support, loop.verification.odometry_contradicted, config_));
+      dropped->push_back(loop);
+    }
     recent_.pop_front();
   }
 }
@@ -57,7 +64,7 @@ bool ConsistencyFilter::near(const Entry& a, const Entry& b) const {
 }
 
 int ConsistencyFilter::supportNeeded(const Loop& loop) const {
-  return config_.consistency_min_support + (loop.verification.odometry_contradicted ? 1 : 0);
+  return requiredSupport(loop.verification.odometry_contradicted, config_);
 }
 
 bool ConsistencyFilter::supports(const Loop& giver, const Loop& taker) {

@@ -5,10 +5,13 @@
 #include <chrono>
 #include <cmath>
 #include <cstring>
+#include <optional>
 #include <stdexcept>
 #include <string>
 
+#include "scan_context_loop/core/acceptance_rule.h"
 #include "scan_context_loop/core/gravity_alignment.h"
+#include "scan_context_loop/core/odometry_trust.h"
 
 namespace scan_context_loop {
 
@@ -97,8 +100,8 @@ Detection LoopDetector::process(const PointView& raw, const KeyframeInfo& info) 
   updateWorldTilt(raw, info, &detection);  // first: the first keyframe's fit says which axis is up
   detection.ground_check_seconds = secondsSince(t_tilt);
   describeAndQuery(raw, info, &described, &detection);
-  const Eigen::Matrix3f level = described.level;
-  const PointView& points = described.points;  // the raw cloud: level turns it
+  const Eigen::Matrix3f to_gravity = described.to_gravity;
+  const PointView& points = described.points;  // the raw cloud: to_gravity turns it
   const auto t2 = Clock::now();
   detection.index = database_.size();
   // Room first: once the database holds the keyframe, its gravity alignment must be stored too. The
@@ -107,14 +110,14 @@ Detection LoopDetector::process(const PointView& raw, const KeyframeInfo& info) 
   detection.accepted = database_.add(info, std::move(described.descriptor), &detection.error);
   detection.query_seconds += secondsSince(t2);
   if (!detection.accepted) return detection;
-  gravity_alignment_.push_back(level);
+  gravity_alignment_.push_back(to_gravity);
   if (config.verification.enabled) {
     const auto start = Clock::now();
-    VoxelCloud cloud = prepareCloud(points, verification_, level);
+    VoxelCloud cloud = prepareCloud(points, verification_, to_gravity);
     const std::optional<TrackedCandidate> tracked = tracker_.predict(
         database_, detection.index, detection.query.eligible, [this](std::size_t i) { return store_.get(i) != nullptr; });
     try {
-      verifyCandidates(cloud, database_.keyframe(detection.index).descriptor, level, true,
+      verifyCandidates(cloud, database_.keyframe(detection.index).descriptor, to_gravity, true,
                        tracked ? &*tracked : nullptr, &detection);
     } catch (...) {
       // The keyframe is in the database: its registration data go with it even when verifying it threw
@@ -137,11 +140,11 @@ void LoopDetector::describeAndQuery(const PointView& raw, const KeyframeInfo& in
   const auto t0 = Clock::now();
   // Gravity-aligned keyframes are described and registered in their gravity-aligned frame: the binning
   // turns each point as it reads it, for the real viewpoint and the virtual ones in one pass.
-  out->level = gravityAlignmentOf(raw, info, detection);
+  out->to_gravity = gravityAlignmentOf(raw, info, detection);
   out->points = raw;
   std::vector<Eigen::Vector2f> views = {Eigen::Vector2f::Zero()};
   for (const Eigen::Vector2f& view : lateralViewpoints(config)) views.push_back(view);
-  std::vector<HeightGrid> grids = makeHeightGrids(raw, config, views, out->level);
+  std::vector<HeightGrid> grids = makeHeightGrids(raw, config, views, out->to_gravity);
   detection->points_used = grids.front().points_used;
   detection->points_skipped = grids.front().points_skipped;
   out->descriptor = makeDescriptor(grids.front(), config);
@@ -198,8 +201,8 @@ Detection LoopDetector::locate(const PointView& raw) {
   describeAndQuery(raw, info, &described, &detection);
   if (described.descriptor.empty() || !database_.config().verification.enabled) return detection;
   const auto t2 = Clock::now();
-  verifyCandidates(prepareCloud(described.points, verification_, described.level), described.descriptor, described.level, false,
-                   nullptr, &detection);
+  verifyCandidates(prepareCloud(described.points, verification_, described.to_gravity), described.descriptor,
+                   described.to_gravity, false, nullptr, &detection);
   detection.verify_seconds = secondsSince(t2);
   return detection;
 }
@@ -208,7 +211,7 @@ Eigen::Matrix3f LoopDetector::gravityAlignmentOf(const PointView& points, const 
                                                  Detection* detection) const {
   const Config& config = database_.config();
   const GravityAlignmentMode mode = config.gravity_alignment;
-  Eigen::Matrix3d level = Eigen::Matrix3d::Identity();
+  Eigen::Matrix3d to_gravity = Eigen::Matrix3d::Identity();
   bool found = false;
   // The pose (auto: turned so that the world's up axis is z, world_tilt.h, and when its tilt is then
   // plausible). The world's remaining tilt is left in: A-LOAM's and FAST-LIO's worlds start at the first
@@ -220,21 +223,21 @@ Eigen::Matrix3f LoopDetector::gravityAlignmentOf(const PointView& points, const 
     const Eigen::Matrix3d from_pose = gravityAlignmentFromOrientation(
         mode == GravityAlignmentMode::kAuto ? Eigen::Matrix3d(world_tilt_.axisCorrection() * pose_R) : pose_R);
     const double tilt = Eigen::AngleAxisd(from_pose).angle() * 180.0 / M_PI;
-    if (mode == GravityAlignmentMode::kPose || tilt <= config.gravity_alignment_max_tilt) {
-      level = from_pose;
+    if (mode == GravityAlignmentMode::kPose || tilt <= config.trusted_pose_max_tilt_deg) {
+      to_gravity = from_pose;
       found = true;
       detection->aligned_by = "pose";
     }
   }
   if (!found && (mode == GravityAlignmentMode::kAuto || mode == GravityAlignmentMode::kGround) &&
-      gravityAlignmentFromGround(points, GroundFitOptions(), &level, nullptr)) {
+      gravityAlignmentFromGround(points, GroundFitOptions(), &to_gravity, nullptr)) {
     found = true;
     detection->aligned_by = "ground";
   }
-  detection->tilt_deg = found ? Eigen::AngleAxisd(level).angle() * 180.0 / M_PI : 0.0;
+  detection->tilt_deg = found ? Eigen::AngleAxisd(to_gravity).angle() * 180.0 / M_PI : 0.0;
   // Below half a degree the rotation changes nothing a descriptor or a registration would notice.
   if (!found || detection->tilt_deg < 0.5) return Eigen::Matrix3f::Identity();
-  return level.cast<float>();
+  return to_gravity.cast<float>();
 }
 
 void LoopDetector::updateWorldTilt(const PointView& points, const KeyframeInfo& info, Detection* detection) {
@@ -297,7 +300,7 @@ std::vector<Eigen::Isometry3d> LoopDetector::hypotheses(const Candidate& c, cons
   return poses;
 }
 
-void LoopDetector::verifyCandidates(const VoxelCloud& cloud, const Descriptor& query, const Eigen::Matrix3f& level,
+void LoopDetector::verifyCandidates(const VoxelCloud& cloud, const Descriptor& query, const Eigen::Matrix3f& to_gravity,
                                     bool query_stored, const TrackedCandidate* tracked, Detection* detection) {
   const Config& config = database_.config();
   detection->verifications_enabled = true;
@@ -307,11 +310,11 @@ void LoopDetector::verifyCandidates(const VoxelCloud& cloud, const Descriptor& q
     c.index = tracked->index;
     c.alignment = align(query, database_.keyframe(c.index).descriptor, config);
     // The guess in the gravity-aligned frames the registration data are in.
-    const Eigen::Matrix3d lq = level.cast<double>(), lm = gravity_alignment_[c.index].cast<double>();
+    const Eigen::Matrix3d lq = to_gravity.cast<double>(), lm = gravity_alignment_[c.index].cast<double>();
     Eigen::Isometry3d guess = Eigen::Isometry3d::Identity();
     guess.linear() = lq * tracked->guess.linear() * lm.transpose();
     guess.translation() = lq * tracked->guess.translation();
-    if (verifyOne(c, true, {guess}, level, query_stored, detection)) return;
+    if (verifyOne(c, true, {guess}, to_gravity, query_stored, detection)) return;
   }
   int tried = 0;
   for (const Candidate& c : detection->query.candidates) {
@@ -320,12 +323,12 @@ void LoopDetector::verifyCandidates(const VoxelCloud& cloud, const Descriptor& q
     // A candidate whose data the store dropped (CloudStore, long runs) is listed as unverifiable but
     // does not use up a registration: the next candidates, kept ones among them, get their turn.
     if (store_.get(c.index) != nullptr) ++tried;
-    if (verifyOne(c, false, hypotheses(c, query), level, query_stored, detection)) return;
+    if (verifyOne(c, false, hypotheses(c, query), to_gravity, query_stored, detection)) return;
   }
 }
 
 bool LoopDetector::verifyOne(const Candidate& c, bool tracked, const std::vector<Eigen::Isometry3d>& guesses,
-                             const Eigen::Matrix3f& level, bool query_stored, Detection* detection) {
+                             const Eigen::Matrix3f& to_gravity, bool query_stored, Detection* detection) {
   VerifiedCandidate v;
   v.index = c.index;
   v.alignment = c.alignment;
@@ -333,14 +336,13 @@ bool LoopDetector::verifyOne(const Candidate& c, bool tracked, const std::vector
   v.tracked = tracked;
   const VoxelCloud* stored = store_.get(c.index);
   if (stored == nullptr) {
-    v.result.reason = "unverifiable: the candidate's cloud was dropped to stay within verify_max_bytes";
-    v.result.rejected_by = "unverifiable";
+    v.result.record(unverifiableVerdict());
   } else if (database_.config().verification.submap > 0) {
     v.result = verifier_.verify(submapOf(c.index, detection->index), guesses);
   } else {
     v.result = verifier_.verify(*stored, guesses);
   }
-  toSensorFrames(level, c.index, &v.result);
+  toSensorFrames(to_gravity, c.index, &v.result);
   if (query_stored && (v.result.accepted || v.result.needs_support)) {
     checkOdometry(detection->index, c.index, &v.result);
   }
@@ -382,48 +384,19 @@ void LoopDetector::checkOdometry(std::size_t query, std::size_t match, Verificat
   const Keyframe& q = database_.keyframe(query);
   const Keyframe& m = database_.keyframe(match);
   if (!q.info.pose || !m.info.pose || q.session != m.session) return;
-  // What the odometry says, directly or through the nearest confirmed loop (odometry_trust.h).
+  // What the odometry says, directly or through the nearest confirmed loop (odometry_trust.h), against
+  // the registered loop; the acceptance rule judges the difference.
   const OdometryTrust& trust = database_.odometryTrust();
   const OdometryPrediction predicted = trust.predict(*q.info.pose, q.path_length, q.session, m);
-  const double rotation =
+  OdometryDisagreement d;
+  d.rotation_deg =
       Eigen::AngleAxisd(predicted.relative.linear().transpose() * result->relative.linear()).angle() * 180.0 / M_PI;
-  const double rotation_allowed = rotationAllowance(config.verification, predicted.path);
-  // From a confirmed loop the odometry also places the candidate well (the gate allows for the direct
-  // odometry's drift): a registration off by a building's length in a street of identical houses is
-  // caught there.
-  const double translation = (predicted.relative.translation() - result->relative.translation()).norm();
-  const double translation_allowed = anchoredTranslationAllowance(config, trust, predicted.path);
-  const bool check_rotation = config.verification.odometry_rotation > 0.0;
-  const bool check_translation = predicted.anchored && config.gate_odometry_distance > 0.0;
-  result->odometry_excess = std::max(check_rotation ? rotation / rotation_allowed : 0.0,
-                                     check_translation ? translation / translation_allowed : 0.0);
-  const char* test = nullptr;
-  double value = 0.0, limit = 0.0;
-  if (check_rotation && rotation > rotation_allowed) {
-    test = "odometry_rotation";
-    value = rotation;
-    limit = rotation_allowed;
-  } else if (check_translation && translation > translation_allowed) {
-    test = "odometry_translation";
-    value = translation;
-    limit = translation_allowed;
-  }
-  if (test == nullptr) return;
-  // A registration that passed every test in full may be a true loop of an odometry that broke down:
-  // the consistency check can still confirm it, with one support more than usual. One that needed
-  // support already is rejected, and so is one turned further than a failure explains over the path.
-  const bool plausible = test != std::string("odometry_rotation") || rotation <= plausibleRotationBreak(predicted.path);
-  result->odometry_contradicted = result->accepted && config.consistency_min_support > 0 && plausible;
-  result->accepted = false;
-  result->needs_support = false;
-  result->rejected_by = test;
-  result->rejection_value = value;
-  result->rejection_limit = limit;
-  result->reason = std::string(test == std::string("odometry_rotation") ? "rotation" : "translation") +
-                   " disagrees with the odometry by " + std::to_string(value) +
-                   (test == std::string("odometry_rotation") ? " deg" : " m") + " (allowed " + std::to_string(limit) +
-                   " over " + std::to_string(predicted.path) + " m of odometry" +
-                   (predicted.anchored ? " from a confirmed loop" : "") + ")";
+  d.translation_m = (predicted.relative.translation() - result->relative.translation()).norm();
+  d.path = predicted.path;
+  d.anchored = predicted.anchored;
+  d.drift_rate = allowedDriftRate(config, trust);
+  result->odometry_excess = odometryExcess(d, config);
+  if (const std::optional<Verdict> verdict = judgeOdometry(d, result->accepted, config)) result->record(*verdict);
 }
 
 void LoopDetector::toSensorFrames(const Eigen::Matrix3f& query_alignment, std::size_t match,

@@ -51,7 +51,9 @@ struct PlaneLimits {
 
 std::string invalidOptions(const GroundFitOptions& o) {
   if (!(o.min_range >= 0.0 && o.max_range > o.min_range)) return "need 0 <= min_range < max_range";
-  if (!(o.max_tilt_deg > 0.0 && o.max_tilt_deg < 90.0)) return "need max_tilt_deg in (0, 90)";
+  if (!(o.ground_plane_max_tilt_deg > 0.0 && o.ground_plane_max_tilt_deg < 90.0)) {
+    return "need ground_plane_max_tilt_deg in (0, 90)";
+  }
   if (!(o.min_height >= 0.0 && o.max_height > o.min_height)) return "need 0 <= min_height < max_height";
   if (!(o.inlier_distance > 0.0)) return "need inlier_distance > 0";
   if (o.max_points < 3) return "need max_points >= 3";
@@ -71,7 +73,7 @@ std::vector<Eigen::Vector3f> candidatePoints(const PointView& points, const Grou
   const std::size_t stride = (points.count + o.max_points - 1) / o.max_points;
   const float min2 = static_cast<float>(o.min_range * o.min_range);
   const float max2 = static_cast<float>(o.max_range * o.max_range);
-  const double tilt = o.max_tilt_deg * kRadPerDeg;
+  const double tilt = o.ground_plane_max_tilt_deg * kRadPerDeg;
   const float slope = static_cast<float>(std::tan(tilt));
   const float lift = static_cast<float>(o.inlier_distance / std::cos(tilt) - o.min_height);
   kept.reserve(o.max_points);
@@ -159,7 +161,7 @@ std::string formatted(const char* format, Args... args) {
 
 std::string describeLimits(const GroundFitOptions& o) {
   return formatted("%.3g-%.3g m below the sensor and within %.3g degrees of level", o.min_height, o.max_height,
-                   o.max_tilt_deg);
+                   o.ground_plane_max_tilt_deg);
 }
 
 }  // namespace
@@ -206,7 +208,8 @@ bool gravityAlignmentFromGround(const PointView& points, const GroundFitOptions&
   result.considered = pts.size();
   const auto ratio_needed = static_cast<std::size_t>(std::ceil(options.min_inlier_ratio * pts.size()));
   const std::size_t needed = std::max<std::size_t>({options.min_inliers, ratio_needed, 3});
-  const PlaneLimits limits{std::cos(options.max_tilt_deg * kRadPerDeg), options.min_height, options.max_height};
+  const PlaneLimits limits{std::cos(options.ground_plane_max_tilt_deg * kRadPerDeg), options.min_height,
+                           options.max_height};
   const float threshold = static_cast<float>(options.inlier_distance);
   if (pts.size() < needed) {
     return fail(formatted("too few points could be ground: %zu sampled in the %.3g-%.3g m range band, need %zu",

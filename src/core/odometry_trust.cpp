@@ -91,22 +91,12 @@ OdometryPrediction OdometryTrust::predict(const Eigen::Isometry3d& pose, double 
   return best;
 }
 
-double rotationAllowance(const VerificationConfig& config, double path) {
-  return config.odometry_rotation + config.odometry_rotation_drift * path;
-}
-
-namespace {
-double translationRate(const Config& config, const OdometryTrust& trust) {
+double allowedDriftRate(const Config& config, const OdometryTrust& trust) {
   return std::max(config.gate_odometry_drift, OdometryTrust::kMeasuredDriftMargin * trust.translationRate());
 }
-}  // namespace
 
 double gateRadius(const Config& config, const OdometryTrust& trust, double path) {
-  return config.gate_odometry_distance + translationRate(config, trust) * path;
-}
-
-double anchoredTranslationAllowance(const Config& config, const OdometryTrust& trust, double path) {
-  return config.consistency_translation + translationRate(config, trust) * path;
+  return config.gate_odometry_distance + allowedDriftRate(config, trust) * path;
 }
 
 }  // namespace scan_context_loop

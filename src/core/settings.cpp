@@ -55,7 +55,7 @@ std::vector<Setting<Config>> makeConfigSettings() {
                                                        GravityAlignmentMode::kGround, GravityAlignmentMode::kOff},
                                                       "where each keyframe's gravity alignment comes from")),
       formerly({"levelling_max_tilt"},
-               doubleSetting<Cfg>("gravity_alignment_max_tilt", C(gravity_alignment_max_tilt), closed(0, 90),
+               doubleSetting<Cfg>("gravity_alignment_max_tilt", C(trusted_pose_max_tilt_deg), closed(0, 90),
                                   "auto gravity alignment: a pose tilted more than this is not trusted [deg]")),
       // search
       live(
@@ -104,7 +104,7 @@ std::vector<Setting<Config>> makeConfigSettings() {
                               "largest free-space violation of a loop on its own")),
       live(doubleSetting<Cfg>("verify_supported_max_violation", C(verification.supported_max_violation), closed(0, 1),
                               "largest free-space violation of a loop that needs support")),
-      live(doubleSetting<Cfg>("verify_max_tilt", C(verification.max_tilt), closed(0, 90),
+      live(doubleSetting<Cfg>("verify_max_tilt", C(verification.registration_max_tilt_deg), closed(0, 90),
                               "registered tilt above which roll and pitch come from the gravity alignment [deg]")),
       enumSetting<Cfg, RegistrationMethod>(
           "verify_method", C(verification.method), parseRegistrationMethod, registrationMethodName,

@@ -4,7 +4,6 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
-#include <sstream>
 #include <utility>
 #include <vector>
 
@@ -13,11 +12,6 @@
 #include "scan_context_loop/core/pcl_refinement.h"
 
 namespace scan_context_loop {
-
-const char* const kRejectionTests[10] = {"unverifiable", "structure",         "registration",
-                                         "overlap",      "free_space",        "fitness",
-                                         "degenerate",   "odometry_rotation", "odometry_translation",
-                                         "consistency"};
 
 VoxelOptions voxelOptions(const VerificationConfig& config) {
   VoxelOptions o;
@@ -154,37 +148,26 @@ void Verifier::setQuery(const VoxelCloud& query) {
 
 VerificationResult Verifier::verify(const VoxelCloud& match, const std::vector<Eigen::Isometry3d>& hypotheses) {
   const auto start = Clock::now();
-  VerificationResult r;
-  const auto finish = [&](VerificationResult result, const std::string& reason) {
-    result.reason = reason;
-    result.accepted = reason.empty();
-    if (result.accepted) {
-      result.rejected_by.clear();
-      result.rejection_value = result.rejection_limit = 0.0;
-    } else if (result.rejected_by.empty()) {
-      result.rejected_by = "registration";
-    }
+  const auto timed = [&](VerificationResult result) {
     result.seconds = std::chrono::duration<double>(Clock::now() - start).count();
     return result;
   };
-  if (query_ == nullptr) return finish(r, "no query set");
+  const auto finish = [&](VerificationResult result, const Verdict& verdict) {
+    result.record(verdict);
+    return timed(std::move(result));
+  };
+  VerificationResult r;
+  if (query_ == nullptr) return finish(r, registrationFailure("no query set"));
   r.query_points = query_structure_;
   r.match_points = structureCount(match);
-  if (r.query_points < static_cast<std::size_t>(config_.min_structure) ||
-      r.match_points < static_cast<std::size_t>(config_.min_structure)) {
-    std::ostringstream why;
-    why << "too few points to verify: structure voxels (query " << r.query_points << ", candidate " << r.match_points
-        << ", need " << config_.min_structure << ")";
-    r.rejected_by = "structure";
-    r.rejection_value = static_cast<double>(std::min(r.query_points, r.match_points));
-    r.rejection_limit = config_.min_structure;
-    return finish(r, why.str());
+  if (const Verdict structure = judgeStructure(r.query_points, r.match_points, config_); !structure.accepted()) {
+    return finish(r, structure);
   }
   std::vector<Eigen::Isometry3d> guesses;
   for (const auto& h : hypotheses) {
     if (h.matrix().allFinite()) guesses.push_back(h);
   }
-  if (guesses.empty()) return finish(r, "initial guess is not finite");
+  if (guesses.empty()) return finish(r, registrationFailure("initial guess is not finite"));
   r.relative = guesses.front();
 
   const std::vector<CoarseHit> hits = coarseSearch(query_map_, structureColumns(match, query_map_.cell), guesses,
@@ -192,8 +175,11 @@ VerificationResult Verifier::verify(const VoxelCloud& match, const std::vector<E
   match_index_.build(match);
   match_free_ = freeSpace(match);
 
+  // Of the rejected hypotheses the one with the largest overlap is reported ("no hypothesis" until one
+  // was registered).
   VerificationResult best_rejected = r;
-  best_rejected.reason = "no hypothesis";
+  best_rejected.record(registrationFailure("no hypothesis"));
+  bool registered_any = false;
   // A hypothesis that passes only with support is kept while the others may still pass in full.
   VerificationResult best_supportable;
   std::vector<Eigen::Isometry3d> tried;
@@ -206,27 +192,34 @@ VerificationResult Verifier::verify(const VoxelCloud& match, const std::vector<E
     VerificationResult candidate = r;
     candidate.coarse_score = hit.score;
     candidate.hypotheses = static_cast<int>(tried.size());
-    std::string reason = refineAndJudge(match, hit.pose, &candidate);
-    if (reason.empty()) return finish(candidate, "");
-    candidate.reason = reason;
+    const Verdict verdict = refineAndJudge(match, hit.pose, &candidate);
+    if (verdict.accepted()) return finish(candidate, verdict);
+    candidate.record(verdict);
     if (candidate.needs_support) {
       if (!best_supportable.needs_support || candidate.inlier_ratio > best_supportable.inlier_ratio) {
         best_supportable = candidate;
       }
       continue;
     }
-    if (best_rejected.reason == "no hypothesis" || candidate.inlier_ratio > best_rejected.inlier_ratio) {
+    if (!registered_any || candidate.inlier_ratio > best_rejected.inlier_ratio) {
       best_rejected = candidate;
+      registered_any = true;
     }
   }
   VerificationResult& best = best_supportable.needs_support ? best_supportable : best_rejected;
   best.hypotheses = static_cast<int>(tried.size());
-  return finish(best, best.reason);
+  return timed(std::move(best));
 }
 
-std::string Verifier::refineAndJudge(const VoxelCloud& match, const Eigen::Isometry3d& initial,
-                                     VerificationResult* r) {
+Verdict Verifier::refineAndJudge(const VoxelCloud& match, const Eigen::Isometry3d& initial, VerificationResult* r) {
   Eigen::Isometry3d pose = initial;
+  if (const std::string failure = refine(match, &pose, r); !failure.empty()) return registrationFailure(failure);
+  r->relative = pose;
+  estimateCovariance(measure(match, r), r);
+  return judgeRegistration(*r, config_);
+}
+
+std::string Verifier::refine(const VoxelCloud& match, Eigen::Isometry3d* pose, VerificationResult* r) {
   // One voxel GICP stage from `pose` at a correspondence distance; false when it found too few pairs. A
   // rough stage stops at ten times the step the last stage stops at: the fine stage starts from it and
   // moves the pose by more than that anyway (a quarter of the coarse stage's iterations, the same
@@ -241,9 +234,9 @@ std::string Verifier::refineAndJudge(const VoxelCloud& match, const Eigen::Isome
     options.max_source_voxels = config_.max_source_voxels;
     options.max_correspondence = static_cast<float>(distance);
     options.fix_tilt = fix_tilt;
-    const GicpResult g = alignVoxels(match, query_index_, pose, options);
+    const GicpResult g = alignVoxels(match, query_index_, *pose, options);
     if (g.correspondences < 6) return false;
-    pose = g.transform;
+    *pose = g.transform;
     return true;
   };
   if (config_.method == RegistrationMethod::kVgicp) {
@@ -251,24 +244,28 @@ std::string Verifier::refineAndJudge(const VoxelCloud& match, const Eigen::Isome
       const bool rough = distance != config_.fine_correspondence;
       if (!stage(distance, config_.max_iterations, false, rough)) return "registration found no correspondences";
     }
-  } else if (!refineWithPcl(*query_, match, config_, &pose)) {
+  } else if (!refineWithPcl(*query_, match, config_, pose)) {
     return "registration did not converge";
   }
-  if (!pose.matrix().allFinite()) return "registration diverged";
-  r->tilt_deg = tiltDegrees(pose);
-  if (r->tilt_deg > config_.max_tilt) {
+  if (!pose->matrix().allFinite()) return "registration diverged";
+  r->tilt_deg = tiltDegrees(*pose);
+  if (!trustsRegisteredTilt(r->tilt_deg, config_)) {
     // Roll and pitch from the gravity alignment: drop the registered tilt, then yaw and translation again.
-    pose.linear() = Eigen::AngleAxisd(std::atan2(pose.linear()(1, 0), pose.linear()(0, 0)), Eigen::Vector3d::UnitZ())
-                        .toRotationMatrix();
+    pose->linear() =
+        Eigen::AngleAxisd(std::atan2(pose->linear()(1, 0), pose->linear()(0, 0)), Eigen::Vector3d::UnitZ())
+            .toRotationMatrix();
     // From the full registration's yaw and translation, which the tilt hardly moves: a few iterations.
     if (!stage(config_.fine_correspondence, std::min(config_.max_iterations, 5), true, false)) {
       return "registration found no correspondences";
     }
-    if (!pose.matrix().allFinite()) return "registration diverged";
+    if (!pose->matrix().allFinite()) return "registration diverged";
     r->tilt_from_alignment = true;
   }
-  r->relative = pose;
+  return "";
+}
 
+Eigen::Matrix<double, 6, 6> Verifier::measure(const VoxelCloud& match, VerificationResult* r) {
+  const Eigen::Isometry3d pose = r->relative;
   // Agreement both ways, over the region both sensors cover: a changed world moves cars and trees, not
   // facades, so the structure that is still there must be where the pose puts it, from either side.
   Eigen::Matrix<double, 6, 6> information = Eigen::Matrix<double, 6, 6>::Zero();
@@ -278,12 +275,12 @@ std::string Verifier::refineAndJudge(const VoxelCloud& match, const Eigen::Isome
   r->overlap_match = forward.covered > 0 ? static_cast<double>(forward.agreeing) / forward.covered : 0.0;
   r->overlap_query = backward.covered > 0 ? static_cast<double>(backward.agreeing) / backward.covered : 0.0;
   r->inlier_ratio = std::min(r->overlap_match, r->overlap_query);
-  // The column overlap only where it can decide: when the voxel overlap falls short of its full floor,
-  // and the second direction only when the first reaches the support floor.
-  if (r->inlier_ratio < config_.min_inlier_ratio && config_.supported_column_overlap < 1.0) {
-    const double floor = config_.supported_column_overlap;
+  // The column overlap only where it can decide, and the second direction only when the first reaches
+  // the support floor.
+  if (columnOverlapCanDecide(r->inlier_ratio, config_)) {
+    const double floor = columnOverlapFloor(config_);
     r->column_overlap = r->column_overlap_match = columnAgreement(match, query_index_, pose, config_, floor);
-    if (r->column_overlap_match >= config_.supported_column_overlap) {
+    if (r->column_overlap_match >= floor) {
       r->column_overlap_query = columnAgreement(*query_, match_index_, pose.inverse(), config_, floor);
       r->column_overlap = std::min(r->column_overlap_match, r->column_overlap_query);
     }
@@ -292,7 +289,10 @@ std::string Verifier::refineAndJudge(const VoxelCloud& match, const Eigen::Isome
   r->violation_query = checkFreeSpace(*query_, match_free_, pose.inverse()).ratio();
   r->violation = std::max(r->violation_match, r->violation_query);
   r->fitness = forward.agreeing > 0 ? forward.residual2 / forward.agreeing : std::numeric_limits<double>::infinity();
+  return information;
+}
 
+void Verifier::estimateCovariance(const Eigen::Matrix<double, 6, 6>& information, VerificationResult* r) const {
   // Covariance in the query frame from the point-to-plane information, reordered to (x, y, z, roll,
   // pitch, yaw), scaled by the residual variance (never below 5 cm squared: voxel means are not points).
   const double sigma2 = std::max(r->fitness, 0.0025);
@@ -311,8 +311,8 @@ std::string Verifier::refineAndJudge(const VoxelCloud& match, const Eigen::Isome
   }
   if (r->tilt_from_alignment) {
     // Roll and pitch were not estimated here: they are as good as the two gravity alignments, which the
-    // registration disagreed with by more than max_tilt; nothing couples them to the rest.
-    const double tilt_variance = std::pow(std::max(config_.max_tilt, 0.5) * M_PI / 180.0, 2);
+    // registration disagreed with by more than registration_max_tilt_deg; nothing couples them to the rest.
+    const double tilt_variance = std::pow(std::max(config_.registration_max_tilt_deg, 0.5) * M_PI / 180.0, 2);
     for (int i = 3; i < 5; ++i) {
       for (int j = 0; j < 6; ++j) r->covariance(i, j) = r->covariance(j, i) = 0.0;
       r->covariance(i, i) = std::max(tilt_variance, config_.min_rotation_variance);
@@ -320,45 +320,16 @@ std::string Verifier::refineAndJudge(const VoxelCloud& match, const Eigen::Isome
   }
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> horizontal(r->covariance.topLeftCorner<2, 2>());
   r->constraint_ratio = horizontal.eigenvalues()(0) / std::max(horizontal.eigenvalues()(1), 1e-12);
+}
 
-  std::ostringstream why;
-  const auto reject = [r, &why](const char* test, double value, double limit) {
-    r->rejected_by = test;
-    r->rejection_value = value;
-    r->rejection_limit = limit;
-    return &why;
-  };
-  const auto reaches = [r](double voxel_floor, double column_floor) {
-    return r->inlier_ratio >= voxel_floor || (column_floor < 1.0 && r->column_overlap >= column_floor);
-  };
-  if (!reaches(config_.supported_inlier_ratio, config_.supported_column_overlap)) {
-    *reject("overlap", r->inlier_ratio, config_.supported_inlier_ratio)
-        << "inlier ratio (structure overlap) " << r->inlier_ratio << " below " << config_.supported_inlier_ratio
-        << " (query " << r->overlap_query << ", candidate " << r->overlap_match << ") and column overlap "
-        << r->column_overlap << " below " << config_.supported_column_overlap;
-  } else if (r->violation > config_.supported_max_violation) {
-    *reject("free_space", r->violation, config_.supported_max_violation)
-        << "free-space violation " << r->violation << " above " << config_.supported_max_violation << " (query "
-        << r->violation_query << ", candidate " << r->violation_match << ")";
-  } else if (!(r->fitness <= config_.max_fitness)) {
-    *reject("fitness", r->fitness, config_.max_fitness) << "fitness " << r->fitness << " m^2 above " << config_.max_fitness;
-  } else if (!config_.allow_degenerate && r->constraint_ratio < config_.min_constraint_ratio) {
-    *reject("degenerate", r->constraint_ratio, config_.min_constraint_ratio)
-        << "degenerate: the position along one horizontal direction is unconstrained (ratio " << r->constraint_ratio
-        << " below " << config_.min_constraint_ratio << ")";
-  } else if (!reaches(config_.min_inlier_ratio, config_.min_column_overlap)) {
-    r->needs_support = true;
-    *reject("overlap", r->inlier_ratio, config_.min_inlier_ratio)
-        << "needs support: inlier ratio (structure overlap) " << r->inlier_ratio << " below "
-        << config_.min_inlier_ratio << " (query " << r->overlap_query << ", candidate " << r->overlap_match
-        << ") and column overlap " << r->column_overlap << " below " << config_.min_column_overlap;
-  } else if (r->violation > config_.max_violation) {
-    r->needs_support = true;
-    *reject("free_space", r->violation, config_.max_violation)
-        << "needs support: free-space violation " << r->violation << " above " << config_.max_violation
-        << " (query " << r->violation_query << ", candidate " << r->violation_match << ")";
-  }
-  return why.str();
+void VerificationResult::record(const Verdict& verdict) {
+  accepted = verdict.accepted();
+  reason = verdict.reason;
+  rejected_by = rejectionTestName(verdict.test);
+  rejection_value = verdict.value;
+  rejection_limit = verdict.limit;
+  needs_support = verdict.needs_support;
+  odometry_contradicted = verdict.odometry_contradicted;
 }
 
 VerificationResult verify(const VoxelCloud& query, const VoxelCloud& match, const Eigen::Isometry3d& initial,
@@ -366,93 +337,6 @@ VerificationResult verify(const VoxelCloud& query, const VoxelCloud& match, cons
   Verifier verifier(config);
   verifier.setQuery(query);
   return verifier.verify(match, {initial});
-}
-
-int CloudStore::levelOf(std::size_t index) {
-  return index == 0 ? std::numeric_limits<std::size_t>::digits : __builtin_ctzll(index);
-}
-
-void CloudStore::add(std::size_t index, const VoxelCloud& cloud) {
-  // Free a few of the clouds the last halving dropped (freeing half of 50,000 at once stalled the
-  // keyframe that triggered it for 0.3 s, and at 100,000 for 0.7 s, in scripts/measure/soak).
-  for (std::size_t n = 0; n < kReleasedPerAdd && !releasing_.empty(); ++n) releasing_.pop_back();
-  if (index % stride_ != 0) return;  // between the kept keyframes at the current density
-  const std::size_t size = cloud.bytes();
-  while (bytes_ + size > max_bytes_ && stride_ < (std::size_t(1) << 30)) {
-    // Halve the density everywhere: keep only multiples of the doubled stride, which drops the level
-    // log2(stride_) whole. Its clouds leave the store now and are freed over the next adds; its arena
-    // lives until the last of them is gone.
-    const auto dropped_level = static_cast<std::size_t>(levelOf(stride_));
-    stride_ *= 2;
-    for (auto it = clouds_.begin(); it != clouds_.end();) {
-      if (it->first % stride_ != 0) {
-        bytes_ -= it->second->bytes();
-        releasing_.push_back(std::move(it->second));
-        it = clouds_.erase(it);
-        ++dropped_;
-        --stored_;
-      } else {
-        ++it;
-      }
-    }
-    if (dropped_level < levels_.size()) levels_[dropped_level].reset();
-    if (index % stride_ != 0) return;
-  }
-  const auto level = static_cast<std::size_t>(levelOf(index));
-  if (levels_.size() <= level) levels_.resize(level + 1);
-  if (!levels_[level]) levels_[level] = BlockArena::create(kLevelBlockBytes, BlockArena::Pages::kOrdinary);
-  // The copy's arrays are exactly as long as the voxels, so the budget counts what they take.
-  auto copy = std::make_shared<const VoxelCloud>(cloud, levels_[level].get());
-  std::shared_ptr<const VoxelCloud>& slot = clouds_[index];
-  if (slot) {
-    bytes_ -= slot->bytes();  // stored again: the new data replace the old
-  } else {
-    ++stored_;
-  }
-  slot = std::move(copy);
-  bytes_ += size;
-}
-
-std::string cloudStoreHalvingWarning(std::size_t previous_stride, const CloudStore& store, std::size_t keyframes) {
-  if (store.stride() <= previous_stride) return "";
-  const std::size_t without = keyframes > store.stored() ? keyframes - store.stored() : 0;
-  std::ostringstream out;
-  out << "the registration data reached verify_max_bytes (" << store.maxBytes() / (1024 * 1024)
-      << " MiB): one keyframe in " << store.stride() << " keeps its data from now on; " << without << " of "
-      << keyframes
-      << " keyframes have none, so loops to them cannot be verified and a database saved with clouds holds "
-         "none for them; raise verify_max_bytes to keep more";
-  return out.str();
-}
-
-std::size_t CloudStore::memoryBytes() const {
-  std::size_t total = 0;
-  for (const auto& level : levels_) total += level ? level->mappedBytes() : 0;
-  return total;
-}
-
-const VoxelCloud* CloudStore::get(std::size_t index) const {
-  const auto it = clouds_.find(index);
-  return it != clouds_.end() ? it->second.get() : nullptr;
-}
-
-std::shared_ptr<const VoxelCloud> CloudStore::share(std::size_t index) const {
-  const auto it = clouds_.find(index);
-  return it != clouds_.end() ? it->second : nullptr;
-}
-
-std::vector<std::pair<std::size_t, std::shared_ptr<const VoxelCloud>>> CloudStore::share(std::size_t begin,
-                                                                                         std::size_t end) const {
-  std::vector<std::pair<std::size_t, std::shared_ptr<const VoxelCloud>>> shared;
-  for (auto it = clouds_.lower_bound(begin); it != clouds_.end() && it->first < end; ++it) shared.push_back(*it);
-  return shared;
-}
-
-Eigen::Isometry3d priorPose(double yaw, const Eigen::Vector2d& viewpoint) {
-  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
-  pose.linear() = Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-  pose.translation() << viewpoint.x(), viewpoint.y(), 0.0;
-  return pose;
 }
 
 }  // namespace scan_context_loop

@@ -106,15 +106,8 @@ void LoopPublisher::publishLoops(const Detection& detection, const std::string& 
       publishRejected(v.toLoop(detection.index), frame, database);
     }
   }
-  for (Loop dropped : detection.dropped) {
-    dropped.verified = false;
-    dropped.verification.reason = "no consistent loop within consistency_window keyframes";
-    dropped.verification.rejected_by = "consistency";
-    dropped.verification.rejection_value = dropped.support;
-    dropped.verification.rejection_limit =
-        config_.consistency_min_support + (dropped.verification.odometry_contradicted ? 1 : 0);
-    publishRejected(dropped, frame, database);
-  }
+  // A dropped loop carries the consistency check's verdict (ConsistencyFilter::advance).
+  for (const Loop& dropped : detection.dropped) publishRejected(dropped, frame, database);
   for (const Loop& found : detection.loops) {
     const scan_context_loop::LoopClosure loop = makeLoop(found, frame, database);
     ++counters_->loops_found;

@@ -129,6 +129,13 @@ TEST(Consistency, FilterReportsARunOfAgreeingLoopsFromItsSecondLoopOnAndDropsALo
   ASSERT_EQ(dropped.size(), 1u);
   EXPECT_EQ(dropped[0].query, 41u);
   EXPECT_EQ(dropped[0].match, 20u);
+  // With the consistency check's verdict: the support it had against the support it needed.
+  EXPECT_FALSE(dropped[0].verified);
+  EXPECT_FALSE(dropped[0].verification.accepted);
+  EXPECT_EQ(dropped[0].verification.rejected_by, "consistency");
+  EXPECT_EQ(dropped[0].verification.rejection_value, 0.0);
+  EXPECT_EQ(dropped[0].verification.rejection_limit, 1.0);
+  EXPECT_EQ(dropped[0].verification.reason, "no consistent loop within consistency_window keyframes");
   EXPECT_EQ(filter.waiting(), 0u);
   // Loops further apart than the window are not compared: a true loop much later waits again.
   step(Drive::loop(55, 17));
@@ -271,6 +278,23 @@ TEST(ConsistencyContradicted, NeedsOneSupportMoreAndOnlyFromLoopsLikeIt) {
   other(Drive::loop(42, 12));
   EXPECT_TRUE(std::none_of(other.confirmed.begin(), other.confirmed.end(),
                            [](const Loop& l) { return l.query == 42; }));
+}
+
+TEST(ConsistencyContradicted, OnesDroppedShortOfTheirSupportSayTheyNeededOneMore) {
+  Config config;
+  config.consistency_min_support = 1;
+  const Drive drive(config);
+  Stepper step(drive);
+  step(contradicted(40, 10, 3.0));
+  step(contradicted(41, 11, 3.0));  // each supports the other: one support each, two needed
+  EXPECT_TRUE(step.confirmed.empty());
+  step.filter.advance(41 + config.consistency_window + 1, &step.dropped);
+  ASSERT_EQ(step.dropped.size(), 2u);
+  for (const Loop& l : step.dropped) {
+    EXPECT_EQ(l.verification.rejected_by, "consistency");
+    EXPECT_EQ(l.verification.rejection_value, 1.0);
+    EXPECT_EQ(l.verification.rejection_limit, 2.0);
+  }
 }
 
 TEST(ConsistencyContradicted, ALessContradictedLoopThatDisagreesHoldsItBack) {

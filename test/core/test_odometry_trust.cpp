@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include "../common/sim_drive.h"
+#include "scan_context_loop/core/acceptance_rule.h"
 #include "scan_context_loop/core/database.h"
 #include "scan_context_loop/core/detector.h"
 #include "scan_context_loop/core/odometry_trust.h"

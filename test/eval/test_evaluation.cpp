@@ -65,7 +65,7 @@ TEST(ConfigFile, DeprecatedKeyNamesSetTheNewKeysWithAWarning) {
   ASSERT_TRUE(loadConfigFile(temp("old_names.yaml"), &old_config, &error, &old_warnings)) << error;
   ASSERT_TRUE(loadConfigFile(temp("new_names.yaml"), &new_config, &error, &new_warnings)) << error;
   EXPECT_EQ(old_config.gravity_alignment, GravityAlignmentMode::kGround);
-  EXPECT_DOUBLE_EQ(old_config.gravity_alignment_max_tilt, 12.0);
+  EXPECT_DOUBLE_EQ(old_config.trusted_pose_max_tilt_deg, 12.0);
   for (const auto& s : configSettings()) EXPECT_EQ(s.get(old_config), s.get(new_config)) << s.key;
   EXPECT_TRUE(new_warnings.empty());
   ASSERT_EQ(old_warnings.size(), 2u);

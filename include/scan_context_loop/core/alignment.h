@@ -3,6 +3,8 @@
 
 #include <vector>
 
+#include <Eigen/Geometry>
+
 #include "scan_context_loop/core/config.h"
 #include "scan_context_loop/core/descriptor.h"
 
@@ -46,5 +48,10 @@ std::vector<Alignment> alignHypotheses(const Descriptor& query, const Descriptor
 
 /// Wraps an angle to (-pi, pi].
 double wrapAngle(double radians);
+
+/// The pose a descriptor match implies, T_query<-match: the match's sensor stands at `viewpoint` (the
+/// virtual viewpoint it was found from, zero for the real one) in the query's frame, turned by `yaw`.
+/// Registration starts from it; a loop without registration is reported with it.
+Eigen::Isometry3d priorPose(double yaw, const Eigen::Vector2d& viewpoint = Eigen::Vector2d::Zero());
 
 }  // namespace scan_context_loop

@@ -29,7 +29,7 @@ const char* registrationMethodName(RegistrationMethod method);
 
 /// Where the gravity alignment of each keyframe comes from (gravity_alignment.h).
 enum class GravityAlignmentMode {
-  /// The pose's roll and pitch when the keyframe has a pose whose tilt is within gravity_alignment_max_tilt
+  /// The pose's roll and pitch when the keyframe has a pose whose tilt is within trusted_pose_max_tilt_deg
   /// (a larger one means a world frame that is not z-up), else a ground-plane fit, else none.
   kAuto,
   kPose,    ///< the pose's roll and pitch only (keyframes without a pose are not gravity-aligned)
@@ -84,8 +84,8 @@ struct VerificationConfig {
   /// them should be a yaw. When it tilts by more than this [deg], the registration's roll and pitch are
   /// not trusted (a sparse scan's few rings leave them loose): yaw and translation are registered again
   /// with roll and pitch held at the gravity alignment's, and the loop's roll and pitch variance is
-  /// then this angle squared. 0: always so; 90: never.
-  double max_tilt = 1.0;
+  /// then this angle squared. 0: always so; 90: never. (Key verify_max_tilt.)
+  double registration_max_tilt_deg = 1.0;
   /// The fine registration: the built-in voxel GICP (vgicp), or PCL's GICP, ICP or NDT over the voxel
   /// means (slower; kept for comparison).
   RegistrationMethod method = RegistrationMethod::kVgicp;
@@ -200,7 +200,8 @@ struct Config {
   /// sensor frames all the same; the yaw prior is that of the gravity-aligned frames.
   GravityAlignmentMode gravity_alignment = GravityAlignmentMode::kAuto;
   /// kAuto: a pose tilted more than this [deg] is not trusted for gravity alignment (ground fit instead).
-  double gravity_alignment_max_tilt = 30.0;
+  /// (Key gravity_alignment_max_tilt.)
+  double trusted_pose_max_tilt_deg = 30.0;
 
   // ---- search -----------------------------------------------------------------------------
   /// Nearest ring keys fetched from the kd-tree and scored with the full descriptor distance.

@@ -74,7 +74,8 @@ class ConsistencyFilter {
   void add(const Loop& loop, const Database& database, std::vector<Loop>* confirmed);
 
   /// Ends the wait of the loops too old for keyframe `query` to support; the unconfirmed ones are
-  /// appended to `dropped`. Call once per keyframe, before offer().
+  /// appended to `dropped`, not verified, with the acceptance rule's verdict (unsupportedVerdict: the
+  /// support they had and needed). Call once per keyframe, before offer().
   void advance(std::size_t query, std::vector<Loop>* dropped);
 
   /// Loops still waiting for support.
@@ -88,8 +89,7 @@ class ConsistencyFilter {
     Loop loop;
     bool confirmed = false;
   };
-  /// Config::consistency_min_support, one more for a loop the odometry contradicted
-  /// (VerificationResult::odometry_contradicted).
+  /// The support `loop` needs to be confirmed (the acceptance rule's requiredSupport).
   int supportNeeded(const Loop& loop) const;
   /// A loop the odometry contradicted is not confirmed while a loop within the window that the odometry
   /// contradicts less (VerificationResult::odometry_excess; a confirmed one, or one that passed in full)

@@ -9,6 +9,7 @@
 #include <pcl/point_cloud.h>
 #include <pcl/point_types.h>
 
+#include "scan_context_loop/core/cloud_store.h"
 #include "scan_context_loop/core/consistency.h"
 #include "scan_context_loop/core/database.h"
 #include "scan_context_loop/core/descriptor.h"
@@ -136,26 +137,27 @@ class LoopDetector {
   /// A cloud gravity-aligned (`aligned` holds the rotated points `points` views, when it was turned) and
   /// described.
   struct GravityAlignedScan {
-    Eigen::Matrix3f level = Eigen::Matrix3f::Identity();  ///< turns `points` into the gravity-aligned frame
+    /// L_R_sensor: turns `points` into the gravity-aligned frame (identity when not gravity-aligned).
+    Eigen::Matrix3f to_gravity = Eigen::Matrix3f::Identity();
     PointView points;  ///< the cloud as given (not turned: binning and voxels turn each point as they read it)
     Descriptor descriptor;
   };
-  /// Levels and describes `raw`, then queries the database from every viewpoint into detection->query.
+  /// Gravity-aligns and describes `raw`, then queries the database from every viewpoint into detection->query.
   void describeAndQuery(const PointView& raw, const KeyframeInfo& info, GravityAlignedScan* out, Detection* detection);
   /// Searches from the virtual viewpoints too (`grids`: their height grids) and merges their candidates
   /// into detection->query.
   void queryViewpoints(const std::vector<Eigen::Vector2f>& views, const std::vector<HeightGrid>& grids,
                        const KeyframeInfo& info, Detection* detection);
   /// Registers the `tracked` candidate (loop tracking; may be null), then detection->query's candidates
-  /// onto `cloud` (gravity-aligned by `level`; `query` its descriptor) until one is accepted. detection->index is
+  /// onto `cloud` (gravity-aligned by `to_gravity`; `query` its descriptor) until one is accepted. detection->index is
   /// the query's keyframe number; `query_stored` says whether the query is in the database (then the
   /// odometry rotation check runs).
-  void verifyCandidates(const VoxelCloud& cloud, const Descriptor& query, const Eigen::Matrix3f& level,
+  void verifyCandidates(const VoxelCloud& cloud, const Descriptor& query, const Eigen::Matrix3f& to_gravity,
                         bool query_stored, const TrackedCandidate* tracked, Detection* detection);
   /// Registers candidate `c` from `guesses` (T_query<-match in the gravity-aligned frames) and appends the
   /// outcome to detection->verifications; returns whether it was accepted.
   bool verifyOne(const Candidate& c, bool tracked, const std::vector<Eigen::Isometry3d>& guesses,
-                 const Eigen::Matrix3f& level, bool query_stored, Detection* detection);
+                 const Eigen::Matrix3f& to_gravity, bool query_stored, Detection* detection);
   /// Registration guesses for a candidate (T_query<-match): its alignment, then other yaw hypotheses.
   std::vector<Eigen::Isometry3d> hypotheses(const Candidate& candidate, const Descriptor& query) const;
   static constexpr int kYawHypotheses = 3;
@@ -172,9 +174,9 @@ class LoopDetector {
   VoxelCloud submapOf(std::size_t index, std::size_t query) const;
   /// Registration results are in the gravity-aligned frames; loops are reported in the sensor frames.
   void toSensorFrames(const Eigen::Matrix3f& query_alignment, std::size_t match, VerificationResult* result) const;
-  /// The odometry checks of an accepted result (odometry_trust.h): its rotation against the odometry's
-  /// (Config::verify_odometry_rotation) and, when the odometry is relied on from a confirmed loop, its
-  /// translation. A result they contradict is not accepted (VerificationResult::odometry_contradicted).
+  /// The odometry checks of an accepted result or one that needs support: measures how far its rotation,
+  /// and its translation, are from what the odometry predicts (odometry_trust.h) and records the
+  /// acceptance rule's verdict on that (judgeOdometry, acceptance_rule.h) when they contradict it.
   void checkOdometry(std::size_t query, std::size_t match, VerificationResult* result) const;
   /// Fills detection->loops: without verification, the descriptor's best candidate; with it, the
   /// accepted candidate (or, with the consistency check, one waiting for support), published at once or

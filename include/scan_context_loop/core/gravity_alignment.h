@@ -43,7 +43,7 @@ struct GroundFitOptions {
   double min_range = 2.0;
   double max_range = 30.0;
   /// The ground's normal is within this angle of the sensor's z axis [degrees].
-  double max_tilt_deg = 35.0;
+  double ground_plane_max_tilt_deg = 35.0;
   /// The sensor is between min_height and max_height above the plane [m]: rejects ceilings, table
   /// tops and car roofs just below the sensor.
   double min_height = 0.3;

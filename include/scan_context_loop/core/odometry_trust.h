@@ -2,9 +2,10 @@
 //
 // The odometry checks (the candidate gate, Config::gate_odometry_distance, and the rotation check,
 // VerificationConfig::odometry_rotation) compare a loop with what the odometry says of the two keyframes,
-// allowing for drift over the odometry path between them. Real odometry can drift far beyond any fixed
-// rate or break down (a heading that keeps turning away, a jump); fixed allowances then refuse exactly the
-// loops that would repair it. Two things keep the checks useful:
+// allowing for drift over the odometry path between them; the checks of a registered loop, their limits
+// and verdicts, are the acceptance rule's (acceptance_rule.h). Real odometry can drift far beyond any
+// fixed rate or break down (a heading that keeps turning away, a jump); fixed allowances then refuse
+// exactly the loops that would repair it. Two things keep the checks useful:
 // - Anchors: each confirmed loop relates its two keyframes exactly, so the odometry is relied on only
 //   from the query to the nearest confirmed loop and from that loop's match to the candidate. The
 //   prediction with the least odometry path is used (the direct one when no loop is nearer).
@@ -31,7 +32,6 @@ namespace scan_context_loop {
 
 struct Config;
 struct Keyframe;
-struct VerificationConfig;
 
 /// What the odometry predicts of T_query<-candidate, and the odometry path [m] the prediction relies on.
 struct OdometryPrediction {
@@ -84,20 +84,10 @@ class OdometryTrust {
   double translation_rate_ = 0.0;
 };
 
-/// The rotation disagreement allowed over `path` metres of odometry [deg]: odometry_rotation plus
-/// odometry_rotation_drift per metre.
-double rotationAllowance(const VerificationConfig& config, double path);
-/// The largest rotation disagreement [deg] an odometry failure plausibly explains over `path` metres of
-/// odometry: a jump of kPlausibleJumpDeg plus kPlausibleTurnRate per metre (A-LOAM's heading broke by
-/// 0.1-0.25 deg/m). A registration that disagrees by more is a wrong one: just after a confirmed loop,
-/// a run of loops 180 degrees off is not an odometry that broke.
-constexpr double kPlausibleJumpDeg = 45.0;
-constexpr double kPlausibleTurnRate = 0.25;
-inline double plausibleRotationBreak(double path) { return kPlausibleJumpDeg + kPlausibleTurnRate * path; }
-
-/// How far a registered loop may place the candidate from where the odometry, relied on from a
-/// confirmed loop over `path` metres, puts it [m]: consistency_translation plus the gate's rate.
-double anchoredTranslationAllowance(const Config& config, const OdometryTrust& trust, double path);
+/// The translation drift per metre of odometry path the odometry is allowed [m/m]: the larger of
+/// gate_odometry_drift and the measured rate with its margin. The candidate gate and the odometry
+/// translation check (anchoredTranslationAllowance, acceptance_rule.h) both grow with it.
+double allowedDriftRate(const Config& config, const OdometryTrust& trust);
 /// The candidate gate's radius over `path` metres of odometry [m]: gate_odometry_distance plus the
 /// larger of gate_odometry_drift and the measured rate (with its margin) per metre.
 double gateRadius(const Config& config, const OdometryTrust& trust, double path);
