@@ -30,21 +30,27 @@ if(SCL_BUILD_TOOLS)
   target_link_libraries(scan_context_bench_team scan_context_loop_eval scan_context_loop_cli)
 endif()
 
-# doc/parameters.md from the settings tables of both nodes (the pose_graph node's come with the backend):
-# the tool (installed, `rosrun scan_context_loop scan_context_parameters`) prints it, test_eval compares it
-# with the file in the source tree.
+# The files written from the settings tables of both nodes (the pose_graph node's come with the backend):
+# doc/parameters.md, config/default.yaml, config/pose_graph.yaml and cfg/LoopClosure.cfg. They are
+# committed; the tool (installed, `rosrun scan_context_loop scan_context_parameters`) prints or rewrites
+# them, test_parameter_files compares them with the files in the source tree.
 if(SCL_WITH_BACKEND)
-  add_library(scan_context_loop_parameters_page STATIC tools/parameters/parameters_page.cpp)
-  target_include_directories(scan_context_loop_parameters_page PUBLIC tools/parameters)
-  target_link_libraries(scan_context_loop_parameters_page PUBLIC scan_context_loop_graph)
+  add_library(scan_context_loop_parameter_files STATIC tools/parameters/setting_row.cpp
+    tools/parameters/parameters_page.cpp tools/parameters/defaults_yaml.cpp tools/parameters/reconfigure_cfg.cpp
+    tools/parameters/generated_files.cpp)
+  target_include_directories(scan_context_loop_parameter_files PUBLIC tools/parameters)
+  target_link_libraries(scan_context_loop_parameter_files PUBLIC scan_context_loop_graph)
   if(SCL_BUILD_TOOLS)
     add_executable(scan_context_parameters tools/parameters/parameters_main.cpp)
-    target_link_libraries(scan_context_parameters scan_context_loop_parameters_page scan_context_loop_cli)
+    target_link_libraries(scan_context_parameters scan_context_loop_parameter_files scan_context_loop_cli)
     install(TARGETS scan_context_parameters RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
   endif()
   if(CATKIN_ENABLE_TESTING)
     target_sources(test_eval PRIVATE test/eval/test_parameters_page.cpp)
-    target_link_libraries(test_eval scan_context_loop_parameters_page)
+    target_link_libraries(test_eval scan_context_loop_parameter_files)
+    catkin_add_gtest(test_parameter_files test/test_main.cpp test/tools/test_parameter_files.cpp)
+    target_link_libraries(test_parameter_files scan_context_loop_parameter_files)
+    target_compile_definitions(test_parameter_files PRIVATE SCL_PACKAGE_DIR="${SCL_PACKAGE_DIR}")
   endif()
 endif()
 
