@@ -48,6 +48,11 @@ install(TARGETS scan_context_loop_core
 install(DIRECTORY include/${PROJECT_NAME}/ DESTINATION ${CATKIN_PACKAGE_INCLUDE_DESTINATION})
 
 if(CATKIN_ENABLE_TESTING)
+  # A small simulated drive around a block (test/common/sim_drive.h), compiled once for the core's, the
+  # evaluator's and the nodes' tests.
+  add_library(scan_context_loop_sim_drive STATIC test/common/sim_drive.cpp)
+  target_link_libraries(scan_context_loop_sim_drive PUBLIC scan_context_sim)
+
   catkin_add_gtest(test_core
     test/test_main.cpp
     test/core/test_descriptor.cpp
@@ -73,7 +78,6 @@ if(CATKIN_ENABLE_TESTING)
     test/core/test_simulated_places.cpp
     test/core/test_hard_revisits.cpp
     test/core/test_odometry_trust.cpp
-    test/common/sim_drive.cpp
     test/core/test_database_file.cpp
     test/core/test_pose_corrections.cpp
     test/core/test_file_io.cpp
@@ -88,7 +92,8 @@ if(CATKIN_ENABLE_TESTING)
   # The real-data tests read KITTI scans (eval/kitti_io.h); the simulated-data tests cast scans with the
   # simulator. file_faults.cpp's link, fsync, ... take precedence over the C library's for the core
   # library's calls (test/common/file_faults.h); they find the real ones with dlsym.
-  target_link_libraries(test_core scan_context_loop_eval scan_context_sim ${PCL_IO_LIBRARIES} ${CMAKE_DL_LIBS})
+  target_link_libraries(test_core scan_context_loop_eval scan_context_sim scan_context_loop_sim_drive
+    ${PCL_IO_LIBRARIES} ${CMAKE_DL_LIBS})
   target_compile_definitions(test_core PRIVATE SCL_SHARED_DATA="${SCL_SHARED_DATA}")
   target_include_directories(test_core PRIVATE src/core)  # principal_axes.h, a private header
 

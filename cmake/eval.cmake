@@ -21,9 +21,9 @@ install(TARGETS scan_context_loop_eval
 
 if(CATKIN_ENABLE_TESTING)
   # Simulated drives written as KITTI-format sequences, for the evaluator's tests.
-  add_library(scan_context_loop_eval_sequences STATIC test/common/sim_drive.cpp test/common/written_sequence.cpp)
+  add_library(scan_context_loop_eval_sequences STATIC test/common/written_sequence.cpp)
   target_include_directories(scan_context_loop_eval_sequences PRIVATE ${GTEST_INCLUDE_DIRS})
-  target_link_libraries(scan_context_loop_eval_sequences scan_context_loop_eval scan_context_sim)
+  target_link_libraries(scan_context_loop_eval_sequences scan_context_loop_eval scan_context_loop_sim_drive)
 
   catkin_add_gtest(test_eval_metrics test/test_main.cpp test/eval/test_metrics.cpp test/eval/test_trajectory_error.cpp)
   target_link_libraries(test_eval_metrics scan_context_loop_eval)

@@ -56,10 +56,10 @@ install(DIRECTORY launch config DESTINATION ${CATKIN_PACKAGE_SHARE_DESTINATION})
 if(CATKIN_ENABLE_TESTING)
   find_package(rostest REQUIRED)
   find_package(roslaunch REQUIRED)
-  add_library(scan_context_loop_ros_harness STATIC test/ros/harness.cpp test/ros/child_process.cpp
-    test/common/sim_drive.cpp)
+  add_library(scan_context_loop_ros_harness STATIC test/ros/harness.cpp test/ros/child_process.cpp)
   target_include_directories(scan_context_loop_ros_harness PUBLIC include ${catkin_INCLUDE_DIRS} ${GTEST_INCLUDE_DIRS})
-  target_link_libraries(scan_context_loop_ros_harness scan_context_loop_core scan_context_sim ${catkin_LIBRARIES})
+  target_link_libraries(scan_context_loop_ros_harness scan_context_loop_core scan_context_loop_sim_drive
+    ${catkin_LIBRARIES})
   add_dependencies(scan_context_loop_ros_harness ${PROJECT_NAME}_generate_messages_cpp)
 
   add_rostest_gtest(test_ros_loops test/ros/nodelet_loops.test test/ros/test_loops.cpp)

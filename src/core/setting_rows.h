@@ -1,8 +1,9 @@
-// Builders for the rows of a settings table (settings.h): one call per key, naming its member, range and
-// doc. Private to the package's sources; the loop_closure tables (settings.cpp) and the pose_graph
-// tables (graph/pose_graph_settings.cpp) use them.
+// Builders for the rows of a settings table (settings.h): one call per key, naming its member, range, doc
+// and (optionally) details; group() gives a run of rows its group. Private to the package's sources; the
+// loop_closure tables (settings.cpp) and the pose_graph tables (graph/pose_graph_settings.cpp) use them.
 #pragma once
 
+#include <initializer_list>
 #include <sstream>
 #include <string>
 #include <utility>
@@ -67,11 +68,12 @@ using Ref = V& (*)(T&);
 /// A number member of type V (int or double), parsed with `parse` and printed with `print`.
 template <typename T, typename V>
 Setting<T> numberSetting(const char* key, SettingType type, Ref<T, V> ref, SettingRange range, const char* doc,
-                         bool (*parse)(const std::string&, V*), std::string (*print)(V)) {
+                         const char* details, bool (*parse)(const std::string&, V*), std::string (*print)(V)) {
   Setting<T> s;
   s.key = key;
   s.type = type;
   s.doc = doc;
+  s.details = details;
   s.get = [ref, print](const T& t) { return print(ref(const_cast<T&>(t))); };
   s.set = [ref, parse](T* t, const std::string& text) { return parse(text, &ref(*t)); };
   s.number = [ref](const T& t) { return static_cast<double>(ref(const_cast<T&>(t))); };
@@ -80,21 +82,25 @@ Setting<T> numberSetting(const char* key, SettingType type, Ref<T, V> ref, Setti
 }
 
 template <typename T>
-Setting<T> intSetting(const char* key, Ref<T, int> ref, SettingRange range, const char* doc) {
-  return numberSetting<T, int>(key, SettingType::kInt, ref, std::move(range), doc, parseInt, intText);
+Setting<T> intSetting(const char* key, Ref<T, int> ref, SettingRange range, const char* doc,
+                      const char* details = "") {
+  return numberSetting<T, int>(key, SettingType::kInt, ref, std::move(range), doc, details, parseInt, intText);
 }
 
 template <typename T>
-Setting<T> doubleSetting(const char* key, Ref<T, double> ref, SettingRange range, const char* doc) {
-  return numberSetting<T, double>(key, SettingType::kDouble, ref, std::move(range), doc, parseDouble, numberText);
+Setting<T> doubleSetting(const char* key, Ref<T, double> ref, SettingRange range, const char* doc,
+                         const char* details = "") {
+  return numberSetting<T, double>(key, SettingType::kDouble, ref, std::move(range), doc, details, parseDouble,
+                                  numberText);
 }
 
 template <typename T>
-Setting<T> boolSetting(const char* key, Ref<T, bool> ref, const char* doc) {
+Setting<T> boolSetting(const char* key, Ref<T, bool> ref, const char* doc, const char* details = "") {
   Setting<T> s;
   s.key = key;
   s.type = SettingType::kBool;
   s.doc = doc;
+  s.details = details;
   s.get = [ref](const T& t) { return std::string(ref(const_cast<T&>(t)) ? "true" : "false"); };
   s.set = [ref](T* t, const std::string& text) { return parseBool(text, &ref(*t)); };
   return s;
@@ -102,11 +108,13 @@ Setting<T> boolSetting(const char* key, Ref<T, bool> ref, const char* doc) {
 
 /// A string member; `allowed` (empty: any) lists the accepted values.
 template <typename T>
-Setting<T> stringSetting(const char* key, Ref<T, std::string> ref, std::vector<std::string> allowed, const char* doc) {
+Setting<T> stringSetting(const char* key, Ref<T, std::string> ref, std::vector<std::string> allowed, const char* doc,
+                         const char* details = "") {
   Setting<T> s;
   s.key = key;
   s.type = allowed.empty() ? SettingType::kString : SettingType::kChoice;
   s.doc = doc;
+  s.details = details;
   s.choices = allowed;
   s.get = [ref](const T& t) { return ref(const_cast<T&>(t)); };
   s.set = [ref, allowed](T* t, const std::string& text) {
@@ -126,15 +134,31 @@ Setting<T> stringSetting(const char* key, Ref<T, std::string> ref, std::vector<s
 /// An enum member with its parse and name functions.
 template <typename T, typename E>
 Setting<T> enumSetting(const char* key, Ref<T, E> ref, bool (*parse)(const std::string&, E*),
-                       const char* (*name)(E), std::vector<E> values, const char* doc) {
+                       const char* (*name)(E), std::vector<E> values, const char* doc, const char* details = "") {
   Setting<T> s;
   s.key = key;
   s.type = SettingType::kChoice;
   s.doc = doc;
+  s.details = details;
   for (E v : values) s.choices.push_back(name(v));
   s.get = [ref, name](const T& t) { return std::string(name(ref(const_cast<T&>(t)))); };
   s.set = [ref, parse](T* t, const std::string& text) { return parse(text, &ref(*t)); };
   return s;
+}
+
+/// The rows, each in `group` (Setting::group).
+template <typename T>
+std::vector<Setting<T>> group(const SettingGroup& group, std::vector<Setting<T>> rows) {
+  for (auto& row : rows) row.group = group;
+  return rows;
+}
+
+/// The groups' rows in order: a whole table.
+template <typename T>
+std::vector<Setting<T>> joined(std::initializer_list<std::vector<Setting<T>>> groups) {
+  std::vector<Setting<T>> table;
+  for (const auto& rows : groups) table.insert(table.end(), rows.begin(), rows.end());
+  return table;
 }
 
 /// Marks a row Setting::live.
@@ -151,10 +175,11 @@ Setting<T> formerly(std::vector<std::string> old_keys, Setting<T> s) {
   return s;
 }
 
-/// Adds a rule that is not a range (Setting::extra_check).
+/// Adds a rule that is not a range (Setting::extra_check), described in `text` (Setting::extra_rule).
 template <typename T>
-Setting<T> alsoCheck(std::function<std::string(const T&)> rule, Setting<T> s) {
+Setting<T> alsoCheck(std::function<std::string(const T&)> rule, const char* text, Setting<T> s) {
   s.extra_check = std::move(rule);
+  s.extra_rule = text;
   return s;
 }
 

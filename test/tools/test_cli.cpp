@@ -1,4 +1,4 @@
-// The tools' shared command-line parser (tools/cli.h).
+// The tools' shared command-line parser (tools/cli/cli.h).
 #include <gtest/gtest.h>
 
 #include <cstdint>

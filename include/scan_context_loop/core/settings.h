@@ -1,8 +1,9 @@
-// Every configuration key, declared once: its name, the member it sets, its type, its range and a
-// one-line doc. Parsing (setConfigValue), validation (Config::validate), the YAML reader of the
-// evaluator, the nodes' ROS parameter reader, the generated doc/parameters.md and the checks of
-// config/*.yaml and cfg/LoopClosure.cfg all read these tables. The pose_graph node's tables use the same
-// Setting<T> (graph/pose_graph_settings.h).
+// Every configuration key, declared once: its name, the member it sets, its type, its range, its group,
+// a one-line doc and a longer explanation. Parsing (setConfigValue), validation (Config::validate), the
+// YAML reader of the evaluator and the nodes' ROS parameter reader read these tables, and the files a
+// user reads are written from them (tools/parameters: doc/parameters.md, config/default.yaml,
+// config/pose_graph.yaml and cfg/LoopClosure.cfg), so a new setting is one row. The pose_graph node's
+// tables use the same Setting<T> (graph/pose_graph_settings.h).
 #pragma once
 
 #include <functional>
@@ -34,12 +35,24 @@ struct SettingRange {
   std::string interval() const;
 };
 
+/// A run of related rows of a table. `name` (a Python identifier) is the dynamic_reconfigure group of its
+/// live rows (cfg/LoopClosure.cfg); `title` heads its section of the YAML file of defaults. Rows of
+/// several tables with the same group name share one section.
+struct SettingGroup {
+  std::string name;
+  std::string title;
+};
+
 /// One key of a settings table over the struct T (Config, NodeOptions, the pose_graph node's structs).
 template <typename T>
 struct Setting {
   std::string key;
   SettingType type = SettingType::kDouble;
   std::string doc;                   ///< one line
+  /// What a user should know beyond `doc` (whole sentences, no line breaks; may be empty): the comment
+  /// above the key in the YAML file of defaults says it after the doc.
+  std::string details;
+  SettingGroup group;
   std::vector<std::string> choices;  ///< kChoice: the accepted names
   /// Earlier names of the key: still read (ROS parameters, YAML, --set), each with a warning.
   std::vector<std::string> deprecated_keys;
@@ -52,6 +65,8 @@ struct Setting {
   SettingRange range;
   /// A rule beyond the range (none when empty): "" when the value is allowed, else the rule it breaks.
   std::function<std::string(const T& target)> extra_check;
+  /// That rule in a few words for the documentation ("not empty").
+  std::string extra_rule;
   /// Safe to change while running: read afresh for every keyframe and never baked into stored data
   /// (KeyframePipeline::reconfigure, the node's dynamic_reconfigure server).
   bool live = false;

@@ -1,6 +1,6 @@
 // doc/parameters.md, written from the settings tables of both nodes (core/settings.h,
-// graph/pose_graph_settings.h): the tool scan_context_parameters prints it, a test compares it with the
-// file in the source tree.
+// graph/pose_graph_settings.h): `scan_context_parameters` prints it, a test compares it with the file in
+// the source tree (generated_files.h).
 #pragma once
 
 #include <string>
