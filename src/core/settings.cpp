@@ -136,7 +136,8 @@ std::vector<Setting<Config>> makeConfigSettings() {
 std::vector<Setting<NodeOptions>> makeNodeSettings() {
   using O = NodeOptions;
   return {
-      stringSetting<O>("pose_source", N(pose_source), {"odom", "tf"}, "odom: keyframe_odom messages; tf: tf lookups"),
+      enumSetting<O, PoseSource>("pose_source", N(pose_source), parsePoseSource, poseSourceName,
+                                 {PoseSource::kOdom, PoseSource::kTf}, "odom: keyframe_odom messages; tf: tf lookups"),
       stringSetting<O>("fixed_frame", N(fixed_frame), {}, "tf mode: the frame poses are looked up in"),
       doubleSetting<O>("tf_timeout", N(tf_timeout), atLeast(0), "tf mode: how long to wait for a transform [s]"),
       stringSetting<O>("sensor_frame", N(sensor_frame), {}, "tf mode: the sensor's frame (empty: the cloud's)"),
@@ -150,7 +151,8 @@ std::vector<Setting<NodeOptions>> makeNodeSettings() {
       boolSetting<O>("lio_sam_output", N(lio_sam_output), "also publish LIO-SAM's loop message"),
       live(doubleSetting<O>("lio_sam_min_interval", N(lio_sam_min_interval), atLeast(0),
                        "lio_loop: at most one message per this many seconds")),
-      stringSetting<O>("mode", N(mode), {"detect", "relocalize"}, "detect loops, or relocalize in a loaded map"),
+      enumSetting<O, NodeMode>("mode", N(mode), parseNodeMode, nodeModeName, {NodeMode::kDetect, NodeMode::kRelocalize},
+                               "detect loops, or relocalize in a loaded map"),
       stringSetting<O>("map_frame", N(map_frame), {}, "relocalize: the frame of the loaded map's poses"),
       stringSetting<O>("database_load", N(database_load), {}, "database file loaded at start (empty: none)"),
       stringSetting<O>("database_save", N(database_save), {}, "database file written at shutdown (empty: none)"),
