@@ -44,7 +44,10 @@ bool ServiceDeadline::arm(const ros::ServiceClient& client, double timeout) {
 }
 
 ServiceDeadline::Outcome ServiceDeadline::disarm() {
-  std::lock_guard<std::mutex> lock(mutex_);
+  std::unique_lock<std::mutex> lock(mutex_);
+  // The caller shuts its client down next: never while the watchdog's shutdown of it is under way
+  // (roscpp's ServiceClient::shutdown is not safe to run twice at once: both would release its link).
+  cv_.wait(lock, [this] { return !dropping_; });
   armed_ = false;
   client_ = ros::ServiceClient();
   cv_.notify_all();
@@ -70,10 +73,15 @@ void ServiceDeadline::watch() {
     // Past its deadline, or stopping: the call loses its connection, and the caller's call() returns
     // false; disarm() says why.
     if (dropped_ == Outcome::kAnswered) dropped_ = stop_ ? Outcome::kStopped : Outcome::kTimedOut;
-    ros::ServiceClient client = client_;
-    lock.unlock();
-    client.shutdown();  // drops the connection: roscpp ends the waiting call
-    lock.lock();
+    {
+      ros::ServiceClient client = client_;
+      dropping_ = true;  // disarm() waits for the end of this shutdown
+      lock.unlock();
+      client.shutdown();  // drops the connection: roscpp ends the waiting call
+      lock.lock();
+      dropping_ = false;
+    }
+    cv_.notify_all();
     cv_.wait_for(lock, kRedrop);
   }
 }

@@ -68,6 +68,7 @@ class ServiceDeadline {
   ros::ServiceClient client_;  // the call under way, when armed_
   bool armed_ = false;
   Outcome dropped_ = Outcome::kAnswered;  // set by the watchdog when it dropped the call
+  bool dropping_ = false;                 // the watchdog is shutting client_ down (outside the lock)
   bool stop_ = false;
   std::chrono::steady_clock::time_point deadline_;
   std::thread thread_;  // last: starts once the members above exist
