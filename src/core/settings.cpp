@@ -268,8 +268,8 @@ std::vector<Setting<NodeOptions>> makeNodeSettings() {
   using O = NodeOptions;
   return joined<O>({
       group<O>(kInputs, {
-          stringSetting<O>("pose_source", N(pose_source), {"odom", "tf"},
-                           "odom: keyframe_odom messages; tf: tf lookups",
+          enumSetting<O, PoseSource>("pose_source", N(pose_source), parsePoseSource, poseSourceName,
+                                     {PoseSource::kOdom, PoseSource::kTf}, "odom: keyframe_odom messages; tf: tf lookups",
                            "Where keyframe poses come from; tf looks them up at the cloud stamp."),
           stringSetting<O>("fixed_frame", N(fixed_frame), {}, "tf mode: the frame poses are looked up in",
                            "Also the frame of the markers."),
@@ -312,7 +312,8 @@ std::vector<Setting<NodeOptions>> makeNodeSettings() {
                            "this many seconds while it lasts."),
       }),
       group<O>(kSessions, {
-          stringSetting<O>("mode", N(mode), {"detect", "relocalize"}, "detect loops, or relocalize in a loaded map",
+          enumSetting<O, NodeMode>("mode", N(mode), parseNodeMode, nodeModeName,
+                                   {NodeMode::kDetect, NodeMode::kRelocalize}, "detect loops, or relocalize in a loaded map",
                            "detect: loops within and across sessions. relocalize: the map in database_load is "
                            "read-only; for every keyframe, its verified place in that map goes out on "
                            "relocalization (geometry_msgs/PoseWithCovarianceStamped, T_map<-sensor in map_frame); "

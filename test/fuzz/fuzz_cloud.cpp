@@ -9,7 +9,7 @@
 
 #include "fuzz_input.h"
 #include "scan_context_loop/core/keyframes.h"
-#include "scan_context_loop/ros/cloud_input.h"
+#include "shared/cloud_input.h"
 
 namespace scan_context_loop::fuzz {
 

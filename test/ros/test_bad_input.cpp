@@ -10,7 +10,7 @@
 #include <gtest/gtest.h>
 
 #include "harness.h"
-#include "scan_context_loop/ros/heap_statistics.h"
+#include "loop_closure/heap_statistics.h"
 
 namespace scan_context_loop {
 namespace test {

@@ -7,7 +7,7 @@
 #include <pcl/point_types.h>
 #include <pcl_conversions/pcl_conversions.h>
 
-#include "scan_context_loop/ros/cloud_input.h"
+#include "shared/cloud_input.h"
 
 namespace scan_context_loop {
 namespace {

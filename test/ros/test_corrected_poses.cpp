@@ -11,8 +11,8 @@
 
 #include "scan_context_loop/core/detector.h"
 #include "scan_context_loop/core/pcl_adapters.h"
-#include "scan_context_loop/ros/corrected_poses.h"
-#include "scan_context_loop/ros/stored_keyframe.h"
+#include "loop_closure/corrected_poses.h"
+#include "shared/stored_keyframe.h"
 
 namespace scan_context_loop {
 namespace {

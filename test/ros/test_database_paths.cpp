@@ -9,7 +9,7 @@
 
 #include <gtest/gtest.h>
 
-#include "scan_context_loop/ros/database_paths.h"
+#include "shared/database_paths.h"
 
 namespace scan_context_loop {
 namespace {

@@ -4,7 +4,7 @@
 
 #include <gtest/gtest.h>
 
-#include "scan_context_loop/ros/exception_barrier.h"
+#include "shared/exception_barrier.h"
 
 namespace scan_context_loop {
 namespace {

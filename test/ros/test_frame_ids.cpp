@@ -1,7 +1,7 @@
 // Frame ids normalised as tf2 names them: tf1's leading '/' goes, nothing else changes.
 #include <gtest/gtest.h>
 
-#include "scan_context_loop/ros/frame_ids.h"
+#include "shared/frame_ids.h"
 
 namespace scan_context_loop {
 namespace {

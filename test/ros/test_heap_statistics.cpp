@@ -4,7 +4,7 @@
 
 #include <gtest/gtest.h>
 
-#include "scan_context_loop/ros/heap_statistics.h"
+#include "loop_closure/heap_statistics.h"
 
 namespace scan_context_loop {
 namespace {

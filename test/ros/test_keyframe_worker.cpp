@@ -9,11 +9,11 @@
 #include <pcl_conversions/pcl_conversions.h>
 #include <ros/time.h>
 
-#include "scan_context_loop/ros/keyframe_processor.h"
-#include "scan_context_loop/ros/keyframe_queue.h"
-#include "scan_context_loop/ros/keyframe_worker.h"
-#include "scan_context_loop/ros/loop_publisher.h"
-#include "scan_context_loop/ros/marker_publisher.h"
+#include "loop_closure/keyframe_processor.h"
+#include "loop_closure/keyframe_queue.h"
+#include "loop_closure/keyframe_source.h"
+#include "loop_closure/keyframe_worker.h"
+#include "loop_closure/node_output.h"
 
 namespace scan_context_loop {
 namespace {
@@ -43,14 +43,14 @@ TEST(KeyframeWorker, WhatThrowsIsCountedAndTheNextKeyframeIsProcessed) {
   ros::Time::init();  // the throttled logs read the time
   Config config;
   config.verification.enabled = false;
-  RosOptions options;
+  NodeOptions options;
   NodeCounters counters;
-  MarkerPublisher markers(config);
-  LoopPublisher loops("worker_test", config, options, &counters, &markers);
-  KeyframeProcessor processor("worker_test", config, options, &counters, &loops, &markers, nullptr);
+  KeyframeSource source("worker_test", config, options, &counters);
+  KeyframeProcessor processor("worker_test", config, options, &counters);
+  LoopClosureOutput output("worker_test", config, options, &counters);
   KeyframeQueue queue(10, &counters.queue_length);
   bool settings_throw = true;  // the hand-over of reconfigured settings throws once
-  KeyframeWorker worker("worker_test", options, &queue, &processor, &markers, &counters, [&] {
+  KeyframeWorker worker("worker_test", {&queue, &source, &processor, &output, &counters}, options.heap_statistics_interval, [&] {
     if (!settings_throw) return;
     settings_throw = false;
     throw std::runtime_error("the settings hand-over threw");

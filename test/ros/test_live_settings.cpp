@@ -11,8 +11,8 @@
 
 #include "scan_context_loop/LoopClosureConfig.h"
 #include "scan_context_loop/core/settings.h"
-#include "scan_context_loop/ros/live_settings.h"
-#include "scan_context_loop/ros/loop_pair.h"
+#include "loop_closure/live_settings.h"
+#include "loop_closure/loop_pair.h"
 
 namespace scan_context_loop {
 namespace {

@@ -1,7 +1,7 @@
 // RViz markers go out incrementally: chunks of keyframes and rejected candidates, one id per loop.
 #include <gtest/gtest.h>
 
-#include "scan_context_loop/ros/markers.h"
+#include "loop_closure/markers.h"
 
 namespace scan_context_loop {
 namespace {

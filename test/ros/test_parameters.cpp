@@ -7,14 +7,14 @@
 #include <ros/ros.h>
 #include <sensor_msgs/PointCloud2.h>
 
-#include "scan_context_loop/ros/parameters.h"
+#include "shared/parameters.h"
 #include "scan_context_loop/core/settings.h"
 
 namespace scan_context_loop {
 namespace {
 
 /// Reads the parameters set under namespace `ns` (standing in for a node's private one).
-std::vector<std::string> readIn(const std::string& ns, Config* config, RosOptions* options) {
+std::vector<std::string> readIn(const std::string& ns, Config* config, NodeOptions* options) {
   ros::NodeHandle pnh(ns);
   return readParameters(pnh, config, options);
 }
@@ -27,7 +27,7 @@ bool mentions(const std::vector<std::string>& problems, const std::string& key) 
 
 TEST(Parameters, DefaultsWhenNothingIsSetAndEveryKeyIsRead) {
   Config config;
-  RosOptions options;
+  NodeOptions options;
   EXPECT_TRUE(readIn("/empty", &config, &options).empty());
   EXPECT_EQ(config.num_rings, Config().num_rings);
   ros::NodeHandle pnh("/typed");
@@ -55,7 +55,7 @@ TEST(Parameters, DeprecatedKeyNamesSetTheNewKeysWithAWarning) {
   new_names.setParam("gravity_alignment", std::string("ground"));
   new_names.setParam("gravity_alignment_max_tilt", 12.0);
   Config old_config, new_config;
-  RosOptions old_options, new_options;
+  NodeOptions old_options, new_options;
   std::vector<std::string> old_warnings, new_warnings;
   const auto old_problems = readParameters(old_names, &old_config, &old_options, &old_warnings);
   const auto new_problems = readParameters(new_names, &new_config, &new_options, &new_warnings);
@@ -78,7 +78,7 @@ TEST(Parameters, WrongTypesUnknownKeysAndBadValuesAreNamed) {
   pnh.setParam("distance_treshold", 0.3);         // misspelt
   pnh.setParam("num_rings", 0);                   // out of range
   Config config;
-  RosOptions options;
+  NodeOptions options;
   const auto problems = readIn("/bad", &config, &options);
   for (const char* key : {"verify", "exclude_recent_frames", "max_radius", "ring_key", "distance_treshold", "num_rings"}) {
     EXPECT_TRUE(mentions(problems, key)) << key << " not reported";
@@ -105,9 +105,9 @@ TEST(Parameters, EveryTableKeyIsAcceptedWithItsDefault) {
   // Writing each key's default back is accepted: the reader and the table agree on every type.
   ros::NodeHandle pnh("/round_trip");
   setAll(pnh, configSettings(), Config());
-  setAll(pnh, nodeSettings(), RosOptions());
+  setAll(pnh, nodeSettings(), NodeOptions());
   Config config;
-  RosOptions options;
+  NodeOptions options;
   const auto problems = readIn("/round_trip", &config, &options);
   EXPECT_TRUE(problems.empty()) << problems.front();
 }

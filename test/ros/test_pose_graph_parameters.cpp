@@ -9,7 +9,7 @@
 #include <gtest/gtest.h>
 #include <ros/ros.h>
 
-#include "scan_context_loop/ros/pose_graph_parameters.h"
+#include "pose_graph/pose_graph_parameters.h"
 
 namespace scan_context_loop {
 namespace {

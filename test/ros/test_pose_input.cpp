@@ -5,7 +5,7 @@
 
 #include <gtest/gtest.h>
 
-#include "scan_context_loop/ros/pose_input.h"
+#include "shared/pose_input.h"
 
 namespace scan_context_loop {
 namespace {

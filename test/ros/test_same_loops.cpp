@@ -12,7 +12,7 @@
 #include "harness.h"
 #include "scan_context_loop/eval/evaluation.h"
 #include "scan_context_loop/eval/kitti_io.h"
-#include "scan_context_loop/ros/parameters.h"
+#include "shared/parameters.h"
 
 namespace scan_context_loop {
 namespace test {
@@ -46,7 +46,7 @@ TEST(SameLoops, NodeAndEvaluatorReportTheSameLoops) {
   const auto node_loops = harness.loops();
 
   Config config;
-  RosOptions options;
+  NodeOptions options;
   const auto problems = readParameters(ros::NodeHandle("/loop_closure"), &config, &options);
   ASSERT_TRUE(problems.empty()) << problems.front();
   eval::Sequence sequence;

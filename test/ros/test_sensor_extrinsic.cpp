@@ -4,7 +4,7 @@
 #include <tf2/buffer_core.h>
 #include <tf2_eigen/tf2_eigen.h>
 
-#include "scan_context_loop/ros/sensor_extrinsic.h"
+#include "loop_closure/sensor_extrinsic.h"
 
 namespace scan_context_loop {
 namespace {

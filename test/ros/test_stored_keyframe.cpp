@@ -4,7 +4,7 @@
 
 #include <gtest/gtest.h>
 
-#include "scan_context_loop/ros/stored_keyframe.h"
+#include "shared/stored_keyframe.h"
 
 namespace scan_context_loop {
 namespace {

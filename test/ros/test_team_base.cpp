@@ -1,7 +1,7 @@
 // The base station's list of robots: a non-empty list of distinct valid robot ids, or a reason.
 #include <gtest/gtest.h>
 
-#include "scan_context_loop/ros/team_base_ros.h"
+#include "team/team_base_ros.h"
 
 namespace scan_context_loop {
 namespace {

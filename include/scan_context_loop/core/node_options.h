@@ -6,8 +6,26 @@
 
 namespace scan_context_loop {
 
+/// Where keyframe poses come from: keyframe_odom messages, or tf lookups at the cloud's stamp.
+enum class PoseSource { kOdom, kTf };
+/// What the node does: find loops within and across sessions, or relocalize in a loaded map.
+enum class NodeMode { kDetect, kRelocalize };
+
+inline const char* poseSourceName(PoseSource s) { return s == PoseSource::kTf ? "tf" : "odom"; }
+inline bool parsePoseSource(const std::string& text, PoseSource* out) {
+  if (text != "odom" && text != "tf") return false;
+  *out = text == "tf" ? PoseSource::kTf : PoseSource::kOdom;
+  return true;
+}
+inline const char* nodeModeName(NodeMode m) { return m == NodeMode::kRelocalize ? "relocalize" : "detect"; }
+inline bool parseNodeMode(const std::string& text, NodeMode* out) {
+  if (text != "detect" && text != "relocalize") return false;
+  *out = text == "relocalize" ? NodeMode::kRelocalize : NodeMode::kDetect;
+  return true;
+}
+
 struct NodeOptions {
-  std::string pose_source = "odom";     ///< "odom": keyframe_odom messages; "tf": look the pose up
+  PoseSource pose_source = PoseSource::kOdom;  ///< odom: keyframe_odom messages; tf: look the pose up
   std::string fixed_frame = "odom";     ///< tf mode: the frame poses are looked up in
   double tf_timeout = 0.1;              ///< tf mode: how long to wait for a transform [s]
   std::string sensor_frame;             ///< the sensor's tf frame (empty: the cloud's frame_id)
@@ -29,7 +47,7 @@ struct NodeOptions {
   double no_input_warning = 10.0;
   /// "detect": loops within and across sessions; "relocalize": a prior map (database_load) read-only,
   /// each keyframe's verified place in it published on `relocalization` (sets prior_sessions_only).
-  std::string mode = "detect";
+  NodeMode mode = NodeMode::kDetect;
   std::string map_frame = "map";        ///< relocalize: the frame of the loaded map's poses
   std::string database_load;            ///< a database file loaded at start as prior sessions ("": none)
   std::string database_save;            ///< the database saved here at shutdown ("": not saved)

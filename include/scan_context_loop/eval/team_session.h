@@ -1,5 +1,5 @@
 // A team in one process: one KeyframePipeline and one TeamMatcher per robot, and the exchange the loop
-// nodes run over ROS (src/ros/team_worker.cpp), synchronous: each keyframe a robot stores is matched
+// nodes run over ROS (src/ros/team/team_worker.cpp), synchronous: each keyframe a robot stores is matched
 // against the records that robot holds then (the registration data of the candidates fetched from their
 // robots, and matched again), and its record is shared with every other robot. ROS-free.
 #pragma once

@@ -1,6 +1,0 @@
-// The standalone loop-closure node: loads the same nodelet class in-process.
-#include "scan_context_loop/ros/standalone.h"
-
-int main(int argc, char** argv) {
-  return scan_context_loop::runNodeletStandalone(argc, argv, "loop_closure", "scan_context_loop/LoopClosureNodelet");
-}

@@ -1,6 +1,0 @@
-// The standalone pose_graph node: loads the same nodelet class in-process.
-#include "scan_context_loop/ros/standalone.h"
-
-int main(int argc, char** argv) {
-  return scan_context_loop::runNodeletStandalone(argc, argv, "pose_graph", "scan_context_loop/PoseGraphNodelet");
-}
