@@ -67,7 +67,8 @@ TimedPath cityDrive(const CityOptions& options) {
   for (int i = 0; i < 4; ++i) {
     // Anchored where they cross the middle A street, so a curved one turns away from its heading by
     // at most about 15 degrees at the outer ones.
-    const double curvature = uniform(0.0, 1.0) < 0.5 ? (uniform(0.0, 1.0) < 0.5 ? 1 : -1) / uniform(600.0, 1000.0) : 0.0;
+    const double curvature =
+        uniform(0.0, 1.0) < 0.5 ? (uniform(0.0, 1.0) < 0.5 ? 1 : -1) / uniform(600.0, 1000.0) : 0.0;
     b_streets.push_back({a_streets[1].at(offset), a_heading + gamma + uniform(-4.0, 4.0) * kDeg, curvature});
     offset += uniform(115.0, 145.0);
   }
@@ -91,15 +92,22 @@ TimedPath cityDrive(const CityOptions& options) {
   const double right = -options.lane;
   const std::vector<Leg> first_half = {{0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {3, 0, 0}, {3, 1, 0}, {3, 2, 0},
                                        {2, 2, 0}, {1, 2, 0}, {0, 2, 0}, {0, 1, 0}, {0, 0, 0}};
-  const std::vector<Leg> second_half = {
-      // The loop's first street again, one lane to the right.
-      {1, 0, right}, {2, 0, right}, {3, 0, right},
-      // Its next two streets in the same lane as before.
-      {3, 1, 0}, {3, 2, 0}, {2, 2, 0},
-      // A middle street not driven before.
-      {2, 1, 0}, {1, 1, 0}, {0, 1, 0},
-      // The loop's last two streets against its direction, in the opposite lane.
-      {0, 2, right}, {1, 2, right}, {2, 2, right}};
+  const std::vector<Leg> second_half = {// The loop's first street again, one lane to the right.
+                                        {1, 0, right},
+                                        {2, 0, right},
+                                        {3, 0, right},
+                                        // Its next two streets in the same lane as before.
+                                        {3, 1, 0},
+                                        {3, 2, 0},
+                                        {2, 2, 0},
+                                        // A middle street not driven before.
+                                        {2, 1, 0},
+                                        {1, 1, 0},
+                                        {0, 1, 0},
+                                        // The loop's last two streets against its direction, in the opposite lane.
+                                        {0, 2, right},
+                                        {1, 2, right},
+                                        {2, 2, right}};
   std::vector<Leg> route = first_half;
   route.insert(route.end(), second_half.begin(), second_half.end());
 

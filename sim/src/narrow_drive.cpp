@@ -24,15 +24,25 @@ TimedPath narrowDrive(const NarrowOptions& options) {
     y[i] = y[i - 1] + uniform(options.spacing_min, options.spacing_max);
   }
   // Junctions (column, row) in walking order.
-  const int route[][2] = {
-      // A loop around the four south-west blocks, back to the start.
-      {0, 0}, {2, 0}, {2, 2}, {0, 2}, {0, 0},
-      // Its south lane again the same way, then round the far side of the grid.
-      {2, 0}, {3, 0}, {3, 3}, {0, 3},
-      // Down the loop's west lane the same way, through the middle.
-      {0, 1}, {1, 1}, {1, 2},
-      // The loop's north, east and south lanes the other way, ending at the start.
-      {2, 2}, {2, 0}, {0, 0}};
+  const int route[][2] = {// A loop around the four south-west blocks, back to the start.
+                          {0, 0},
+                          {2, 0},
+                          {2, 2},
+                          {0, 2},
+                          {0, 0},
+                          // Its south lane again the same way, then round the far side of the grid.
+                          {2, 0},
+                          {3, 0},
+                          {3, 3},
+                          {0, 3},
+                          // Down the loop's west lane the same way, through the middle.
+                          {0, 1},
+                          {1, 1},
+                          {1, 2},
+                          // The loop's north, east and south lanes the other way, ending at the start.
+                          {2, 2},
+                          {2, 0},
+                          {0, 0}};
   std::vector<Eigen::Vector2d> corners;
   for (const auto& node : route) corners.push_back(x[node[0]] * east + y[node[1]] * north);
   std::size_t no_mark = 0;

@@ -18,8 +18,7 @@ std::string checkFailures(const OdometryFailures& f) {
   return "";
 }
 
-std::vector<Eigen::Isometry3d> withFailures(const std::vector<Eigen::Isometry3d>& odometry,
-                                            const OdometryFailures& f) {
+std::vector<Eigen::Isometry3d> withFailures(const std::vector<Eigen::Isometry3d>& odometry, const OdometryFailures& f) {
   if (odometry.size() < 2 || !f.any()) return odometry;
   std::vector<double> along(odometry.size(), 0.0);
   for (std::size_t k = 1; k < odometry.size(); ++k) {

@@ -17,16 +17,26 @@ std::vector<float> uniformBeams(int n, float top, float bottom) {
 
 float reflectivity(Material m) {
   switch (m) {
-    case Material::kGround: return 0.2f;
-    case Material::kPavement: return 0.28f;
-    case Material::kBuilding: return 0.32f;
-    case Material::kWall: return 0.3f;
-    case Material::kCar: return 0.45f;
-    case Material::kTrunk: return 0.22f;
-    case Material::kFoliage: return 0.25f;
-    case Material::kPole: return 0.5f;
-    case Material::kSign: return 0.95f;
-    case Material::kPerson: return 0.3f;
+    case Material::kGround:
+      return 0.2f;
+    case Material::kPavement:
+      return 0.28f;
+    case Material::kBuilding:
+      return 0.32f;
+    case Material::kWall:
+      return 0.3f;
+    case Material::kCar:
+      return 0.45f;
+    case Material::kTrunk:
+      return 0.22f;
+    case Material::kFoliage:
+      return 0.25f;
+    case Material::kPole:
+      return 0.5f;
+    case Material::kSign:
+      return 0.95f;
+    case Material::kPerson:
+      return 0.3f;
   }
   return 0.3f;
 }
@@ -149,8 +159,8 @@ std::vector<Eigen::Vector3f> nonRepetitiveRays(const SensorModel& sensor, double
   for (int i = 0; i < sensor.rays_per_scan; ++i) {
     const double t = time + i / sensor.ray_rate;
     const auto phase = [t](double hz) { return std::remainder(2.0 * M_PI * hz * t, 2.0 * M_PI); };
-    const Eigen::Vector2d angles = patternAngles(sensor, phase(sensor.pattern_hz[0]), phase(sensor.pattern_hz[1])) *
-                                   (M_PI / 180.0);
+    const Eigen::Vector2d angles =
+        patternAngles(sensor, phase(sensor.pattern_hz[0]), phase(sensor.pattern_hz[1])) * (M_PI / 180.0);
     rays.emplace_back(static_cast<float>(std::cos(angles.y()) * std::cos(angles.x())),
                       static_cast<float>(std::cos(angles.y()) * std::sin(angles.x())),
                       static_cast<float>(std::sin(angles.y())));

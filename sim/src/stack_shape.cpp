@@ -22,15 +22,15 @@ StackShape shape(const char* name, const char* cloud_topic, const char* odom_top
 std::vector<StackShape> makeShapes() {
   // laserMapping: every scan registered in camera_init (z up despite the name), frames written with
   // tf1's leading '/', and the tf /camera_init -> /aft_mapped with each pose.
-  StackShape aloam = shape("aloam", "/velodyne_cloud_registered", "/aft_mapped_to_init", "/camera_init",
-                           "/camera_init", "/aft_mapped", true);
+  StackShape aloam = shape("aloam", "/velodyne_cloud_registered", "/aft_mapped_to_init", "/camera_init", "/camera_init",
+                           "/aft_mapped", true);
   aloam.odom_tf = true;
   aloam.world_at_first_scan = true;
   // imageProjection (base_link clouds) and transformFusion (pose in camera axes, y up, with the tf
   // /camera_init -> /camera); run.launch sends /camera -> /base_link and /map -> /camera_init with tf1's
   // static_transform_publisher, every 10 ms on /tf.
-  StackShape lego = shape("lego_loam", "/full_cloud_projected", "/integrated_to_init", "base_link", "/camera_init",
-                          "/camera", false);
+  StackShape lego =
+      shape("lego_loam", "/full_cloud_projected", "/integrated_to_init", "base_link", "/camera_init", "/camera", false);
   lego.camera_axes = true;
   lego.extrinsic_parent = "/camera";
   lego.extrinsic_child = "/base_link";
@@ -39,8 +39,8 @@ std::vector<StackShape> makeShapes() {
   lego.odom_tf = true;
   lego.world_at_first_scan = true;
   // mapOptimization: every deskewed scan registered in odom.
-  StackShape lio_sam = shape("lio_sam", "/lio_sam/mapping/cloud_registered_raw", "/lio_sam/mapping/odometry",
-                             "odom", "odom", "odom_mapping", true);
+  StackShape lio_sam = shape("lio_sam", "/lio_sam/mapping/cloud_registered_raw", "/lio_sam/mapping/odometry", "odom",
+                             "odom", "odom_mapping", true);
   // laserMapping: every scan in the body frame, whose pose /Odometry gives.
   // Its world frame is the first IMU frame (the gravity alignment is left out), not gravity-aligned.
   StackShape fast_lio = shape("fast_lio", "/cloud_registered_body", "/Odometry", "body", "camera_init", "body", false);
@@ -85,8 +85,8 @@ std::string robotFrame(const std::string& robot, const std::string& frame) {
 StackShape forRobot(const StackShape& shape, const std::string& robot) {
   StackShape s = shape;
   for (std::string* topic : {&s.cloud_topic, &s.odom_topic}) *topic = robotTopic(robot, *topic);
-  for (std::string* frame : {&s.cloud_frame, &s.odom_frame, &s.child_frame, &s.extrinsic_parent, &s.extrinsic_child,
-                             &s.map_frame}) {
+  for (std::string* frame :
+       {&s.cloud_frame, &s.odom_frame, &s.child_frame, &s.extrinsic_parent, &s.extrinsic_child, &s.map_frame}) {
     *frame = robotFrame(robot, *frame);
   }
   return s;

@@ -65,8 +65,7 @@ class StreetBuilder : public StreetKit {
   double pavement(const PathPoint& p, double sign, const Style& style) {
     const double step = 2.0;
     const Eigen::Vector2d c = at(p, step / 2, sign * (kerb() + style.pavement / 2));
-    const Primitive strip =
-        box(c, p.heading, step / 2 + 0.05, style.pavement / 2, -0.3, 0.13, Material::kPavement);
+    const Primitive strip = box(c, p.heading, step / 2 + 0.05, style.pavement / 2, -0.3, 0.13, Material::kPavement);
     if (roads.clear(footprintOf(c, p.heading, strip.half.x(), strip.half.y()), kerb() - 0.15)) out.push_back(strip);
     return step;
   }
@@ -111,8 +110,7 @@ class StreetBuilder : public StreetKit {
   double buildingDesign(const PathPoint& p, double sign, const Style& style) {
     const double length = uniform(style.length_min, style.length_max);
     const double depth = uniform(style.depth_min, style.depth_max);
-    const double height =
-        chance(style.tower) ? uniform(20.0, 30.0) : uniform(style.height_min, style.height_max);
+    const double height = chance(style.tower) ? uniform(20.0, 30.0) : uniform(style.height_min, style.height_max);
     const double setback = uniform(style.setback_min, style.setback_max);
     const double front = propertyLine(style) + setback;
     // Buildings that mostly stand alone are not quite square to the street; terraces are.
@@ -129,24 +127,25 @@ class StreetBuilder : public StreetKit {
         const double width = uniform(1.5, 3.5), out = uniform(0.5, 1.2);
         // On the ground only where the front garden has room for it, else a balcony.
         const double z0 = setback > out + 0.5 && chance(0.5) ? 0.0 : uniform(2.5, 3.5);
-        const Eigen::Vector2d bc = at(p, uniform(width / 2, std::max(width / 2, length - width / 2)),
-                                      sign * (front - out / 2));
-        placeBox(box(bc, yaw, width / 2, out / 2, z0, std::max(z0 + 2.5, height - uniform(0.0, 3.0)),
-                     Material::kBuilding),
-                 propertyLine(style) - 0.2, -0.05);
+        const Eigen::Vector2d bc =
+            at(p, uniform(width / 2, std::max(width / 2, length - width / 2)), sign * (front - out / 2));
+        placeBox(
+            box(bc, yaw, width / 2, out / 2, z0, std::max(z0 + 2.5, height - uniform(0.0, 3.0)), Material::kBuilding),
+            propertyLine(style) - 0.2, -0.05);
       }
     }
     if (chance(0.3)) {  // an annex behind one end: an L-shaped footprint
       const double annex_len = uniform(4.0, std::max(4.5, length * 0.6)), annex_depth = uniform(4.0, 10.0);
       const double along = chance(0.5) ? annex_len / 2 : length - annex_len / 2;
       const Eigen::Vector2d ac = at(p, along, sign * (front + depth + annex_depth / 2));
-      placeBox(box(ac, yaw, annex_len / 2, annex_depth / 2, 0.0, uniform(3.0, std::max(3.5, height)),
-                   Material::kBuilding),
-               propertyLine(style), -0.05);
+      placeBox(
+          box(ac, yaw, annex_len / 2, annex_depth / 2, 0.0, uniform(3.0, std::max(3.5, height)), Material::kBuilding),
+          propertyLine(style), -0.05);
     }
     if (chance(style.back_row)) {  // the next row of houses, seen through the gaps
       const double back_len = uniform(style.length_min, style.length_max), back_depth = uniform(8.0, 16.0);
-      const Eigen::Vector2d bc = at(p, uniform(0.0, length), sign * (front + depth + uniform(6.0, 15.0) + back_depth / 2));
+      const Eigen::Vector2d bc =
+          at(p, uniform(0.0, length), sign * (front + depth + uniform(6.0, 15.0) + back_depth / 2));
       placeBox(box(bc, yaw + uniform(-0.1, 0.1), back_len / 2, back_depth / 2, 0.0,
                    uniform(style.height_min, style.height_max + 6.0), Material::kBuilding),
                propertyLine(style) + 2.0, 0.5);
@@ -203,8 +202,7 @@ class StreetBuilder : public StreetKit {
     if (chance(0.35)) {
       const Eigen::Vector2d post = at(p, uniform(4.0, 10.0), sign * (kerb() + 0.35));
       const double top = uniform(2.4, 3.2);
-      if (place(cylinder(post, 0.04, 0.0, top, Material::kPole), footprintOf(post, 0.0, 0.1, 0.1), kerb() + 0.1,
-                0.3)) {
+      if (place(cylinder(post, 0.04, 0.0, top, Material::kPole), footprintOf(post, 0.0, 0.1, 0.1), kerb() + 0.1, 0.3)) {
         out.push_back(box(post, p.heading, 0.02, 0.35, top - 0.7, top, Material::kSign));
       }
     }
@@ -228,8 +226,8 @@ class StreetBuilder : public StreetKit {
       const int count = 3 + static_cast<int>(uniform(0.0, 4.0));
       for (int b = 0; b < count; ++b) {
         const Eigen::Vector2d c = at(p, 1.5 * b, sign * (kerb() + 0.3));
-        place(cylinder(c, 0.08, 0.0, uniform(0.8, 1.0), Material::kPole), footprintOf(c, 0.0, 0.1, 0.1),
-              kerb() + 0.1, 0.2);
+        place(cylinder(c, 0.08, 0.0, uniform(0.8, 1.0), Material::kPole), footprintOf(c, 0.0, 0.1, 0.1), kerb() + 0.1,
+              0.2);
       }
     } else if (kind < 0.92) {
       // Bus shelter: roof and back panel; its glass sides let the beams through.

@@ -14,10 +14,14 @@ const Style& styleOf(District d) {
   static const Style kIndustrial = {2.0, 0.8,  3.0, 10.0, 20.0, 45.0, 12.0, 30.0,  6.0, 12.0, 0.05, 0.1,  4.0, 12.0, 0.1,  0.3,  0.25, 10.0, 20.0, 0.35, 0.0, true};
   // clang-format on
   switch (d) {
-    case District::kTerrace: return kTerrace;
-    case District::kHouses: return kHouses;
-    case District::kAvenue: return kAvenue;
-    case District::kIndustrial: return kIndustrial;
+    case District::kTerrace:
+      return kTerrace;
+    case District::kHouses:
+      return kHouses;
+    case District::kAvenue:
+      return kAvenue;
+    case District::kIndustrial:
+      return kIndustrial;
   }
   return kTerrace;
 }
@@ -145,8 +149,8 @@ Vehicle StreetKit::vehicleAt(const VehicleShape& shape, const PathPoint& p, doub
   if (shape.cabin_frac > 0.0) {
     // The cabin sits a little behind the middle, narrower than the body.
     const Eigen::Vector2d cc = at(p, along + v.length / 2 - 0.1 * v.length, lateral);
-    v.cabin = box(cc, yaw, v.length * shape.cabin_frac / 2, v.width / 2 - 0.08, shape.body_top, shape.roof,
-                  Material::kCar);
+    v.cabin =
+        box(cc, yaw, v.length * shape.cabin_frac / 2, v.width / 2 - 0.08, shape.body_top, shape.roof, Material::kCar);
   }
   return v;
 }

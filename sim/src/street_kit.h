@@ -25,16 +25,16 @@ struct Style {
   double length_min, length_max;    ///< facade length
   double depth_min, depth_max;
   double height_min, height_max;
-  double tower;                     ///< chance of a building 20-30 m tall
-  double adjoining;                 ///< chance the next building shares a wall with this one
-  double gap_min, gap_max;          ///< otherwise the gap between buildings
-  double open_lot;                  ///< chance of a longer opening: a yard, car park or side lane
-  double back_row;                  ///< chance of a second building behind the first
-  double street_tree;               ///< chance each tree pit holds a tree
-  double tree_min, tree_max;        ///< tree pit spacing
-  double parking;                   ///< chance a parking space holds a car
-  double garden;                    ///< chance of trees and bushes in a front garden
-  bool industrial;                  ///< wire-mesh fences, lorries among the parked vehicles
+  double tower;               ///< chance of a building 20-30 m tall
+  double adjoining;           ///< chance the next building shares a wall with this one
+  double gap_min, gap_max;    ///< otherwise the gap between buildings
+  double open_lot;            ///< chance of a longer opening: a yard, car park or side lane
+  double back_row;            ///< chance of a second building behind the first
+  double street_tree;         ///< chance each tree pit holds a tree
+  double tree_min, tree_max;  ///< tree pit spacing
+  double parking;             ///< chance a parking space holds a car
+  double garden;              ///< chance of trees and bushes in a front garden
+  bool industrial;            ///< wire-mesh fences, lorries among the parked vehicles
 };
 
 const Style& styleOf(District d);

@@ -118,8 +118,10 @@ std::vector<std::vector<PathPoint>> teamStreets(const std::vector<RobotDrive>& d
           }
         }
       }
-      if (driven) flush();
-      else piece.push_back(p);
+      if (driven)
+        flush();
+      else
+        piece.push_back(p);
     }
     flush();
   }

@@ -102,7 +102,8 @@ Eigen::Isometry3d sensorPose(const World& world, const PathPoint& p, double moun
   return pose;
 }
 
-std::vector<Eigen::Isometry3d> driftedOdometry(const std::vector<Eigen::Isometry3d>& truth, const DriftOptions& options) {
+std::vector<Eigen::Isometry3d> driftedOdometry(const std::vector<Eigen::Isometry3d>& truth,
+                                               const DriftOptions& options) {
   std::vector<Eigen::Isometry3d> odom;
   if (truth.empty()) return odom;
   std::mt19937 rng(options.seed);
@@ -110,10 +111,9 @@ std::vector<Eigen::Isometry3d> driftedOdometry(const std::vector<Eigen::Isometry
   // Biases: forward (scale), sideways and vertical translation error per metre, heading error per metre
   // and per degree turned. Each is stationary with standard deviation `sigma`.
   const double t = options.translation_per_metre;
-  const Eigen::Matrix<double, 5, 1> sigma =
-      (Eigen::Matrix<double, 5, 1>() << t / std::sqrt(2.0), t / std::sqrt(2.0), 0.2 * t,
-       options.yaw_per_metre * M_PI / 180.0, options.yaw_per_degree)
-          .finished();
+  const Eigen::Matrix<double, 5, 1> sigma = (Eigen::Matrix<double, 5, 1>() << t / std::sqrt(2.0), t / std::sqrt(2.0),
+                                             0.2 * t, options.yaw_per_metre * M_PI / 180.0, options.yaw_per_degree)
+                                                .finished();
   Eigen::Matrix<double, 5, 1> bias;
   for (int i = 0; i < 5; ++i) bias[i] = sigma[i] * gauss(rng);
   odom.push_back(truth.front());
@@ -126,8 +126,9 @@ std::vector<Eigen::Isometry3d> driftedOdometry(const std::vector<Eigen::Isometry
     for (int i = 0; i < 5; ++i) bias[i] = keep * bias[i] + std::sqrt(1.0 - keep * keep) * sigma[i] * gauss(rng);
     // White noise a tenth of the bias, so the odometry is not perfectly smooth.
     Eigen::Isometry3d error = Eigen::Isometry3d::Identity();
-    error.translation() = metres * (bias.head<3>() + 0.1 * sigma.head<3>().cwiseProduct(
-                                                              Eigen::Vector3d(gauss(rng), gauss(rng), gauss(rng))));
+    error.translation() =
+        metres *
+        (bias.head<3>() + 0.1 * sigma.head<3>().cwiseProduct(Eigen::Vector3d(gauss(rng), gauss(rng), gauss(rng))));
     const double yaw_error = bias[3] * metres + bias[4] * turned + 0.1 * sigma[3] * metres * gauss(rng);
     error.linear() = Eigen::AngleAxisd(yaw_error, Eigen::Vector3d::UnitZ()).toRotationMatrix();
     odom.push_back(odom.back() * delta * error);

@@ -45,8 +45,8 @@ float scatterDepth(const Primitive& p, float t_in, float t_out, float scatter) {
 }
 
 /// The ray/box test with the box's yaw already as cosine c and sine s.
-bool intersectBox(const Primitive& p, float c, float s, const Eigen::Vector3f& o, const Eigen::Vector3f& d,
-                  float t_max, float scatter, Hit* hit) {
+bool intersectBox(const Primitive& p, float c, float s, const Eigen::Vector3f& o, const Eigen::Vector3f& d, float t_max,
+                  float scatter, Hit* hit) {
   // Into the box frame: centred, x along the yaw.
   const float ox = o.x() - p.center.x(), oy = o.y() - p.center.y();
   const Eigen::Vector3f lo(c * ox + s * oy, -s * ox + c * oy, o.z() - 0.5f * (p.z0 + p.z1));
@@ -79,8 +79,7 @@ bool intersectBox(const Primitive& p, float c, float s, const Eigen::Vector3f& o
   return true;
 }
 
-bool intersectCylinder(const Primitive& p, const Eigen::Vector3f& o, const Eigen::Vector3f& d, float t_max,
-                       Hit* hit) {
+bool intersectCylinder(const Primitive& p, const Eigen::Vector3f& o, const Eigen::Vector3f& d, float t_max, Hit* hit) {
   const float ox = o.x() - p.center.x(), oy = o.y() - p.center.y();
   const float a = d.x() * d.x() + d.y() * d.y();
   if (a < 1e-12f) return false;
@@ -210,8 +209,7 @@ bool World::cast(const Eigen::Vector3f& origin, const Eigen::Vector3f& direction
           found = true;
         }
       }
-    } else if ((i < 0 && step_i < 0) || (i >= nx_ && step_i > 0) || (j < 0 && step_j < 0) ||
-               (j >= ny_ && step_j > 0)) {
+    } else if ((i < 0 && step_i < 0) || (i >= nx_ && step_i > 0) || (j < 0 && step_j < 0) || (j >= ny_ && step_j > 0)) {
       break;  // leaving the grid for good
     }
     if (inv_dx == kInf && inv_dy == kInf) break;  // vertical ray: one cell only

@@ -29,7 +29,9 @@ bool changes(StreetKit& kit, std::size_t index, const Changes& c) {
 }
 
 /// Grown or cut by 20-50 %.
-double growthFactor(StreetKit& kit) { return kit.chance(0.5) ? 1.0 + kit.uniform(0.2, 0.5) : 1.0 - kit.uniform(0.2, 0.5); }
+double growthFactor(StreetKit& kit) {
+  return kit.chance(0.5) ? 1.0 + kit.uniform(0.2, 0.5) : 1.0 - kit.uniform(0.2, 0.5);
+}
 
 /// Solid `index` is gone from `when` on.
 void removeAt(StreetKit& kit, std::size_t index, double when) {
@@ -97,8 +99,10 @@ void changeParkedCars(StreetKit& kit, const StreetRecord& record, const Changes&
     if (kind < 1.0 / 3.0) {
       carLeaves(kit, car, when);
     } else if (kind < 2.0 / 3.0) {
-      if (c.seen_before) carReplaced(kit, car, when);
-      else kit.out[car.body].present_from = kit.out[car.cabin].present_from = when;
+      if (c.seen_before)
+        carReplaced(kit, car, when);
+      else
+        kit.out[car.body].present_from = kit.out[car.cabin].present_from = when;
     } else {
       const Primitive& body = kit.out[car.body];
       const double car_length = 2.0 * body.half.x();

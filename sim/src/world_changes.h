@@ -12,13 +12,13 @@ namespace sim {
 
 /// How much the street changes, and when.
 struct Changes {
-  double strength = 0.0;    ///< 0 to 1: the chance each changeable thing changes
+  double strength = 0.0;        ///< 0 to 1: the chance each changeable thing changes
   double from = 0.0, to = 0.0;  ///< change times are drawn in [from, to] (seconds on the world's clock)
   /// The street was seen before `from` (a drive on an earlier day): what was seen then stays as it was
   /// then, so a parked car that would arrive at `from` instead replaces the vehicle in its space, and
   /// only things that have not changed yet change.
   bool seen_before = false;
-  std::uint64_t salt = 0;   ///< keys the generator the changes draw from
+  std::uint64_t salt = 0;  ///< keys the generator the changes draw from
 };
 
 /// The changes of WorldOptions::changed_world during the drive itself: strength changed_world, times in

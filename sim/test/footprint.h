@@ -18,7 +18,8 @@ inline double distanceTo(const Primitive& p, const Eigen::Vector2d& q) {
   const Eigen::Vector2d d = q - Eigen::Vector2d(p.center.x(), p.center.y());
   if (p.kind != Primitive::Kind::kBox) return std::max(0.0, d.norm() - std::max(p.half.x(), p.half.y()));
   const double c = std::cos(p.yaw), s = std::sin(p.yaw);
-  const Eigen::Vector2d local(std::fabs(c * d.x() + s * d.y()) - p.half.x(), std::fabs(-s * d.x() + c * d.y()) - p.half.y());
+  const Eigen::Vector2d local(std::fabs(c * d.x() + s * d.y()) - p.half.x(),
+                              std::fabs(-s * d.x() + c * d.y()) - p.half.y());
   return local.cwiseMax(0.0).norm();
 }
 

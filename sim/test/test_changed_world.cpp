@@ -41,8 +41,8 @@ WorldOptions changedBy(double strength) {
 }
 
 bool sameShape(const Primitive& a, const Primitive& b) {
-  return a.kind == b.kind && a.material == b.material && a.center == b.center && a.half == b.half &&
-         a.yaw == b.yaw && a.z0 == b.z0 && a.z1 == b.z1 && a.free_path == b.free_path;
+  return a.kind == b.kind && a.material == b.material && a.center == b.center && a.half == b.half && a.yaw == b.yaw &&
+         a.z0 == b.z0 && a.z1 == b.z1 && a.free_path == b.free_path;
 }
 
 bool always(const Primitive& p) { return p.present_from < -1e299 && p.present_to > 1e299; }
@@ -114,7 +114,8 @@ TEST(ChangedWorld, AboutTheStrengthOfParkedCarsAndTreesChange) {
     if (old.kind != Primitive::Kind::kEllipsoid || old.free_path < 0.7f || always(old)) continue;
     for (std::size_t j = before.size(); j < after.size(); ++j) {
       const Primitive& next = after.primitives()[j];
-      if (next.present_from != old.present_to || next.center.x() != old.center.x() || next.center.y() != old.center.y()) continue;
+      if (next.present_from != old.present_to || next.center.x() != old.center.x() || next.center.y() != old.center.y())
+        continue;
       const double factor = next.half.x() / old.half.x();
       EXPECT_TRUE((factor > 1.19 && factor < 1.51) || (factor > 0.49 && factor < 0.81)) << factor;
       // The canopy's bottom stays on the trunk.

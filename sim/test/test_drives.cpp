@@ -131,8 +131,9 @@ TEST(Tilt, TheScanIsCastFromTheTiltedSensor) {
   TiltOptions options;
   options.typical_deg = 15.0;
   const auto roll_pitch = platformTilt(path, options);
-  const Eigen::Vector3d ground_up = Eigen::Vector3d(world.groundZ(0, 0) - world.groundZ(1, 0),
-                                                    world.groundZ(0, 0) - world.groundZ(0, 1), 1.0).normalized();
+  const Eigen::Vector3d ground_up =
+      Eigen::Vector3d(world.groundZ(0, 0) - world.groundZ(1, 0), world.groundZ(0, 0) - world.groundZ(0, 1), 1.0)
+          .normalized();
   int tilted = 0;
   for (std::size_t k = 40; k < path.size() - 40; k += 20) {
     const Eigen::Isometry3d level = sensorPose(world, path[k], hdl.mount_height);
@@ -241,7 +242,8 @@ TEST(CityDrive, RevisitsAnHourLaterTheSameWayReversedAndOneLaneOver) {
     // Points on straight stretches (not in a corner, where turning curves of two passes in different
     // lanes may run side by side a few metres apart).
     std::vector<bool> on_straight(path.size(), false);
-    for (std::size_t k = 20; k + 20 < path.size(); ++k) on_straight[k] = headingGap(path[k - 20].heading, path[k + 20].heading) < 0.1;
+    for (std::size_t k = 20; k + 20 < path.size(); ++k)
+      on_straight[k] = headingGap(path[k - 20].heading, path[k + 20].heading) < 0.1;
     int same = 0, reverse = 0, lane = 0, near_parallel = 0;
     for (std::size_t i = 0; i < path.size(); i += 4) {
       bool s = false, r = false, l = false;
@@ -254,7 +256,8 @@ TEST(CityDrive, RevisitsAnHourLaterTheSameWayReversedAndOneLaneOver) {
         const Eigen::Vector2d forward(std::cos(path[j].heading), std::sin(path[j].heading));
         const double ahead = std::fabs(forward.dot(offset));
         const bool abreast = ahead < 1.0 && (turn < 0.15 || turn > M_PI - 0.15);
-        if (on_straight[i] && on_straight[j] && along[i] - along[j] > 60.0 && abreast && d > 4.0 && d < 25.0) ++near_parallel;
+        if (on_straight[i] && on_straight[j] && along[i] - along[j] > 60.0 && abreast && d > 4.0 && d < 25.0)
+          ++near_parallel;
         if (along[i] - along[j] < 200.0) continue;
         const bool later = times[i] - times[j] > 3600.0;
         const bool next_lane = ahead < 0.3 && d > 3.0 && d < 3.5;

@@ -28,8 +28,8 @@ struct FirstDrive {
 };
 
 bool sameShape(const Primitive& a, const Primitive& b) {
-  return a.kind == b.kind && a.material == b.material && a.center == b.center && a.half == b.half &&
-         a.yaw == b.yaw && a.z0 == b.z0 && a.z1 == b.z1 && a.free_path == b.free_path;
+  return a.kind == b.kind && a.material == b.material && a.center == b.center && a.half == b.half && a.yaw == b.yaw &&
+         a.z0 == b.z0 && a.z1 == b.z1 && a.free_path == b.free_path;
 }
 
 bool present(const Primitive& p, double t) { return t >= p.present_from && t < p.present_to; }
@@ -72,7 +72,7 @@ TEST(SecondSession, DrivesTheFirstBackwardsInTheOtherLaneWithItsOwnClock) {
 
 TEST(SecondSession, TurnsInsideSharpCornersWithoutFoldingBack) {
   std::vector<PathPoint> lap = blockPath(false);  // square corners
-  lap.resize(300);                                 // three sides of the block: two corners
+  lap.resize(300);                                // three sides of the block: two corners
   const TimedPath second = secondSessionDrive(lap, timesAt10(lap), SecondSessionOptions());
   ASSERT_LT(second.path.size(), lap.size());
   ASSERT_GT(second.path.size(), lap.size() - 30);

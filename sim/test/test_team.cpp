@@ -172,10 +172,10 @@ TEST(Team, TeamFileRoundTripsAndRejectsBadLines) {
     EXPECT_TRUE(read[r].world_from_start.isApprox(team[r].world_from_start, 1e-8));
   }
   const std::string one = "robot1 0 1 0 0 0 0 1 0 0 0 0 1 0\n";
-  for (const std::string& bad : {std::string("robot-1 0 1 0 0 0 0 1 0 0 0 0 1 0\n"), one + one,
-                                 std::string("robot1 -1 1 0 0 0 0 1 0 0 0 0 1 0\n"),
-                                 std::string("robot1 0 1 0 0 0 0 1 0 0 0 0 1\n"),
-                                 std::string("robot1 0 2 0 0 0 0 1 0 0 0 0 1 0\n"), std::string("# none\n")}) {
+  for (const std::string& bad :
+       {std::string("robot-1 0 1 0 0 0 0 1 0 0 0 0 1 0\n"), one + one,
+        std::string("robot1 -1 1 0 0 0 0 1 0 0 0 0 1 0\n"), std::string("robot1 0 1 0 0 0 0 1 0 0 0 0 1\n"),
+        std::string("robot1 0 2 0 0 0 0 1 0 0 0 0 1 0\n"), std::string("# none\n")}) {
     std::ofstream(path) << bad;
     EXPECT_FALSE(readTeamFile(path, &read, &error)) << bad;
   }
@@ -247,8 +247,9 @@ TEST(Team, EachRobotsSequenceComposesWithItsStartToTheWorldTruth) {
   }
   // Robots start from one junction (a depot) but each in its own place and heading: their frames differ.
   EXPECT_GT((team[0].world_from_start.translation() - team[1].world_from_start.translation()).norm(), 2.0);
-  EXPECT_GT(Eigen::AngleAxisd(team[0].world_from_start.linear().transpose() * team[2].world_from_start.linear()).angle(),
-            M_PI / 4);
+  EXPECT_GT(
+      Eigen::AngleAxisd(team[0].world_from_start.linear().transpose() * team[2].world_from_start.linear()).angle(),
+      M_PI / 4);
 }
 
 TEST(Team, EachRobotsTopicsAndFramesInItsNamespace) {

@@ -14,7 +14,8 @@ double headingGap(double a, double b) { return std::fabs(std::remainder(a - b, 2
 
 double pathLength(const std::vector<PathPoint>& path, std::size_t from, std::size_t to) {
   double length = 0.0;
-  for (std::size_t i = from + 1; i <= to; ++i) length += std::hypot(path[i].x - path[i - 1].x, path[i].y - path[i - 1].y);
+  for (std::size_t i = from + 1; i <= to; ++i)
+    length += std::hypot(path[i].x - path[i - 1].x, path[i].y - path[i - 1].y);
   return length;
 }
 
@@ -111,7 +112,8 @@ std::vector<Eigen::Isometry3d> drive(double length, double step, double turn_deg
   for (int k = 1; k <= steps; ++k) {
     Eigen::Isometry3d delta = Eigen::Isometry3d::Identity();
     delta.translation().x() = step;
-    if (k % (steps / 4) == 0) delta.linear() = Eigen::AngleAxisd(turn_deg * M_PI / 180.0, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+    if (k % (steps / 4) == 0)
+      delta.linear() = Eigen::AngleAxisd(turn_deg * M_PI / 180.0, Eigen::Vector3d::UnitZ()).toRotationMatrix();
     poses.push_back(poses.back() * delta);
   }
   return poses;

@@ -143,9 +143,9 @@ TEST(World, AbsentCarsAreNotSeen) {
 }
 
 bool samePrimitive(const Primitive& a, const Primitive& b) {
-  return a.kind == b.kind && a.material == b.material && a.center == b.center && a.half == b.half &&
-         a.yaw == b.yaw && a.z0 == b.z0 && a.z1 == b.z1 && a.free_path == b.free_path &&
-         a.present_from == b.present_from && a.present_to == b.present_to;
+  return a.kind == b.kind && a.material == b.material && a.center == b.center && a.half == b.half && a.yaw == b.yaw &&
+         a.z0 == b.z0 && a.z1 == b.z1 && a.free_path == b.free_path && a.present_from == b.present_from &&
+         a.present_to == b.present_to;
 }
 
 TEST(WorldGeneration, SeededStreetsWithNothingOnTheRoad) {
@@ -159,7 +159,8 @@ TEST(WorldGeneration, SeededStreetsWithNothingOnTheRoad) {
   options.seed = 4;
   const World c = generateWorld(path, options);
   std::size_t differ = a.size() != c.size() ? 1 : 0;
-  for (std::size_t i = 0; i < std::min(a.size(), c.size()); ++i) differ += !samePrimitive(a.primitives()[i], c.primitives()[i]);
+  for (std::size_t i = 0; i < std::min(a.size(), c.size()); ++i)
+    differ += !samePrimitive(a.primitives()[i], c.primitives()[i]);
   EXPECT_GT(differ, a.size() / 2);
 
   // A gentle slope of the configured steepness.
@@ -195,8 +196,8 @@ TEST(WorldGeneration, SeededStreetsWithNothingOnTheRoad) {
   std::uint32_t ray = 0;
   for (std::size_t k = 0; k < path.size(); k += 10) {
     Hit hit;
-    ASSERT_TRUE(a.cast(Eigen::Vector3f(path[k].x, path[k].y, 40.0f), Eigen::Vector3f(0, 0, -1), 100, 0.0, ++ray,
-                       &visit, &hit));
+    ASSERT_TRUE(
+        a.cast(Eigen::Vector3f(path[k].x, path[k].y, 40.0f), Eigen::Vector3f(0, 0, -1), 100, 0.0, ++ray, &visit, &hit));
     EXPECT_EQ(hit.material, Material::kGround) << "path point " << k;
   }
 }

@@ -9,10 +9,9 @@
 
 namespace scan_context_loop {
 
-const char* const kRejectionTests[10] = {"unverifiable", "structure",         "registration",
-                                         "overlap",      "free_space",        "fitness",
-                                         "degenerate",   "odometry_rotation", "odometry_translation",
-                                         "consistency"};
+const char* const kRejectionTests[10] = {"unverifiable",         "structure",  "registration", "overlap",
+                                         "free_space",           "fitness",    "degenerate",   "odometry_rotation",
+                                         "odometry_translation", "consistency"};
 
 const char* rejectionTestName(RejectionTest test) {
   return test == RejectionTest::kNone ? "" : kRejectionTests[static_cast<int>(test) - 1];
@@ -90,14 +89,14 @@ Verdict judgeRegistration(const VerificationResult& r, const VerificationConfig&
   } else if (!reaches(config.min_inlier_ratio, config.min_column_overlap)) {
     v.needs_support = true;
     *reject(RejectionTest::kOverlap, r.inlier_ratio, config.min_inlier_ratio)
-        << "needs support: inlier ratio (structure overlap) " << r.inlier_ratio << " below "
-        << config.min_inlier_ratio << " (query " << r.overlap_query << ", candidate " << r.overlap_match
-        << ") and column overlap " << r.column_overlap << " below " << config.min_column_overlap;
+        << "needs support: inlier ratio (structure overlap) " << r.inlier_ratio << " below " << config.min_inlier_ratio
+        << " (query " << r.overlap_query << ", candidate " << r.overlap_match << ") and column overlap "
+        << r.column_overlap << " below " << config.min_column_overlap;
   } else if (r.violation > config.max_violation) {
     v.needs_support = true;
     *reject(RejectionTest::kFreeSpace, r.violation, config.max_violation)
-        << "needs support: free-space violation " << r.violation << " above " << config.max_violation
-        << " (query " << r.violation_query << ", candidate " << r.violation_match << ")";
+        << "needs support: free-space violation " << r.violation << " above " << config.max_violation << " (query "
+        << r.violation_query << ", candidate " << r.violation_match << ")";
   }
   v.reason = why.str();
   return v;

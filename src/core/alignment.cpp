@@ -55,8 +55,7 @@ inline std::int64_t dotInt8(const std::int8_t* a, const std::int8_t* b, int n) {
 }
 
 bool compatible(const Descriptor& a, const Descriptor& b) {
-  return a.num_rings == b.num_rings && a.num_sectors == b.num_sectors && a.num_sectors > 0 &&
-         a.num_rings > 0;
+  return a.num_rings == b.num_rings && a.num_sectors == b.num_sectors && a.num_sectors > 0 && a.num_rings > 0;
 }
 
 }  // namespace
@@ -69,8 +68,7 @@ double wrapAngle(double radians) {
   return a;
 }
 
-double distanceAtShift(const Descriptor& query, const Descriptor& match, int shift,
-                       int* shared_columns) {
+double distanceAtShift(const Descriptor& query, const Descriptor& match, int shift, int* shared_columns) {
   if (shared_columns) *shared_columns = 0;
   if (!compatible(query, match)) return 1.0;
   const int sectors = query.num_sectors;

@@ -58,8 +58,7 @@ std::vector<Eigen::Vector2f> structureColumns(const VoxelCloud& cloud, float cel
 }
 
 std::vector<CoarseHit> coarseSearch(const StructureMap& query, const std::vector<Eigen::Vector2f>& columns,
-                                    const std::vector<Eigen::Isometry3d>& hypotheses, double radius,
-                                    double yaw_step) {
+                                    const std::vector<Eigen::Isometry3d>& hypotheses, double radius, double yaw_step) {
   std::vector<CoarseHit> hits;
   if (columns.empty() || query.size == 0) return hits;
   const int steps = static_cast<int>(std::floor(radius / query.cell));

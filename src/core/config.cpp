@@ -35,7 +35,8 @@ const char* nameOf(const Named<E> (&names)[N], E value) {
   return names[0].name;
 }
 
-const Named<RingKeyType> kRingKeys[] = {{"mean_height", RingKeyType::kMeanHeight}, {"occupancy", RingKeyType::kOccupancy}};
+const Named<RingKeyType> kRingKeys[] = {{"mean_height", RingKeyType::kMeanHeight},
+                                        {"occupancy", RingKeyType::kOccupancy}};
 const Named<RegistrationMethod> kMethods[] = {{"vgicp", RegistrationMethod::kVgicp},
                                               {"gicp", RegistrationMethod::kGicp},
                                               {"icp", RegistrationMethod::kIcp},
@@ -49,7 +50,9 @@ const Named<GravityAlignmentMode> kGravityAlignment[] = {{"auto", GravityAlignme
 
 bool parseRingKeyType(const std::string& text, RingKeyType* out) { return parseNamed(kRingKeys, text, out); }
 const char* ringKeyTypeName(RingKeyType type) { return nameOf(kRingKeys, type); }
-bool parseRegistrationMethod(const std::string& text, RegistrationMethod* out) { return parseNamed(kMethods, text, out); }
+bool parseRegistrationMethod(const std::string& text, RegistrationMethod* out) {
+  return parseNamed(kMethods, text, out);
+}
 const char* registrationMethodName(RegistrationMethod method) { return nameOf(kMethods, method); }
 bool parseGravityAlignmentMode(const std::string& text, GravityAlignmentMode* out) {
   return parseNamed(kGravityAlignment, text, out);

@@ -30,8 +30,8 @@ bool loopsAgree(const Loop& a, const Loop& b, const Database& database, double* 
   // The odometry relates the two queries, and the two matches, only within a session.
   if (i.session != k.session || j.session != l.session) return false;
   // Loop b carried to a's keyframes through the odometry, against loop a itself.
-  const Eigen::Isometry3d predicted = i.info.pose->inverse() * *k.info.pose * b.relative() *
-                                      l.info.pose->inverse() * *j.info.pose;
+  const Eigen::Isometry3d predicted =
+      i.info.pose->inverse() * *k.info.pose * b.relative() * l.info.pose->inverse() * *j.info.pose;
   const Eigen::Isometry3d cycle = a.relative().inverse() * predicted;
   const double t = cycle.translation().norm();
   const double r = Eigen::AngleAxisd(cycle.linear()).angle();
@@ -40,8 +40,7 @@ bool loopsAgree(const Loop& a, const Loop& b, const Database& database, double* 
   const Config& c = database.config();
   const double path =
       strict ? 0.0 : std::fabs(i.path_length - k.path_length) + std::fabs(j.path_length - l.path_length);
-  return t <= c.consistency_translation + c.consistency_drift * path &&
-         r <= c.consistency_rotation * M_PI / 180.0;
+  return t <= c.consistency_translation + c.consistency_drift * path && r <= c.consistency_rotation * M_PI / 180.0;
 }
 
 void ConsistencyFilter::advance(std::size_t query, std::vector<Loop>* dropped) {
@@ -96,7 +95,8 @@ void ConsistencyFilter::confirmWeak(const Entry& entry, const Database& database
   // A confirmed loop that passed in full confirms the waiting loops that need support and agree with it.
   for (Entry& other : recent_) {
     if (other.confirmed || !other.loop.verification.needs_support || !near(other, entry)) continue;
-    if (!supports(entry.loop, other.loop) || !loopsAgree(other.loop, entry.loop, database, nullptr, nullptr, true)) continue;
+    if (!supports(entry.loop, other.loop) || !loopsAgree(other.loop, entry.loop, database, nullptr, nullptr, true))
+      continue;
     ++other.loop.support;
     other.confirmed = true;
     other.loop.markConfirmed();

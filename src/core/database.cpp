@@ -194,8 +194,7 @@ struct Database::Tree {
       std::vector<float> q(query, query + dims);
       flann::SearchParams params(approximate() ? kChecks : flann::FLANN_CHECKS_UNLIMITED);
       params.sorted = true;
-      current.index->knnSearch(flann::Matrix<float>(q.data(), 1, dims), indices, dists, std::min(want, built),
-                               params);
+      current.index->knnSearch(flann::Matrix<float>(q.data(), 1, dims), indices, dists, std::min(want, built), params);
       for (std::size_t i = 0; i < indices[0].size(); ++i) found.emplace_back(dists[0][i], indices[0][i]);
     }
     // The tail streams through a max-heap of the `want` nearest so far (by distance, then index: the
@@ -248,14 +247,14 @@ struct Database::Tree {
 
   int dims;
   std::size_t exact_limit;
-  Built current;            // the index queries use
-  std::vector<float> tail;  // the keys added since `current` was built, contiguous, in database order
-  std::thread builder;      // joinable while a build is in flight
-  std::size_t snapshot = 0; // tail keys the build in flight covers
-  std::size_t swap_at = 0;  // the tail size it is swapped in before passing (below the exact limit)
-  std::size_t tail_room = 0;  // the tail's reserved capacity [keys] while a build runs: never passed
-  Built next;               // the builder's result; the caller reads it only after joining
-  Built retired;            // swapped out by finishBuild; the next builder frees it (touched by one at a time)
+  Built current;                    // the index queries use
+  std::vector<float> tail;          // the keys added since `current` was built, contiguous, in database order
+  std::thread builder;              // joinable while a build is in flight
+  std::size_t snapshot = 0;         // tail keys the build in flight covers
+  std::size_t swap_at = 0;          // the tail size it is swapped in before passing (below the exact limit)
+  std::size_t tail_room = 0;        // the tail's reserved capacity [keys] while a build runs: never passed
+  Built next;                       // the builder's result; the caller reads it only after joining
+  Built retired;                    // swapped out by finishBuild; the next builder frees it (touched by one at a time)
   std::vector<float> retired_tail;  // a batch's tail room, likewise
   std::atomic<bool> built_yet{true};  // the builder has finished (it may not have returned yet)
   bool swap_when_built = false;       // the build in flight (a batch's, or a late one above the exact
@@ -377,7 +376,7 @@ bool Database::appendSessions(std::vector<Keyframe> keyframes, std::string* erro
     } else if (!(std::isfinite(k.path_length) && k.path_length >= 0.0)) {
       problem = "path length is not a finite non-negative number";
     } else {
-      problem = !values_checked                  ? descriptorProblem(k.descriptor, config_)
+      problem = !values_checked                   ? descriptorProblem(k.descriptor, config_)
                 : fitsGrid(k.descriptor, config_) ? ""
                                                   : "descriptor grid size differs from the database configuration";
       if (problem.empty()) problem = infoProblem(k.info, continues ? &previous->info : nullptr);
@@ -479,8 +478,7 @@ QueryResult Database::query(const Descriptor& descriptor, const KeyframeInfo& in
   // with a later stamp came first) asks for more neighbours and drops the ones past its prefix.
   indexUpTo(std::max(indexed_, eligible));
   const std::size_t surplus = indexed_ - eligible;
-  const std::size_t want =
-      std::min(indexed_, static_cast<std::size_t>(config_.num_candidates) + surplus);
+  const std::size_t want = std::min(indexed_, static_cast<std::size_t>(config_.num_candidates) + surplus);
 
   const double path = pathLengthAt(info);
   for (const auto& [d2, index] : tree_->nearest(descriptor.ring_key.data(), want)) {
@@ -494,11 +492,9 @@ QueryResult Database::query(const Descriptor& descriptor, const KeyframeInfo& in
     result.candidates.push_back(c);
   }
   std::stable_sort(result.candidates.begin(), result.candidates.end(),
-                   [](const Candidate& a, const Candidate& b) {
-                     return a.alignment.distance < b.alignment.distance;
-                   });
-  result.matched = !result.candidates.empty() &&
-                   result.candidates.front().alignment.distance < config_.distance_threshold;
+                   [](const Candidate& a, const Candidate& b) { return a.alignment.distance < b.alignment.distance; });
+  result.matched =
+      !result.candidates.empty() && result.candidates.front().alignment.distance < config_.distance_threshold;
   return result;
 }
 
@@ -537,8 +533,7 @@ std::size_t Database::bytesPerKeyframe() const {
   }
   // FLANN's share: the single exact tree ~32 bytes a key; the randomized trees of a larger database a
   // point pointer plus, per tree, two 32-byte nodes (leaves hold one key) and an index.
-  const std::size_t index_bytes =
-      tree_->approximate() ? sizeof(float*) + Tree::kTrees * (2 * 32 + sizeof(int)) : 32;
+  const std::size_t index_bytes = tree_->approximate() ? sizeof(float*) + Tree::kTrees * (2 * 32 + sizeof(int)) : 32;
   const std::size_t key_bytes = static_cast<std::size_t>(config_.num_rings) * sizeof(float);
   return descriptor_bytes + sizeof(Keyframe) + sizeof(const Keyframe*) + 2 * (key_bytes + index_bytes);
 }

@@ -262,7 +262,8 @@ std::string readFloatColumns(ByteReader* in, int rings, std::vector<float>* scra
   in->f32s(scratch->data(), scratch->size());
   // A unit column's entries lie in [-1, 1]; anything else is refused before it is rounded to int8.
   const double bound = 1.0 + kUnitColumnTolerance;
-  const auto bad = std::find_if(scratch->begin(), scratch->end(), [bound](float v) { return !(std::fabs(v) <= bound); });
+  const auto bad =
+      std::find_if(scratch->begin(), scratch->end(), [bound](float v) { return !(std::fabs(v) <= bound); });
   if (bad != scratch->end()) {
     return "unit column entry " + text(bad - scratch->begin()) + " is " + text(*bad) + ", not within [-1, 1]";
   }
@@ -350,7 +351,8 @@ VoxelOptions voxelOptionsOf(const FileSettings& settings) {
 /// What makeVoxelCloud with `crop` cannot produce in a voxel, or "": a mean is an average of points inside
 /// the crop (horizontally within max_range, heights in [min_z, max_z)), allowed one voxel edge of slack
 /// for rounding; a normal is a unit vector quantised to 127, so at most 128 long.
-std::string voxelProblem(const Eigen::Vector3f& mean, const std::array<std::int8_t, 4>& normal, const VoxelOptions& crop) {
+std::string voxelProblem(const Eigen::Vector3f& mean, const std::array<std::int8_t, 4>& normal,
+                         const VoxelOptions& crop) {
   if (!mean.allFinite()) return "its mean is not finite";
   const double slack = crop.resolution, reach = crop.max_range + slack;
   const double x = mean.x(), y = mean.y(), z = mean.z();
@@ -369,7 +371,8 @@ std::string voxelProblem(const Eigen::Vector3f& mean, const std::array<std::int8
 /// Decodes one keyframe's gravity alignment and registration data; returns what is wrong with them, or "".
 std::string decodeCloud(PayloadReader* payload, const FileSettings& settings, Eigen::Matrix3f* gravity_alignment,
                         std::unique_ptr<VoxelCloud>* cloud, std::vector<std::uint8_t>* scratch) {
-  const char* const overrun = "the payload ends inside this keyframe's registration data: the counts and sizes disagree";
+  const char* const overrun =
+      "the payload ends inside this keyframe's registration data: the counts and sizes disagree";
   ByteReader in(nullptr, 0);
   std::array<float, 9> rows;
   std::uint8_t has_cloud = 0;
@@ -408,15 +411,16 @@ std::string decodeCloud(PayloadReader* payload, const FileSettings& settings, Ei
   }
   const VoxelOptions crop = voxelOptionsOf(settings);
   if (const std::size_t most = maxVoxels(crop); voxels > most) {
-    return "registration data of " + text(voxels) + " voxels, more than the " + text(most) + " that verify_voxel_leaf " +
-           text(settings.voxel_leaf) + " and verify_max_range " + text(settings.voxel_max_range) +
-           " allow (a voxel a grid cell, a point at least each)";
+    return "registration data of " + text(voxels) + " voxels, more than the " + text(most) +
+           " that verify_voxel_leaf " + text(settings.voxel_leaf) + " and verify_max_range " +
+           text(settings.voxel_max_range) + " allow (a voxel a grid cell, a point at least each)";
   }
   if (!payload->take(packed_bytes, &in)) return overrun;
   const std::uint8_t* packed = in.take(packed_bytes);
   scratch->resize(static_cast<std::size_t>(raw_bytes));
-  const int unpacked = LZ4_decompress_safe(reinterpret_cast<const char*>(packed), reinterpret_cast<char*>(scratch->data()),
-                                           static_cast<int>(packed_bytes), static_cast<int>(raw_bytes));
+  const int unpacked =
+      LZ4_decompress_safe(reinterpret_cast<const char*>(packed), reinterpret_cast<char*>(scratch->data()),
+                          static_cast<int>(packed_bytes), static_cast<int>(raw_bytes));
   if (unpacked != static_cast<int>(raw_bytes)) {
     return "registration data do not decompress to " + text(voxels) + " voxels";
   }
@@ -499,14 +503,14 @@ bool mayReplace(const std::string& path, std::string* error) {
   if (!file.open(path, &why) || file.size() == 0) return true;  // absent, a directory: the writer says
   const std::uint8_t* head = file.take(sizeof(kMagic));
   if (head != nullptr && std::memcmp(head, kMagic, sizeof(kMagic)) == 0) return true;
-  if (error) *error = path + " exists and is not a Scan Context database (it does not begin with \"SCLDB\"): not replaced";
+  if (error)
+    *error = path + " exists and is not a Scan Context database (it does not begin with \"SCLDB\"): not replaced";
   return false;
 }
 
 }  // namespace
 
-DatabaseSnapshot::DatabaseSnapshot(const LoopDetector& detector, bool include_clouds,
-                                   std::shared_ptr<const void> owner)
+DatabaseSnapshot::DatabaseSnapshot(const LoopDetector& detector, bool include_clouds, std::shared_ptr<const void> owner)
     : DatabaseSnapshot(detector, include_clouds, std::move(owner), 0, detector.database().size()) {}
 
 DatabaseSnapshot::DatabaseSnapshot(const LoopDetector& detector, bool include_clouds, std::shared_ptr<const void> owner,
@@ -622,8 +626,8 @@ bool readDatabase(ByteSource* source, const std::string& name, const Config& con
   if (std::memcmp(head, kMagic, std::min(head_bytes, sizeof(kMagic))) != 0) {
     return fail("not a Scan Context database (it does not begin with \"SCLDB\")");
   }
-  const std::string short_header = "truncated: " + text(file.size()) + " bytes, shorter than the " +
-                                   text(kHeaderBytes) + "-byte header";
+  const std::string short_header =
+      "truncated: " + text(file.size()) + " bytes, shorter than the " + text(kHeaderBytes) + "-byte header";
   ByteReader in(head, head_bytes);
   std::uint32_t version = 0;
   if (!in.take(sizeof(kMagic)) || !in.u32(&version)) return fail(short_header);
@@ -711,7 +715,8 @@ bool readDatabase(ByteSource* source, const std::string& name, const Config& con
     }
   }
   if (payload.left() != 0) {
-    return checked(text(payload.left()) + " bytes of the payload follow the last record: the counts and sizes disagree");
+    return checked(text(payload.left()) +
+                   " bytes of the payload follow the last record: the counts and sizes disagree");
   }
   if (!checked("")) return false;
   loaded.descriptors_checked = true;

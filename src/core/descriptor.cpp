@@ -30,7 +30,7 @@ std::string number(double v) {
 struct Binning {
   int rings, sectors;
   float min2, max2, ring_scale, sector_scale, h0;
-  const float* rotation;  ///< row-major 3 x 3 applied to every point first, or null for none
+  const float* rotation;         ///< row-major 3 x 3 applied to every point first, or null for none
   const Eigen::Vector2f* views;  ///< the viewpoints the grids are made from, subtracted from every x and y
   int view_count;
 };
@@ -116,7 +116,8 @@ SCL_CLONES void binPoints(const PointView& points, const Binning& b, float* best
 }  // namespace
 
 std::vector<HeightGrid> makeHeightGrids(const PointView& points, const Config& config,
-                                        const std::vector<Eigen::Vector2f>& viewpoints, const Eigen::Matrix3f& rotation) {
+                                        const std::vector<Eigen::Vector2f>& viewpoints,
+                                        const Eigen::Matrix3f& rotation) {
   const int rings = config.num_rings;
   const int sectors = config.num_sectors;
   const float max_r = static_cast<float>(config.max_radius);
@@ -266,8 +267,8 @@ std::string descriptorImplausibility(const Descriptor& d, RingKeyType ring_key) 
 }
 
 std::size_t Descriptor::bytes() const {
-  return unit_columns.capacity() + column_occupied.capacity() +
-         ring_key.capacity() * sizeof(float) + sector_key.capacity() * sizeof(float);
+  return unit_columns.capacity() + column_occupied.capacity() + ring_key.capacity() * sizeof(float) +
+         sector_key.capacity() * sizeof(float);
 }
 
 }  // namespace scan_context_loop

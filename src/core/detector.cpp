@@ -61,7 +61,8 @@ bool LoopDetector::appendSessions(PriorSessions sessions, std::string* error) {
                 std::to_string(n) + " keyframes");
   }
   if (!sessions.clouds.empty() && sessions.clouds.size() != n) {
-    return fail(std::to_string(sessions.clouds.size()) + " registration clouds for " + std::to_string(n) + " keyframes");
+    return fail(std::to_string(sessions.clouds.size()) + " registration clouds for " + std::to_string(n) +
+                " keyframes");
   }
   for (std::size_t i = 0; i < sessions.clouds.size(); ++i) {
     const VoxelCloud* cloud = sessions.clouds[i].get();
@@ -114,8 +115,9 @@ Detection LoopDetector::process(const PointView& raw, const KeyframeInfo& info) 
   if (config.verification.enabled) {
     const auto start = Clock::now();
     VoxelCloud cloud = prepareCloud(points, verification_, to_gravity);
-    const std::optional<TrackedCandidate> tracked = tracker_.predict(
-        database_, detection.index, detection.query.eligible, [this](std::size_t i) { return store_.get(i) != nullptr; });
+    const std::optional<TrackedCandidate> tracked =
+        tracker_.predict(database_, detection.index, detection.query.eligible,
+                         [this](std::size_t i) { return store_.get(i) != nullptr; });
     try {
       verifyCandidates(cloud, database_.keyframe(detection.index).descriptor, to_gravity, true,
                        tracked ? &*tracked : nullptr, &detection);
@@ -174,8 +176,8 @@ std::string LoopDetector::cloudMismatch(const VoxelCloud& cloud) const {
 
 bool LoopDetector::attachCloud(std::size_t index, const Eigen::Matrix3f& gravity_alignment, const VoxelCloud& cloud,
                                std::string* error) {
-  std::string problem = index < database_.size() ? cloudMismatch(cloud)
-                                                 : "keyframe " + std::to_string(index) + " is not in the database";
+  std::string problem =
+      index < database_.size() ? cloudMismatch(cloud) : "keyframe " + std::to_string(index) + " is not in the database";
   if (!problem.empty()) {
     if (error) *error = problem;
     return false;
@@ -278,9 +280,8 @@ void LoopDetector::queryViewpoints(const std::vector<Eigen::Vector2f>& views, co
     }
     detection->query_seconds += secondsSince(t1);
   }
-  std::stable_sort(merged.begin(), merged.end(), [](const Candidate& a, const Candidate& b) {
-    return a.alignment.distance < b.alignment.distance;
-  });
+  std::stable_sort(merged.begin(), merged.end(),
+                   [](const Candidate& a, const Candidate& b) { return a.alignment.distance < b.alignment.distance; });
   if (merged.size() > static_cast<std::size_t>(config.num_candidates)) merged.resize(config.num_candidates);
   detection->query.matched = !merged.empty() && merged.front().alignment.distance < config.distance_threshold;
 }

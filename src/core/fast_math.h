@@ -19,9 +19,9 @@ inline float azimuth(float x, float y) {
   const float lo = steep ? ax : ay;
   const float t = lo / (hi > 0.0f ? hi : 1.0f);
   const float t2 = t * t;
-  float a = t * (0.99997726f +
-                 t2 * (-0.33262347f + t2 * (0.19354346f + t2 * (-0.11643287f +
-                                                                t2 * (0.05265332f + t2 * -0.01172120f)))));
+  float a =
+      t * (0.99997726f +
+           t2 * (-0.33262347f + t2 * (0.19354346f + t2 * (-0.11643287f + t2 * (0.05265332f + t2 * -0.01172120f)))));
   a = steep ? kHalfPi - a : a;
   a = x < 0.0f ? kPi - a : a;
   a = y < 0.0f ? kTwoPi - a : a;

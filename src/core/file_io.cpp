@@ -55,8 +55,10 @@ int copyForBackup(const std::string& path, const std::string& name, mode_t mode,
     if (got < 0 && errno != EINTR) ok = fail(error, "cannot read " + path + " to keep a copy of it");
     for (ssize_t done = 0; ok && done < got;) {
       const ssize_t n = ::write(out, buffer.data() + done, static_cast<std::size_t>(got - done));
-      if (n >= 0) done += n;
-      else if (errno != EINTR) ok = fail(error, "cannot write " + name);
+      if (n >= 0)
+        done += n;
+      else if (errno != EINTR)
+        ok = fail(error, "cannot write " + name);
     }
   }
   ::fchmod(out, mode);  // advisory: vfat has no modes to set

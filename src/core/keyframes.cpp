@@ -149,9 +149,9 @@ KeyframePipeline::StampStep KeyframePipeline::checkStamp(const KeyframeInfo& inf
   std::ostringstream text;
   text.precision(17);
   text << "keyframe stamp " << info.stamp << " is " << std::fabs(info.stamp - last) << " s "
-       << (direction < 0 ? "earlier than the previous keyframe's" : "later than the previous cloud's") << " "
-       << last << ": refused as " << (direction < 0 ? "out of order" : "a stamp far ahead (max_stamp_step)")
-       << " unless " << kStampJumpEvidence << " keyframes in a row show the same jump"
+       << (direction < 0 ? "earlier than the previous keyframe's" : "later than the previous cloud's") << " " << last
+       << ": refused as " << (direction < 0 ? "out of order" : "a stamp far ahead (max_stamp_step)") << " unless "
+       << kStampJumpEvidence << " keyframes in a row show the same jump"
        << (direction < 0 ? " or the odometry jumps too (a bag played again, a restarted odometry: a new session)"
                          : " (clouds back after an outage)");
   if (why) *why = text.str();
@@ -178,7 +178,7 @@ void KeyframePipeline::remember(const PointView& cloud, const KeyframeInfo& info
 }
 
 Detection KeyframePipeline::process(const PointView& cloud, const KeyframeInfo& info,
-                                     pcl::PointCloud<pcl::PointXYZ>* described) {
+                                    pcl::PointCloud<pcl::PointXYZ>* described) {
   const Config& c = config();
   const bool accumulate = c.accumulate_seconds > 0.0 || c.accumulate_distance > 0.0;
   if ((c.cloud_in_world_frame || accumulate) && !info.pose) {

@@ -20,8 +20,7 @@ bool LoopTracker::reaches(const Database& database, std::size_t query) const {
          q.path_length - a.path_length <= reach_path;
 }
 
-std::optional<TrackedCandidate> LoopTracker::predict(const Database& database, std::size_t query,
-                                                     std::size_t eligible,
+std::optional<TrackedCandidate> LoopTracker::predict(const Database& database, std::size_t query, std::size_t eligible,
                                                      const std::function<bool(std::size_t)>& usable) const {
   if (!reaches(database, query)) return std::nullopt;
   const Keyframe& q = database.keyframe(query);
@@ -29,7 +28,8 @@ std::optional<TrackedCandidate> LoopTracker::predict(const Database& database, s
   const Keyframe& m = database.keyframe(anchor_->match);
   // The query's pose in the match session's odometry frame: through the anchor loop, then along the
   // query session's odometry.
-  const Eigen::Isometry3d predicted = *m.info.pose * anchor_->relative().inverse() * a.info.pose->inverse() * *q.info.pose;
+  const Eigen::Isometry3d predicted =
+      *m.info.pose * anchor_->relative().inverse() * a.info.pose->inverse() * *q.info.pose;
   // Only keyframes within `reach` of path from the anchor's match qualify (nearAnchorMatch). Sessions are
   // contiguous runs of keyframes along which the path length never decreases, so those form one run
   // around the match: walk out from it to the run's ends rather than scan the whole session, which on a

@@ -25,8 +25,8 @@ void OdometryTrust::add(const Keyframe& query, const Keyframe& match, const Eige
   Orders& orders = orders_[{a.query_session, a.match_session}];
   // After its equals: the orders keep equal paths in the order the loops were confirmed.
   const auto insert = [anchor](std::vector<Entry>* order, double path) {
-    const auto at = std::upper_bound(order->begin(), order->end(), path,
-                                     [](double p, const Entry& e) { return p < e.path; });
+    const auto at =
+        std::upper_bound(order->begin(), order->end(), path, [](double p, const Entry& e) { return p < e.path; });
     order->insert(at, Entry{path, anchor});
   };
   insert(&orders.by_query, a.query_path);

@@ -38,12 +38,18 @@ inline void gatherXyz(const PointView& points, const std::uint8_t* first, std::s
                       float* ys, float* zs) {
   if (points.offset_x == 0 && points.offset_y == 4 && points.offset_z == 8) {
     switch (step) {
-      case 16: return gather::xyzFirst<16>(first, n, xs, ys, zs);
-      case 32: return gather::xyzFirst<32>(first, n, xs, ys, zs);
-      case 48: return gather::xyzFirst<48>(first, n, xs, ys, zs);
-      case 64: return gather::xyzFirst<64>(first, n, xs, ys, zs);
-      case 96: return gather::xyzFirst<96>(first, n, xs, ys, zs);
-      default: break;
+      case 16:
+        return gather::xyzFirst<16>(first, n, xs, ys, zs);
+      case 32:
+        return gather::xyzFirst<32>(first, n, xs, ys, zs);
+      case 48:
+        return gather::xyzFirst<48>(first, n, xs, ys, zs);
+      case 64:
+        return gather::xyzFirst<64>(first, n, xs, ys, zs);
+      case 96:
+        return gather::xyzFirst<96>(first, n, xs, ys, zs);
+      default:
+        break;
     }
   }
   for (std::size_t i = 0; i < n; ++i) {

@@ -3,7 +3,7 @@
 namespace scan_context_loop {
 
 std::vector<std::optional<Eigen::Isometry3d>> correctedSessionPoses(const std::vector<const Keyframe*>& keyframes,
-                                                                     const PoseCorrections& corrections) {
+                                                                    const PoseCorrections& corrections) {
   std::vector<std::optional<Eigen::Isometry3d>> poses(keyframes.size());
   std::size_t begin = 0;
   while (begin < keyframes.size()) {

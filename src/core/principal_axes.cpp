@@ -55,8 +55,9 @@ SCL_CLONES void principalAxes(const SymmetricBlock& m, std::size_t n, AxesBlock*
   n = std::min(n, kAxesBlock);
   for (std::size_t i = 0; i < n; ++i) {
     float a00 = m.xx[i], a01 = m.xy[i], a02 = m.xz[i], a11 = m.yy[i], a12 = m.yz[i], a22 = m.zz[i];
-    const float scale = std::max(std::max(std::max(std::fabs(a00), std::fabs(a01)), std::max(std::fabs(a02), std::fabs(a11))),
-                                 std::max(std::fabs(a12), std::fabs(a22)));
+    const float scale =
+        std::max(std::max(std::max(std::fabs(a00), std::fabs(a01)), std::max(std::fabs(a02), std::fabs(a11))),
+                 std::max(std::fabs(a12), std::fabs(a22)));
     const float inv = scale > 0.0f ? 1.0f / scale : 0.0f;
     a00 *= inv, a01 *= inv, a02 *= inv, a11 *= inv, a12 *= inv, a22 *= inv;
     const float shift = (a00 + a11 + a22) * (1.0f / 3.0f);

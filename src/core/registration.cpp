@@ -4,7 +4,6 @@
 #include <cmath>
 #include <optional>
 
-
 #include "grid_cell.h"
 #include "point_gather.h"
 #include "principal_axes.h"
@@ -112,7 +111,8 @@ VoxelCloud makeVoxelCloud(const PointView& points, const VoxelOptions& options, 
     s.generation = 1;
   }
   s.acc.clear();
-  VoxelGrid grid{options.max_range * options.max_range, options.max_range, options.min_z, options.max_z, inv, nxy, nz, {}};
+  VoxelGrid grid{
+      options.max_range * options.max_range, options.max_range, options.min_z, options.max_z, inv, nxy, nz, {}};
   if (!rotation.isIdentity()) grid.rotation = rotation;
   const std::size_t stride = std::max<std::size_t>(1, (points.count + kVoxelCloudMaxPoints - 1) / kVoxelCloudMaxPoints);
   VoxelBlock block;
@@ -127,8 +127,9 @@ VoxelCloud makeVoxelCloud(const PointView& points, const VoxelOptions& options, 
         cell = {s.generation, static_cast<std::int32_t>(s.acc.size())};
         const int iz = c / (nxy * nxy), iy = (c / nxy) % nxy, ix = c % nxy;
         Accumulator a;
-        a.corner = Eigen::Vector3f(ix * options.resolution - options.max_range, iy * options.resolution - options.max_range,
-                                   iz * options.resolution + options.min_z);
+        a.corner =
+            Eigen::Vector3f(ix * options.resolution - options.max_range, iy * options.resolution - options.max_range,
+                            iz * options.resolution + options.min_z);
         s.acc.push_back(a);
       }
       Accumulator& a = s.acc[cell.slot];
@@ -190,8 +191,8 @@ VoxelCloud makeVoxelCloud(const PointView& points, const VoxelOptions& options, 
         shape = VoxelCloud::kPlanar;
       }
       out.means.push_back(mean);
-      out.normals.push_back({quantise(normal.x()), quantise(normal.y()), quantise(normal.z()),
-                             static_cast<std::int8_t>(shape)});
+      out.normals.push_back(
+          {quantise(normal.x()), quantise(normal.y()), quantise(normal.z()), static_cast<std::int8_t>(shape)});
     }
   }
   return out;
@@ -233,8 +234,7 @@ void VoxelIndex::build(const VoxelCloud& cloud) {
 
 int VoxelIndex::at(const Eigen::Vector3f& p) const {
   if (cloud_ == nullptr) return -1;
-  const int c = cell(gridCell((p.x() - min_xy_) * inv_res_),
-                     gridCell((p.y() - min_xy_) * inv_res_),
+  const int c = cell(gridCell((p.x() - min_xy_) * inv_res_), gridCell((p.y() - min_xy_) * inv_res_),
                      gridCell((p.z() - min_z_) * inv_res_));
   return voxelIn(c);
 }
@@ -259,8 +259,7 @@ int VoxelIndex::nearest(const Eigen::Vector3f& p, float max_distance) const {
   return best;
 }
 
-bool VoxelIndex::onPlane(const Eigen::Vector3f& p, const Eigen::Vector3f& n, float plane, float along,
-                         float up) const {
+bool VoxelIndex::onPlane(const Eigen::Vector3f& p, const Eigen::Vector3f& n, float plane, float along, float up) const {
   if (cloud_ == nullptr) return false;
   const int ix = gridCell((p.x() - min_xy_) * inv_res_);
   const int iy = gridCell((p.y() - min_xy_) * inv_res_);

@@ -82,8 +82,7 @@ Setting<T> numberSetting(const char* key, SettingType type, Ref<T, V> ref, Setti
 }
 
 template <typename T>
-Setting<T> intSetting(const char* key, Ref<T, int> ref, SettingRange range, const char* doc,
-                      const char* details = "") {
+Setting<T> intSetting(const char* key, Ref<T, int> ref, SettingRange range, const char* doc, const char* details = "") {
   return numberSetting<T, int>(key, SettingType::kInt, ref, std::move(range), doc, details, parseInt, intText);
 }
 
@@ -133,8 +132,8 @@ Setting<T> stringSetting(const char* key, Ref<T, std::string> ref, std::vector<s
 
 /// An enum member with its parse and name functions.
 template <typename T, typename E>
-Setting<T> enumSetting(const char* key, Ref<T, E> ref, bool (*parse)(const std::string&, E*),
-                       const char* (*name)(E), std::vector<E> values, const char* doc, const char* details = "") {
+Setting<T> enumSetting(const char* key, Ref<T, E> ref, bool (*parse)(const std::string&, E*), const char* (*name)(E),
+                       std::vector<E> values, const char* doc, const char* details = "") {
   Setting<T> s;
   s.key = key;
   s.type = SettingType::kChoice;

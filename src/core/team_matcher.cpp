@@ -8,9 +8,7 @@
 
 namespace scan_context_loop {
 
-std::string TeamKeyframeId::text() const {
-  return robot + "/" + std::to_string(run) + "/" + std::to_string(keyframe);
-}
+std::string TeamKeyframeId::text() const { return robot + "/" + std::to_string(run) + "/" + std::to_string(keyframe); }
 
 std::vector<std::uint8_t> keyframeRecord(const LoopDetector& detector, std::size_t index) {
   if (index >= detector.database().size()) return {};
@@ -27,7 +25,8 @@ const char* const kRobotIdRule = "1-64 characters of [A-Za-z0-9_], the first a l
 bool validRobotId(const std::string& robot) {
   const auto letter = [](char c) { return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z'); };
   return !robot.empty() && robot.size() <= 64 && letter(robot.front()) &&
-         std::all_of(robot.begin(), robot.end(), [&](char c) { return letter(c) || (c >= '0' && c <= '9') || c == '_'; });
+         std::all_of(robot.begin(), robot.end(),
+                     [&](char c) { return letter(c) || (c >= '0' && c <= '9') || c == '_'; });
 }
 
 namespace {
@@ -82,7 +81,8 @@ bool TeamMatcher::attachCloud(const TeamKeyframeId& id, const std::uint8_t* imag
   PriorSessions data;
   if (!readOne(image, size, "registration data of " + id.text(), detector_.config(), &data, error)) return false;
   const std::size_t index = it->second;
-  if (data.clouds.empty() || !data.clouds.front()) return fail("registration data of " + id.text() + ": none in the image");
+  if (data.clouds.empty() || !data.clouds.front())
+    return fail("registration data of " + id.text() + ": none in the image");
   if (data.keyframes.front().info.stamp != keyframe(index).info.stamp) {
     return fail("registration data of " + id.text() + " belong to another keyframe (its stamp differs)");
   }

@@ -57,7 +57,8 @@ struct Agreement {
 /// One keyframe's voxels moved into another's frame (T_to<-from), and what of them the other covers.
 struct MovedInto {
   MovedInto(const VoxelIndex& to, const Eigen::Isometry3d& to_from, const VerificationConfig& config)
-      : R(to_from.linear().cast<float>()), t(to_from.translation().cast<float>()),
+      : R(to_from.linear().cast<float>()),
+        t(to_from.translation().cast<float>()),
         plane(static_cast<float>(config.inlier_plane_distance)) {
     const float reach = to.cloud()->max_range - static_cast<float>(config.inlier_distance);
     reach2 = reach * reach;
@@ -186,7 +187,8 @@ VerificationResult Verifier::verify(const VoxelCloud& match, const std::vector<E
   for (const CoarseHit& hit : hits) {
     if (static_cast<int>(tried.size()) >= config_.max_hypotheses) break;
     if (!tried.empty() && hit.score < config_.hypothesis_ratio * hits.front().score) break;
-    if (std::any_of(tried.begin(), tried.end(), [&](const Eigen::Isometry3d& t) { return close(t, hit.pose, 1.5, 0.05); }))
+    if (std::any_of(tried.begin(), tried.end(),
+                    [&](const Eigen::Isometry3d& t) { return close(t, hit.pose, 1.5, 0.05); }))
       continue;
     tried.push_back(hit.pose);
     VerificationResult candidate = r;
@@ -251,9 +253,8 @@ std::string Verifier::refine(const VoxelCloud& match, Eigen::Isometry3d* pose, V
   r->tilt_deg = tiltDegrees(*pose);
   if (!trustsRegisteredTilt(r->tilt_deg, config_)) {
     // Roll and pitch from the gravity alignment: drop the registered tilt, then yaw and translation again.
-    pose->linear() =
-        Eigen::AngleAxisd(std::atan2(pose->linear()(1, 0), pose->linear()(0, 0)), Eigen::Vector3d::UnitZ())
-            .toRotationMatrix();
+    pose->linear() = Eigen::AngleAxisd(std::atan2(pose->linear()(1, 0), pose->linear()(0, 0)), Eigen::Vector3d::UnitZ())
+                         .toRotationMatrix();
     // From the full registration's yaw and translation, which the tilt hardly moves: a few iterations.
     if (!stage(config_.fine_correspondence, std::min(config_.max_iterations, 5), true, false)) {
       return "registration found no correspondences";

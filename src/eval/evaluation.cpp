@@ -137,17 +137,20 @@ bool writeMetricsJson(const std::string& path, const Evaluation& e, const Sequen
       << "}";
   if (e.verification) {
     const VerifiedMetrics& v = e.verified;
-    out << ",\n  \"verified\": {\"true_positives\": " << v.true_positives << ", \"false_positives\": "
-        << v.false_positives << ", \"precision\": " << v.precision << ", \"recall\": " << v.recall
-        << ", \"f1\": " << v.f1 << ", \"translation_error_m\": {\"median\": " << v.translation_error_median
+    out << ",\n  \"verified\": {\"true_positives\": " << v.true_positives
+        << ", \"false_positives\": " << v.false_positives << ", \"precision\": " << v.precision
+        << ", \"recall\": " << v.recall << ", \"f1\": " << v.f1
+        << ", \"translation_error_m\": {\"median\": " << v.translation_error_median
         << ", \"p90\": " << v.translation_error_p90 << "}, \"yaw_error_deg\": {\"median\": " << v.yaw_error_median
         << ", \"p90\": " << v.yaw_error_p90 << "}, \"candidates_mean\": " << v.candidates_mean
         << ", \"candidates_max\": " << v.candidates_max << ", \"reported_late\": " << v.reported_late
-        << ", \"correct_beyond_radius\": " << v.beyond_radius << ", \"first_candidate_right\": "
-        << v.first_candidate_right << ", \"first_candidate_right_verified\": " << v.first_candidate_right_verified
-        << ", \"dropped_by_consistency\": " << e.loops_dropped << ", \"verify_ms\": {\"median\": "
-        << percentile(e.verify_ms, 0.5) << ", \"p99\": " << percentile(e.verify_ms, 0.99)
-        << ", \"max\": " << percentile(e.verify_ms, 1.0) << "}, \"rejected_by\": {";
+        << ", \"correct_beyond_radius\": " << v.beyond_radius
+        << ", \"first_candidate_right\": " << v.first_candidate_right
+        << ", \"first_candidate_right_verified\": " << v.first_candidate_right_verified
+        << ", \"dropped_by_consistency\": " << e.loops_dropped
+        << ", \"verify_ms\": {\"median\": " << percentile(e.verify_ms, 0.5)
+        << ", \"p99\": " << percentile(e.verify_ms, 0.99) << ", \"max\": " << percentile(e.verify_ms, 1.0)
+        << "}, \"rejected_by\": {";
     // Registrations each test turned down, at the true place and elsewhere (verifications.csv has them
     // one by one); a loop the odometry contradicted may still be confirmed later.
     bool first = true;
@@ -157,7 +160,8 @@ bool writeMetricsJson(const std::string& path, const Evaluation& e, const Sequen
         if (a.result.rejected_by != test) continue;
         ++(a.true_place ? at_place : elsewhere);
       }
-      out << (first ? "" : ", ") << "\"" << test << "\": {\"true_place\": " << at_place << ", \"elsewhere\": " << elsewhere << "}";
+      out << (first ? "" : ", ") << "\"" << test << "\": {\"true_place\": " << at_place
+          << ", \"elsewhere\": " << elsewhere << "}";
       first = false;
     }
     out << "}}";
@@ -166,16 +170,16 @@ bool writeMetricsJson(const std::string& path, const Evaluation& e, const Sequen
     const RelocalizationMetrics& r = e.relocalization;
     out << ",\n  \"relocalization\": {\"prior\": \"" << e.prior_source << "\", ";
     if (!e.prior_truth.empty()) out << "\"prior_truth\": \"" << e.prior_truth << "\", ";
-    out << "\"prior_keyframes\": " << r.prior_keyframes
-        << ", \"queries\": " << r.queries << ", \"prior_places\": " << r.prior_places
-        << ", \"true_positives\": " << r.true_positives << ", \"false_positives\": " << r.false_positives
-        << ", \"precision\": " << r.precision << ", \"recall\": " << r.recall
-        << ", \"translation_error_m\": {\"median\": " << r.translation_error_median
+    out << "\"prior_keyframes\": " << r.prior_keyframes << ", \"queries\": " << r.queries
+        << ", \"prior_places\": " << r.prior_places << ", \"true_positives\": " << r.true_positives
+        << ", \"false_positives\": " << r.false_positives << ", \"precision\": " << r.precision
+        << ", \"recall\": " << r.recall << ", \"translation_error_m\": {\"median\": " << r.translation_error_median
         << ", \"p90\": " << r.translation_error_p90 << "}, \"yaw_error_deg\": {\"median\": " << r.yaw_error_median
         << ", \"p90\": " << r.yaw_error_p90 << "}, \"first_correct\": {\"query\": " << r.first_query
         << ", \"seconds\": " << r.first_seconds << ", \"metres\": " << r.first_metres
-        << ", \"false_before\": " << r.false_before_first << "}, \"first_prior_place\": {\"seconds\": "
-        << r.first_place_seconds << ", \"metres\": " << r.first_place_metres << "}}";
+        << ", \"false_before\": " << r.false_before_first
+        << "}, \"first_prior_place\": {\"seconds\": " << r.first_place_seconds
+        << ", \"metres\": " << r.first_place_metres << "}}";
   }
   out << "\n}\n";
   return out.good();
@@ -187,20 +191,22 @@ bool writeVerificationsCsv(const std::string& path, const Evaluation& e, std::st
     *error = "cannot create " + path;
     return false;
   }
-  out << "query,match,distance,gap_m,accepted,overlap_query,overlap_match,violation,fitness,constraint_ratio,coarse_score,"
+  out << "query,match,distance,gap_m,accepted,overlap_query,overlap_match,violation,fitness,constraint_ratio,coarse_"
+         "score,"
          "hypotheses,trans_err_m,yaw_err_deg,rot_err_deg,tilt_deg,column_overlap_query,column_overlap_match,ms,"
          "rejected_by,rejection_value,rejection_limit,reason\n";
   out.precision(6);
   for (const auto& a : e.attempts) {
     const VerificationResult& r = a.result;
     std::string reason = r.reason;
-    for (char& c : reason) if (c == ',' || c == '"') c = ';';
+    for (char& c : reason)
+      if (c == ',' || c == '"') c = ';';
     out << a.query << ',' << a.match << ',' << a.distance << ',' << a.gap << ',' << int(r.accepted) << ','
         << r.overlap_query << ',' << r.overlap_match << ',' << r.violation << ',' << r.fitness << ','
         << r.constraint_ratio << ',' << r.coarse_score << ',' << r.hypotheses << ',' << a.translation_error << ','
         << a.yaw_error * 180.0 / M_PI << ',' << a.rotation_error * 180.0 / M_PI << ',' << r.tilt_deg << ','
-        << r.column_overlap_query << ',' << r.column_overlap_match << ',' << r.seconds * 1e3 << ',' << r.rejected_by << ',' << r.rejection_value
-        << ',' << r.rejection_limit << ',' << reason << '\n';
+        << r.column_overlap_query << ',' << r.column_overlap_match << ',' << r.seconds * 1e3 << ',' << r.rejected_by
+        << ',' << r.rejection_value << ',' << r.rejection_limit << ',' << reason << '\n';
   }
   return out.good();
 }

@@ -74,8 +74,7 @@ bool readScan(const std::string& path, pcl::PointCloud<pcl::PointXYZI>* cloud, s
   return true;
 }
 
-bool writeScan(const std::string& path, const pcl::PointCloud<pcl::PointXYZI>& cloud,
-               std::string* error) {
+bool writeScan(const std::string& path, const pcl::PointCloud<pcl::PointXYZI>& cloud, std::string* error) {
   std::vector<float> raw;
   raw.reserve(cloud.size() * 4);
   for (const auto& p : cloud) {
@@ -83,8 +82,7 @@ bool writeScan(const std::string& path, const pcl::PointCloud<pcl::PointXYZI>& c
   }
   std::ofstream out(path, std::ios::binary | std::ios::trunc);
   if (!out) return fail(error, "cannot create " + path);
-  out.write(reinterpret_cast<const char*>(raw.data()),
-            static_cast<std::streamsize>(raw.size() * sizeof(float)));
+  out.write(reinterpret_cast<const char*>(raw.data()), static_cast<std::streamsize>(raw.size() * sizeof(float)));
   return out.good() || fail(error, "cannot write " + path);
 }
 
@@ -106,8 +104,7 @@ bool readPoses(const std::string& path, std::vector<Eigen::Isometry3d>* poses, s
   return true;
 }
 
-bool writePoses(const std::string& path, const std::vector<Eigen::Isometry3d>& poses,
-                std::string* error) {
+bool writePoses(const std::string& path, const std::vector<Eigen::Isometry3d>& poses, std::string* error) {
   std::ofstream out(path, std::ios::trunc);
   if (!out) return fail(error, "cannot create " + path);
   out << std::setprecision(9) << std::scientific;

@@ -62,7 +62,8 @@ Metrics computeMetrics(const std::vector<QueryOutcome>& outcomes, double thresho
   for (const auto& o : outcomes) {
     if (o.match >= 0 && std::isfinite(o.distance)) sorted.push_back(&o);
   }
-  std::sort(sorted.begin(), sorted.end(), [](const QueryOutcome* a, const QueryOutcome* b) { return a->distance < b->distance; });
+  std::sort(sorted.begin(), sorted.end(),
+            [](const QueryOutcome* a, const QueryOutcome* b) { return a->distance < b->distance; });
   Counts c;
   double previous_recall = 0.0;
   for (std::size_t i = 0; i < sorted.size();) {

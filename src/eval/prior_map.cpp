@@ -75,7 +75,8 @@ bool loadPriorMap(const std::string& path, const std::string& truth_dir, const S
     return true;
   }
   if (truth_dir.empty()) {
-    *error = "prior " + path + " is a database file: its keyframes' true poses need the sequence it was built "
+    *error = "prior " + path +
+             " is a database file: its keyframes' true poses need the sequence it was built "
              "from (--prior-truth SEQ_DIR: its poses.txt and calib.txt, looked up by each keyframe's tag)";
     return false;
   }

@@ -180,14 +180,15 @@ bool writeInterRobotLoopsCsv(const std::string& path, const TeamSequence& team, 
     *error = "cannot create " + path;
     return false;
   }
-  out << "clock_s,query_robot,query_frame,match_robot,match_frame,gap_m,correct,trans_err_m,rot_err_deg,x,y,z,yaw_deg\n";
+  out << "clock_s,query_robot,query_frame,match_robot,match_frame,gap_m,correct,trans_err_m,rot_err_deg,x,y,z,yaw_"
+         "deg\n";
   out.precision(6);
   for (const InterRobotLoop& l : e.loops) {
     const Eigen::Vector3d t = l.relative.translation();
     out << l.clock << ',' << team.robots[l.query_robot].id << ',' << team.robots[l.query_robot].sequence.frames[l.query]
         << ',' << team.robots[l.match_robot].id << ',' << team.robots[l.match_robot].sequence.frames[l.match] << ','
-        << l.gap << ',' << int(l.correct) << ',' << l.translation_error << ',' << l.rotation_error * 180.0 / M_PI
-        << ',' << t.x() << ',' << t.y() << ',' << t.z() << ',' << yawOf(l.relative) * 180.0 / M_PI << '\n';
+        << l.gap << ',' << int(l.correct) << ',' << l.translation_error << ',' << l.rotation_error * 180.0 / M_PI << ','
+        << t.x() << ',' << t.y() << ',' << t.z() << ',' << yawOf(l.relative) * 180.0 / M_PI << '\n';
   }
   return out.good();
 }
@@ -201,9 +202,10 @@ std::vector<std::string> teamSummary(const TeamSequence& team, const TeamEvaluat
                 e.loops.size(), e.true_positives, e.false_positives, e.precision, e.recall, e.revisits_found,
                 e.revisits, e.revisit_radius, e.repeated_pairs);
   lines.push_back(line);
-  std::snprintf(line, sizeof line,
-                "pose error of the true ones: translation %.3f m median / %.3f p90, rotation %.2f deg median / %.2f p90",
-                e.translation_error_median, e.translation_error_p90, e.rotation_error_median, e.rotation_error_p90);
+  std::snprintf(
+      line, sizeof line,
+      "pose error of the true ones: translation %.3f m median / %.3f p90, rotation %.2f deg median / %.2f p90",
+      e.translation_error_median, e.translation_error_p90, e.rotation_error_median, e.rotation_error_p90);
   lines.push_back(line);
   for (std::size_t r = 0; r < team.robots.size(); ++r) {
     const TeamRobotEvaluation& x = e.robots[r];

@@ -17,12 +17,12 @@ namespace {
 /// What the graph takes, in the world's clock order: a keyframe, or a loop between two earlier ones.
 struct Event {
   double clock;
-  bool loop;                 // else a keyframe
-  std::size_t robot, k;      // the keyframe; the loop's query
+  bool loop;             // else a keyframe
+  std::size_t robot, k;  // the keyframe; the loop's query
   std::size_t match_robot = 0, match = 0;
   Eigen::Isometry3d relative = Eigen::Isometry3d::Identity();
   Matrix6d covariance = Matrix6d::Identity();
-  bool own = false;          // a loop within one robot
+  bool own = false;  // a loop within one robot
 };
 
 /// Every keyframe of the team, each robot's own loops (the verified ones with verification) and the
@@ -56,8 +56,9 @@ std::vector<Event> events(const TeamSequence& team, const TeamEvaluation& e, con
     x.covariance = loop.covariance;
     out.push_back(x);
   }
-  std::stable_sort(out.begin(), out.end(),
-                   [](const Event& a, const Event& b) { return std::tie(a.clock, a.loop) < std::tie(b.clock, b.loop); });
+  std::stable_sort(out.begin(), out.end(), [](const Event& a, const Event& b) {
+    return std::tie(a.clock, a.loop) < std::tie(b.clock, b.loop);
+  });
   return out;
 }
 

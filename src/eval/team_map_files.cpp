@@ -61,9 +61,10 @@ bool writeTeamJson(const std::string& path, const TeamSequence& team, const Team
       << ", \"false_positives\": " << e.false_positives << ", \"precision\": " << e.precision
       << ", \"recall\": " << e.recall << ", \"queries\": " << e.queries << ", \"revisits\": " << e.revisits
       << ", \"revisits_found\": " << e.revisits_found << ", \"repeated_pairs\": " << e.repeated_pairs
-      << ", \"translation_error_m\": {\"median\": " << e.translation_error_median << ", \"p90\": "
-      << e.translation_error_p90 << "}, \"rotation_error_deg\": {\"median\": " << e.rotation_error_median
-      << ", \"p90\": " << e.rotation_error_p90 << "}},\n"
+      << ", \"translation_error_m\": {\"median\": " << e.translation_error_median
+      << ", \"p90\": " << e.translation_error_p90
+      << "}, \"rotation_error_deg\": {\"median\": " << e.rotation_error_median << ", \"p90\": " << e.rotation_error_p90
+      << "}},\n"
       << "  \"exchange\": {\"keyframes\": " << e.keyframes << ", \"record_bytes\": " << e.record_bytes
       << ", \"record_bytes_per_keyframe\": " << e.record_bytes_mean << ", \"record_bytes_max\": " << e.record_bytes_max
       << ", \"fetched\": " << e.fetched << ", \"fetched_bytes\": " << e.fetched_bytes
@@ -79,18 +80,18 @@ bool writeTeamJson(const std::string& path, const TeamSequence& team, const Team
   out << "},\n  \"robots\": [";
   for (std::size_t r = 0; r < team.robots.size(); ++r) {
     const TeamRobotEvaluation& x = e.robots[r];
-    out << (r ? "," : "") << "\n    {\"id\": \"" << team.robots[r].id << "\", \"start_seconds\": "
-        << team.robots[r].start_seconds << ", \"keyframes\": " << x.keyframes << ", \"record_bytes\": "
-        << x.record_bytes << ", \"received_bytes\": " << x.received_bytes << ", \"fetched\": " << x.fetched
-        << ", \"fetched_bytes\": " << x.fetched_bytes << ", \"fetch_failures\": " << x.fetch_failures
-        << ", \"queries\": " << x.queries << ", \"revisits\": " << x.revisits << ", \"revisits_found\": "
-        << x.revisits_found << ", \"true_positives\": " << x.true_positives << ", \"false_positives\": "
-        << x.false_positives;
+    out << (r ? "," : "") << "\n    {\"id\": \"" << team.robots[r].id
+        << "\", \"start_seconds\": " << team.robots[r].start_seconds << ", \"keyframes\": " << x.keyframes
+        << ", \"record_bytes\": " << x.record_bytes << ", \"received_bytes\": " << x.received_bytes
+        << ", \"fetched\": " << x.fetched << ", \"fetched_bytes\": " << x.fetched_bytes
+        << ", \"fetch_failures\": " << x.fetch_failures << ", \"queries\": " << x.queries
+        << ", \"revisits\": " << x.revisits << ", \"revisits_found\": " << x.revisits_found
+        << ", \"true_positives\": " << x.true_positives << ", \"false_positives\": " << x.false_positives;
     if (map.computed) {
       const TeamMapRobot& m = map.robots[r];
-      out << ", \"joined\": " << (m.joined ? "true" : "false") << ", \"frame_error_m\": "
-          << m.frame_translation_error << ", \"frame_error_deg\": " << m.frame_rotation_error
-          << ", \"own_loops\": " << m.own_loops << ", \"team_loops\": " << m.team_loops << ", ";
+      out << ", \"joined\": " << (m.joined ? "true" : "false") << ", \"frame_error_m\": " << m.frame_translation_error
+          << ", \"frame_error_deg\": " << m.frame_rotation_error << ", \"own_loops\": " << m.own_loops
+          << ", \"team_loops\": " << m.team_loops << ", ";
       writeError(out, "corrected", m.corrected);
       out << ", ";
       writeError(out, "odometry", m.odometry);

@@ -103,8 +103,9 @@ TrajectoryCorrection correctTrajectory(const Sequence& s, const Evaluation& e, c
   c.own_odometry = s.odometry_from_file;
   c.in_prior = e.has_prior;
   if (!c.own_odometry) {
-    c.note = "no odometry of its own (no odom_poses.txt, or --truth-odometry): the truth is the odometry (error 0), "
-             "and the corrected error is what the loops' registration errors do to a perfect trajectory";
+    c.note =
+        "no odometry of its own (no odom_poses.txt, or --truth-odometry): the truth is the odometry (error 0), "
+        "and the corrected error is what the loops' registration errors do to a perfect trajectory";
   }
   if (c.in_prior) {
     c.prior_source = e.prior_source;
@@ -127,8 +128,7 @@ TrajectoryCorrection correctTrajectory(const Sequence& s, const Evaluation& e, c
   c.corrected_factors = corrected.sequenceFactors();
   c.corrected = absoluteTrajectoryError(c.corrected_poses, s.truth);
   for (std::size_t i = 0; i < corrected.priorCount(); ++i) {
-    const double moved =
-        (corrected.graph.pose(i).translation() - e.prior_keyframes.odometry[i].translation()).norm();
+    const double moved = (corrected.graph.pose(i).translation() - e.prior_keyframes.odometry[i].translation()).norm();
     c.prior_moved = std::max(c.prior_moved, moved);
   }
 

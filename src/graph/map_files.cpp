@@ -174,8 +174,9 @@ std::string inconsistency(const MapFiles& files) {
   }
   const auto increasing = [&](const std::vector<std::size_t>& keyframes, const std::string& whose) -> std::string {
     for (std::size_t k = 0; k < keyframes.size(); ++k) {
-      if (keyframes[k] >= n) return whose + "keyframe " + std::to_string(keyframes[k]) + " is beyond the " +
-                                    std::to_string(n) + " there are";
+      if (keyframes[k] >= n)
+        return whose + "keyframe " + std::to_string(keyframes[k]) + " is beyond the " + std::to_string(n) +
+               " there are";
       if (k > 0 && files.stamps_ns[keyframes[k]] <= files.stamps_ns[keyframes[k - 1]]) {
         return whose + "keyframe stamps do not increase at keyframe " + std::to_string(keyframes[k]);
       }

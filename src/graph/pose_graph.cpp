@@ -64,8 +64,8 @@ struct PoseGraph::Impl {
   std::deque<Eigen::Vector3d> positions;
   std::deque<Eigen::Quaterniond> rotations;
   std::vector<ceres::ResidualBlockId> loop_blocks;
-  std::vector<long> chain_of;    ///< per keyframe: its chain, -1 for a fixed one (addFixedKeyframe)
-  std::vector<Chain> chains;     ///< by chain number
+  std::vector<long> chain_of;  ///< per keyframe: its chain, -1 for a fixed one (addFixedKeyframe)
+  std::vector<Chain> chains;   ///< by chain number
   /// By group (its lowest chain): the keyframe held as its gauge, -1 once the group joined the fixed
   /// keyframes (they hold it then).
   std::vector<long> gauge;
@@ -109,8 +109,8 @@ struct PoseGraph::Impl {
     const bool query_stays = gq == kFixedGroup || (gm != kFixedGroup && gq < gm);
     const std::size_t stays = query_stays ? gq : gm, moves = query_stays ? gm : gq;
     const std::size_t moved = query_stays ? match : query;
-    const Eigen::Isometry3d target = query_stays ? pose(query) * query_from_match
-                                                 : pose(match) * query_from_match.inverse();
+    const Eigen::Isometry3d target =
+        query_stays ? pose(query) * query_from_match : pose(match) * query_from_match.inverse();
     const Eigen::Isometry3d move = target * pose(moved).inverse();
     for (std::size_t i = 0; i < positions.size(); ++i) {
       if (groupOf(i) != moves) continue;

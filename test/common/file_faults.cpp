@@ -42,10 +42,10 @@ struct ErrnoName {
   const char* name;
   int value;
 };
-const ErrnoName kErrnoNames[] = {{"EIO", EIO},         {"ENOSPC", ENOSPC}, {"EDQUOT", EDQUOT},
-                                 {"EROFS", EROFS},     {"EPERM", EPERM},   {"EACCES", EACCES},
-                                 {"EOPNOTSUPP", EOPNOTSUPP}, {"EXDEV", EXDEV}, {"EMLINK", EMLINK},
-                                 {"ENOSYS", ENOSYS},   {"EINVAL", EINVAL}, {"ESPIPE", ESPIPE}};
+const ErrnoName kErrnoNames[] = {
+    {"EIO", EIO},       {"ENOSPC", ENOSPC}, {"EDQUOT", EDQUOT},         {"EROFS", EROFS},
+    {"EPERM", EPERM},   {"EACCES", EACCES}, {"EOPNOTSUPP", EOPNOTSUPP}, {"EXDEV", EXDEV},
+    {"EMLINK", EMLINK}, {"ENOSYS", ENOSYS}, {"EINVAL", EINVAL},         {"ESPIPE", ESPIPE}};
 
 /// The errno that the SCL_FILE_FAULTS file chooses for `call` (a name of kErrnoNames, such as
 /// EIO), 0 when there is no such file or no line for it; for "DELAY<ms>" (a slow disk: the call

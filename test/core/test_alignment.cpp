@@ -120,8 +120,8 @@ TEST(Alignment, DistanceIsDefinedForEmptyAndDegenerateDescriptors) {
   config.lidar_height = 0.0;
   pcl::PointCloud<pcl::PointXYZ> flat;
   for (int i = 0; i < 360; ++i) {
-    flat.push_back(pcl::PointXYZ(static_cast<float>(10 * std::cos(i * kDeg)),
-                                 static_cast<float>(10 * std::sin(i * kDeg)), 0.0f));
+    flat.push_back(
+        pcl::PointXYZ(static_cast<float>(10 * std::cos(i * kDeg)), static_cast<float>(10 * std::sin(i * kDeg)), 0.0f));
   }
   const Descriptor zero = makeDescriptor(flat, config);
   EXPECT_EQ(zero.occupied_columns, 60);

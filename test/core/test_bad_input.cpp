@@ -17,7 +17,7 @@ TEST(BadInput, NonFiniteAndOutOfRangePointsAreSkipped) {
   const float inf = std::numeric_limits<float>::infinity();
   const float nan = std::numeric_limits<float>::quiet_NaN();
   pcl::PointCloud<pcl::PointXYZ> cloud;
-  cloud.push_back(pcl::PointXYZ(10.0f, 0.0f, 1.0f));   // used
+  cloud.push_back(pcl::PointXYZ(10.0f, 0.0f, 1.0f));  // used
   cloud.push_back(pcl::PointXYZ(nan, 0.0f, 1.0f));
   cloud.push_back(pcl::PointXYZ(5.0f, nan, 1.0f));
   cloud.push_back(pcl::PointXYZ(5.0f, 1.0f, nan));

@@ -51,8 +51,8 @@ TEST(ChunkedLog, AViewKeepsItsItemsAsTakenWhileTheLogGoesOn) {
   EXPECT_EQ(log[kChunk - 1], 1000u);
   EXPECT_EQ(log[kChunk + 1], 2000u);
   for (std::size_t i = 0; i < view.size(); ++i) EXPECT_EQ(view[i], kChunk - 2 + i) << i;
-  EXPECT_EQ(view.toVector(), std::vector<std::uint64_t>({kChunk - 2, kChunk - 1, kChunk, kChunk + 1, kChunk + 2,
-                                                          kChunk + 3}));
+  EXPECT_EQ(view.toVector(),
+            std::vector<std::uint64_t>({kChunk - 2, kChunk - 1, kChunk, kChunk + 1, kChunk + 2, kChunk + 3}));
 
   // Clamped to the log; empty when it starts past the end.
   EXPECT_EQ(log.view(0, 10 * kChunk).size(), log.size());

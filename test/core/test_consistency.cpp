@@ -276,8 +276,8 @@ TEST(ConsistencyContradicted, NeedsOneSupportMoreAndOnlyFromLoopsLikeIt) {
   other(contradicted(40, 10, 3.0));
   other(contradicted(41, 11, 3.0));
   other(Drive::loop(42, 12));
-  EXPECT_TRUE(std::none_of(other.confirmed.begin(), other.confirmed.end(),
-                           [](const Loop& l) { return l.query == 42; }));
+  EXPECT_TRUE(
+      std::none_of(other.confirmed.begin(), other.confirmed.end(), [](const Loop& l) { return l.query == 42; }));
 }
 
 TEST(ConsistencyContradicted, OnesDroppedShortOfTheirSupportSayTheyNeededOneMore) {

@@ -188,8 +188,10 @@ TEST(Database, ApproximateSearchAboveTheLimitFindsWhatTheExactOneFinds) {
     }
     ++queries;
   }
-  std::printf("approximate search: the exact nearest key among the candidates in %d of %d queries, %.2f of the 10 candidates shared\n",
-              same_nearest, queries, shared / (10.0 * queries));
+  std::printf(
+      "approximate search: the exact nearest key among the candidates in %d of %d queries, %.2f of the 10 candidates "
+      "shared\n",
+      same_nearest, queries, shared / (10.0 * queries));
   EXPECT_GE(same_nearest, queries * 95 / 100);
   EXPECT_GE(shared, queries * 10 * 80 / 100);
 }
@@ -262,9 +264,8 @@ TEST(Database, RefusesAPoseWhoseRotationIsNotARotation) {
   ASSERT_TRUE(db.add(at(1.0), d));
   const Eigen::Matrix3d yaw = Eigen::AngleAxisd(0.4, Eigen::Vector3d::UnitZ()).toRotationMatrix();
   // An unnormalised quaternion's matrix, an all-zero quaternion's, a mirror: none is a rotation.
-  for (const Eigen::Matrix3d& linear :
-       {Eigen::Matrix3d(1.1 * yaw), Eigen::Matrix3d(Eigen::Matrix3d::Zero()),
-        Eigen::Matrix3d(yaw * Eigen::Vector3d(1.0, 1.0, -1.0).asDiagonal())}) {
+  for (const Eigen::Matrix3d& linear : {Eigen::Matrix3d(1.1 * yaw), Eigen::Matrix3d(Eigen::Matrix3d::Zero()),
+                                        Eigen::Matrix3d(yaw * Eigen::Vector3d(1.0, 1.0, -1.0).asDiagonal())}) {
     KeyframeInfo bad = at(2.0, 1.0);
     bad.pose->linear() = linear;
     std::string error;
@@ -326,7 +327,8 @@ std::size_t heapInUse() {
 }
 
 /// The heap growth of a database of 20,000 real street descriptors, measured by the allocator, against
-/// bytesPerKeyframe() (what doc/benchmark.md's bytes per keyframe and the node's memory figures rest on) and the 6 KB budget.
+/// bytesPerKeyframe() (what doc/benchmark.md's bytes per keyframe and the node's memory figures rest on) and the 6 KB
+/// budget.
 void expectHeapPerKeyframeAsStated(const Config& config) {
   std::vector<Descriptor> scenes;
   for (std::uint32_t seed = 1; seed <= 4; ++seed) scenes.push_back(makeDescriptor(test::streetScene(seed), config));

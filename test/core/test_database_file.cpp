@@ -191,8 +191,7 @@ void expectSameDetection(const Detection& a, const Detection& b) {
 /// Queries: revisits of both sessions (turned, moved a little) and a street never seen.
 std::vector<pcl::PointCloud<pcl::PointXYZ>> queries() {
   return {test::rotateTranslate(test::streetScene(303), 0.7, 0.5, -0.3),
-          test::rotateTranslate(test::streetScene(310), -2.0),
-          test::rotateTranslate(test::streetScene(402), 3.1, 1.0),
+          test::rotateTranslate(test::streetScene(310), -2.0), test::rotateTranslate(test::streetScene(402), 3.1, 1.0),
           test::streetScene(999)};
 }
 
@@ -281,7 +280,8 @@ TEST(DatabaseFile, ALargeFileIsDecodedIntoOneArenaThatTheDatabaseKeeps) {
       loaded.database().keyframe(0).descriptor.unit_columns.get_allocator().resource();
   EXPECT_NE(memory, std::pmr::get_default_resource());
   EXPECT_EQ(loaded.database().keyframe(799).descriptor.sector_key.get_allocator().resource(), memory);
-  EXPECT_EQ(loaded.database().keyframe(799).descriptor.ring_key, small.database().keyframe(799 % small.database().size()).descriptor.ring_key);
+  EXPECT_EQ(loaded.database().keyframe(799).descriptor.ring_key,
+            small.database().keyframe(799 % small.database().size()).descriptor.ring_key);
 }
 
 TEST(DatabaseFile, LoadedSessionsFollowTheRunningOnesAndANewSessionBegins) {
@@ -292,7 +292,8 @@ TEST(DatabaseFile, LoadedSessionsFollowTheRunningOnesAndANewSessionBegins) {
   ASSERT_TRUE(saveDatabase(saved, dir.file("db.scl"), SaveOptions(), &error)) << error;
 
   LoopDetector running(descriptorConfig());
-  for (int i = 0; i < 3; ++i) ASSERT_TRUE(running.process(viewOf(test::streetScene(500 + i)), at(50.0 + i, i)).accepted);
+  for (int i = 0; i < 3; ++i)
+    ASSERT_TRUE(running.process(viewOf(test::streetScene(500 + i)), at(50.0 + i, i)).accepted);
   ASSERT_TRUE(loadDatabase(dir.file("db.scl"), &running, &error)) << error;
   const Database& db = running.database();
   ASSERT_EQ(db.size(), 3 + saved.database().size());
@@ -426,7 +427,8 @@ TEST(DatabaseFile, CorrectedPosesAreSavedMarkedForTheirWholeSessionAndSurviveALo
   ASSERT_TRUE(saveDatabase(loaded, dir.file("again.scl"), SaveOptions(), &error)) << error;
   EXPECT_EQ(readBytes(dir.file("again.scl")), readBytes(dir.file("corrected.scl")));
   // Only the pose flags of session 1's keyframes with a pose, and their poses, differ from the plain file.
-  const std::vector<std::uint8_t> plain = readBytes(dir.file("plain.scl")), marked = readBytes(dir.file("corrected.scl"));
+  const std::vector<std::uint8_t> plain = readBytes(dir.file("plain.scl")),
+                                  marked = readBytes(dir.file("corrected.scl"));
   ASSERT_EQ(plain.size(), marked.size());
   std::size_t at = kHeaderBytes;
   for (std::size_t i = 0; i < a.size(); ++i) {
@@ -573,7 +575,8 @@ TEST_F(DamagedFile, AVersion1FileLoadsItsFloatColumnsQuantised) {
     EXPECT_EQ(a.ring_key, b.ring_key);
     EXPECT_EQ(a.column_occupied, b.column_occupied);
     // Quantised again from floats: each entry within a step of the version-2 file's.
-    for (std::size_t e = 0; e < a.unit_columns.size(); ++e) ASSERT_LE(std::abs(a.unit_columns[e] - b.unit_columns[e]), 1);
+    for (std::size_t e = 0; e < a.unit_columns.size(); ++e)
+      ASSERT_LE(std::abs(a.unit_columns[e] - b.unit_columns[e]), 1);
     EXPECT_EQ(descriptorImplausibility(a, verifiedConfig().ring_key), "");
   }
   // The loaded keyframes answer a query as the version-2 file's do.
@@ -788,7 +791,8 @@ TEST_F(DamagedFile, VoxelsOutsideTheCropOrBeyondTheGrid) {
   expectRefused(withFirstCloud(good_, 4, lz4Literals(voxelBytes(means))),
                 {"keyframe 0", "voxel 2", "outside the crop", "verify_max_range 40"});
   means[2] = Eigen::Vector3f(0, 0, 100);
-  expectRefused(withFirstCloud(good_, 4, lz4Literals(voxelBytes(means))), {"keyframe 0", "voxel 2", "outside the crop"});
+  expectRefused(withFirstCloud(good_, 4, lz4Literals(voxelBytes(means))),
+                {"keyframe 0", "voxel 2", "outside the crop"});
   means[2] = Eigen::Vector3f(0, -39.5f, -7.5f);
   std::vector<std::uint8_t> raw = voxelBytes(means);
   raw[12 * 4 + 4 * 1] = 127;  // voxel 1's normal (127, 0, 127): longer than a unit vector
@@ -931,7 +935,8 @@ TEST(DatabaseFileSave, TheReplacedFileIsKeptAsABackupAndKeepsItsMode) {
   EXPECT_EQ(readBytes(dir.file("db.scl.bak")), first);
   EXPECT_NE(readBytes(dir.file("db.scl")), first);
   EXPECT_EQ(fs::status(dir.file("db.scl")).permissions() & fs::perms::all,
-            fs::perms::owner_read | fs::perms::owner_write) << "the replaced file's mode is kept";
+            fs::perms::owner_read | fs::perms::owner_write)
+      << "the replaced file's mode is kept";
   // A third save: the backup is now the second save's file.
   const std::vector<std::uint8_t> second = readBytes(dir.file("db.scl"));
   ASSERT_TRUE(saveDatabase(empty, dir.file("db.scl"), save, &error)) << error;

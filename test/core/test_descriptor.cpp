@@ -16,8 +16,8 @@ using test::sectorCentredScene;
 pcl::PointCloud<pcl::PointXYZ> onePoint(double range, double azimuth_deg, double z) {
   pcl::PointCloud<pcl::PointXYZ> cloud;
   const double a = azimuth_deg * M_PI / 180.0;
-  cloud.push_back(pcl::PointXYZ(static_cast<float>(range * std::cos(a)),
-                                static_cast<float>(range * std::sin(a)), static_cast<float>(z)));
+  cloud.push_back(pcl::PointXYZ(static_cast<float>(range * std::cos(a)), static_cast<float>(range * std::sin(a)),
+                                static_cast<float>(z)));
   return cloud;
 }
 
@@ -27,7 +27,7 @@ TEST(HeightGrid, BinsFollowTheDocumentedGeometry) {
     double range, azimuth_deg;
     int ring, sector;
   };
-  const Case cases[] = {{1.0, 3.0, 0, 0},      {5.0, 9.0, 1, 1},     {79.9, 357.0, 19, 59},
+  const Case cases[] = {{1.0, 3.0, 0, 0},           {5.0, 9.0, 1, 1},     {79.9, 357.0, 19, 59},
                         {10.0, 180.0 + 3.0, 2, 30}, {42.0, -3.0, 10, 59}, {0.5, 90.0 + 1.0, 0, 15}};
   for (const auto& c : cases) {
     const HeightGrid grid = makeHeightGrid(onePoint(c.range, c.azimuth_deg, 1.5), config);
@@ -69,8 +69,7 @@ TEST(HeightGrid, RotatingBySectorsShiftsColumns) {
     const HeightGrid rotated = makeHeightGrid(rotateTranslate(cloud, k * sector), config);
     for (int s = 0; s < config.num_sectors; ++s) {
       const int moved = ((s + k) % config.num_sectors + config.num_sectors) % config.num_sectors;
-      ASSERT_TRUE(rotated.heights.col(moved).isApprox(base.heights.col(s), 1e-6f))
-          << "k = " << k << ", column " << s;
+      ASSERT_TRUE(rotated.heights.col(moved).isApprox(base.heights.col(s), 1e-6f)) << "k = " << k << ", column " << s;
       ASSERT_EQ(rotated.occupied.col(moved), base.occupied.col(s)) << "k = " << k;
     }
   }
@@ -86,9 +85,8 @@ TEST(Descriptor, KeysAndUnitColumns) {
     ASSERT_EQ(d.ring_key.size(), 20u);
     ASSERT_EQ(d.sector_key.size(), 60u);
     for (int r = 0; r < config.num_rings; ++r) {
-      const float expected = type == RingKeyType::kOccupancy
-                                 ? grid.occupied.row(r).cast<float>().mean()
-                                 : grid.heights.row(r).mean();
+      const float expected =
+          type == RingKeyType::kOccupancy ? grid.occupied.row(r).cast<float>().mean() : grid.heights.row(r).mean();
       EXPECT_NEAR(d.ring_key[r], expected, 1e-5f);
     }
     for (int s = 0; s < config.num_sectors; ++s) {

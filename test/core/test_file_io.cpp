@@ -50,8 +50,8 @@ TEST(FileReader, PiecesOfAnySizeAcrossRefillsHoldTheFileInOrder) {
   EXPECT_EQ(reader.size(), size);
   std::size_t offset = 0;
   // Small, odd-sized, larger than the buffer, then exactly what is left.
-  for (std::size_t piece : {std::size_t(7), std::size_t(1048570), std::size_t(1), std::size_t(2100000),
-                            std::size_t(3), size - 7 - 1048570 - 1 - 2100000 - 3}) {
+  for (std::size_t piece : {std::size_t(7), std::size_t(1048570), std::size_t(1), std::size_t(2100000), std::size_t(3),
+                            size - 7 - 1048570 - 1 - 2100000 - 3}) {
     const std::uint8_t* p = reader.take(piece);
     ASSERT_NE(p, nullptr) << "at " << offset << " taking " << piece;
     for (std::size_t i = 0; i < piece; ++i) {
@@ -159,7 +159,8 @@ TEST(AtomicFileWriter, WritesBehindSoThatCommitHasLittleLeftToFlush) {
   test::TempDir dir("scl_write_behind");
   struct statfs fs_info;
   ASSERT_EQ(::statfs(dir.file("").c_str(), &fs_info), 0);
-  if (fs_info.f_type == TMPFS_MAGIC) GTEST_SKIP() << "the temporary directory is in memory (tmpfs): no disk to write to";
+  if (fs_info.f_type == TMPFS_MAGIC)
+    GTEST_SKIP() << "the temporary directory is in memory (tmpfs): no disk to write to";
   const std::string path = dir.file("big");
   const std::size_t piece = std::size_t(1) << 20, total = 4 * AtomicFileWriter::kWriteBehindBytes;
   AtomicFileWriter writer;
@@ -176,7 +177,8 @@ TEST(AtomicFileWriter, WritesBehindSoThatCommitHasLittleLeftToFlush) {
   ASSERT_GE(fd, 0);
   void* map = ::mmap(nullptr, total, PROT_READ, MAP_SHARED, fd, 0);
   ASSERT_NE(map, MAP_FAILED);
-  const std::size_t page = static_cast<std::size_t>(::sysconf(_SC_PAGESIZE)), settled = 2 * AtomicFileWriter::kWriteBehindBytes;
+  const std::size_t page = static_cast<std::size_t>(::sysconf(_SC_PAGESIZE)),
+                    settled = 2 * AtomicFileWriter::kWriteBehindBytes;
   std::vector<unsigned char> resident(total / page);
   ASSERT_EQ(::mincore(map, total, resident.data()), 0);
   std::size_t cached = 0;
@@ -184,7 +186,7 @@ TEST(AtomicFileWriter, WritesBehindSoThatCommitHasLittleLeftToFlush) {
   ::munmap(map, total);
   ::close(fd);
   EXPECT_LT(cached, settled / page / 20) << cached << " of the first " << settled / page
-                                          << " pages still in the page cache: nothing was written behind";
+                                         << " pages still in the page cache: nothing was written behind";
   ASSERT_TRUE(writer.commit(&error)) << error;
   std::ifstream in(path, std::ios::binary);
   std::size_t at = 0, wrong = 0;
@@ -364,8 +366,8 @@ TEST(AtomicFileWriter, WhatADeadWriterLeftIsRemovedAndNothingElse) {
   std::string text;
   std::getline(std::ifstream(map), text);
   EXPECT_EQ(text, "the new map");
-  EXPECT_EQ(dir.entries(), (std::vector<std::string>{"elsewhere", "map.scdb", "map.scdb.tmp.Ab12", "map.scdb.tmp.Link00",
-                                                    "other.scdb.tmp.Ab12Cd"}));
+  EXPECT_EQ(dir.entries(), (std::vector<std::string>{"elsewhere", "map.scdb", "map.scdb.tmp.Ab12",
+                                                     "map.scdb.tmp.Link00", "other.scdb.tmp.Ab12Cd"}));
   EXPECT_TRUE(removeAbandonedTemporaries(dir.file("missing/map.scdb")).empty());
 }
 

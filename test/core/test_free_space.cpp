@@ -49,9 +49,9 @@ TEST(FreeSpace, StructureInFrontOfWhatWasSeenViolatesIt) {
 TEST(FreeSpace, OnlyTheBandEverySensorSeesCounts) {
   const FreeSpace band;
   EXPECT_TRUE(band.counts(Eigen::Vector3f(10.0f, 0.0f, 0.1f)));
-  EXPECT_FALSE(band.counts(Eigen::Vector3f(10.0f, 0.0f, 1.0f)));   // above +1 deg
+  EXPECT_FALSE(band.counts(Eigen::Vector3f(10.0f, 0.0f, 1.0f)));  // above +1 deg
   EXPECT_TRUE(band.counts(Eigen::Vector3f(10.0f, 0.0f, -1.7f)));
-  EXPECT_FALSE(band.counts(Eigen::Vector3f(3.0f, 0.0f, -1.7f)));   // below -20 deg
+  EXPECT_FALSE(band.counts(Eigen::Vector3f(3.0f, 0.0f, -1.7f)));  // below -20 deg
   const FreeSpace nothing = freeSpace(VoxelCloud());
   EXPECT_EQ(checkFreeSpace(VoxelCloud(), nothing, Eigen::Isometry3d::Identity()).covered, 0u);
   EXPECT_EQ(checkFreeSpace(VoxelCloud(), nothing, Eigen::Isometry3d::Identity()).ratio(), 0.0);

@@ -114,7 +114,8 @@ TEST(HardRevisits, TiltedSensorIsGravityAlignedAndVerified) {
   // 12 and pitched -9 deg, the distance is 0.72 not gravity-aligned and 0.36 gravity-aligned, above verify_threshold.
   Eigen::Isometry3d tilted = s.pose(k, 0.5, 10.0 * kDeg);
   tilted.linear() = tilted.linear() * (Eigen::AngleAxisd(8.0 * kDeg, Eigen::Vector3d::UnitX()) *
-                                       Eigen::AngleAxisd(-6.0 * kDeg, Eigen::Vector3d::UnitY())).toRotationMatrix();
+                                       Eigen::AngleAxisd(-6.0 * kDeg, Eigen::Vector3d::UnitY()))
+                                          .toRotationMatrix();
   const Detection d = detect(s, level, s.times[k], tilted, s.times[k] + 60.0);
   for (const auto& c : d.query.candidates) std::printf("tilted: candidate distance %.3f\n", c.alignment.distance);
   EXPECT_STREQ(d.aligned_by, "pose");

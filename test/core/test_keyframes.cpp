@@ -31,8 +31,8 @@ TEST(KeyframePipeline, SelectsByDistanceOrYawSinceTheLastKeyframe) {
   const struct {
     double x, yaw;
     bool selected;
-  } steps[] = {{0.0, 0.0, true}, {0.5, 0.0, false}, {0.95, 0.0, true}, {1.2, 5.0, false}, {1.3, 12.0, true},
-               {1.4, 15.0, false}};
+  } steps[] = {{0.0, 0.0, true},  {0.5, 0.0, false}, {0.95, 0.0, true},
+               {1.2, 5.0, false}, {1.3, 12.0, true}, {1.4, 15.0, false}};
   double stamp = 0.0;
   for (const auto& s : steps) {
     const Detection d = pipeline.process(viewOf(scene), at(s.x, s.yaw, stamp += 1.0));

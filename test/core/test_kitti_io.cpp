@@ -9,9 +9,7 @@
 namespace scan_context_loop {
 namespace {
 
-std::string tempPath(const std::string& name) {
-  return testing::TempDir() + "/scl_kitti_io_" + name;
-}
+std::string tempPath(const std::string& name) { return testing::TempDir() + "/scl_kitti_io_" + name; }
 
 TEST(KittiIo, ScanRoundTripAndCorruptFiles) {
   pcl::PointCloud<pcl::PointXYZI> cloud;

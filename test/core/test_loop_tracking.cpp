@@ -84,8 +84,8 @@ TEST(LoopTracking, OnlyAUsableKeyframeIsChosen) {
   TwoSessions s{Config()};
   LoopTracker tracker;
   tracker.anchor(s.loop(5, 40));
-  const auto kept = tracker.predict(s.database, s.second(8), s.database.sessionStart(),
-                                    [](std::size_t i) { return i % 4 == 0; });
+  const auto kept =
+      tracker.predict(s.database, s.second(8), s.database.sessionStart(), [](std::size_t i) { return i % 4 == 0; });
   ASSERT_TRUE(kept);
   EXPECT_EQ(kept->index, 36u);  // 37 is nearest (3 m), 36 next (about 3.6 m)
   EXPECT_FALSE(tracker.predict(s.database, s.second(8), s.database.sessionStart(), [](std::size_t) { return false; }));
@@ -120,7 +120,7 @@ TEST(LoopTracking, TheTrackEndsAfterTrackDistanceAndWithoutAPlaceInReach) {
   // Past the first session's start (x = 0) no keyframe is within reach.
   config.track_distance = 1000.0;
   TwoSessions far{config};
-  tracker.anchor(far.loop(40, 5));  // x = 10 m
+  tracker.anchor(far.loop(40, 5));                                                                   // x = 10 m
   const auto at_start = tracker.predict(far.database, far.second(46), far.database.sessionStart());  // x = -2 m
   ASSERT_TRUE(at_start);
   EXPECT_EQ(at_start->index, 0u);

@@ -101,7 +101,8 @@ Outcome runBrokenDrive(const test::Drive& drive, const sim::OdometryFailures& fa
     for (const Loop& loop : d.loops) {
       const Eigen::Isometry3d truth = drive.truth[loop.query].inverse() * drive.truth[loop.match];
       const Eigen::Isometry3d error = truth.inverse() * loop.relative();
-      const bool right = error.translation().norm() < 1.0 && Eigen::AngleAxisd(error.linear()).angle() < 2.0 * M_PI / 180.0;
+      const bool right =
+          error.translation().norm() < 1.0 && Eigen::AngleAxisd(error.linear()).angle() < 2.0 * M_PI / 180.0;
       ++(right ? outcome.true_loops : outcome.wrong_loops);
     }
   }
@@ -161,8 +162,8 @@ TEST(OdometryTrust, TheNearestLoopIsTheOneAScanOverAllLoopsFinds) {
     const Loop* via = nullptr;
     for (const Loop& l : loops) {
       if (l.query.session != session) continue;
-      const double length = std::fabs(query.path_length - l.query.path_length) +
-                            std::fabs(l.match.path_length - candidate.path_length);
+      const double length =
+          std::fabs(query.path_length - l.query.path_length) + std::fabs(l.match.path_length - candidate.path_length);
       if (length < best) {
         best = length;
         via = &l;

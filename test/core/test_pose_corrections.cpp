@@ -46,8 +46,8 @@ TEST(PoseCorrections, ASessionWithCorrectionsIsCarriedWhollyIntoTheCorrectedFram
   ASSERT_EQ(poses.size(), keyframes.size());
   for (std::size_t i = 0; i < 4; ++i) EXPECT_FALSE(poses[i]) << "session 0 has no correction: keyframe " << i;
   // Before the first correction: the first's; the corrected keyframes: theirs; after one: the newest's.
-  const std::vector<std::pair<std::size_t, Eigen::Isometry3d>> expected = {
-      {4, first}, {5, first}, {6, first}, {8, second}, {9, second}, {10, second}};
+  const std::vector<std::pair<std::size_t, Eigen::Isometry3d>> expected = {{4, first},  {5, first},  {6, first},
+                                                                           {8, second}, {9, second}, {10, second}};
   for (const auto& [i, correction] : expected) {
     ASSERT_TRUE(poses[i]) << "keyframe " << i;
     expectNear(*poses[i], correction * *keyframes[i].info.pose, i);

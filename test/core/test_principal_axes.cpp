@@ -89,12 +89,12 @@ TEST(PrincipalAxes, AgreesWithEigensSolverOnVoxelSpreads) {
 TEST(PrincipalAxes, DegenerateSpreadsGiveUnitAxes) {
   std::mt19937 rng(3);
   std::vector<Eigen::Matrix3d> matrices = {
-      Eigen::Matrix3d::Zero(),                          // one point, many times
-      0.04 * Eigen::Matrix3d::Identity(),               // isotropic
-      spread(&rng, 0.0, 0.0, 0.3),                      // an exact line
-      spread(&rng, 0.0, 0.2, 0.2),                      // an exact plane, round within it
-      Eigen::Vector3d(0.0, 0.0, 0.09).asDiagonal(),     // a vertical line along the axes
-      Eigen::Vector3d(0.01, 0.01, 0.0).asDiagonal(),    // a horizontal plane along the axes
+      Eigen::Matrix3d::Zero(),                        // one point, many times
+      0.04 * Eigen::Matrix3d::Identity(),             // isotropic
+      spread(&rng, 0.0, 0.0, 0.3),                    // an exact line
+      spread(&rng, 0.0, 0.2, 0.2),                    // an exact plane, round within it
+      Eigen::Vector3d(0.0, 0.0, 0.09).asDiagonal(),   // a vertical line along the axes
+      Eigen::Vector3d(0.01, 0.01, 0.0).asDiagonal(),  // a horizontal plane along the axes
   };
   const AxesBlock a = solve(matrices).front();
   for (std::size_t i = 0; i < matrices.size(); ++i) {

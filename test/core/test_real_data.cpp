@@ -20,8 +20,8 @@ using test::kittiScan;
 constexpr double kDeg = M_PI / 180.0;
 
 Alignment alignScans(const std::string& sequence, int query, int match, const Config& config) {
-  return align(makeDescriptor(kittiScan(sequence, query), config),
-               makeDescriptor(kittiScan(sequence, match), config), config);
+  return align(makeDescriptor(kittiScan(sequence, query), config), makeDescriptor(kittiScan(sequence, match), config),
+               config);
 }
 
 TEST(RealData, ConsecutiveFramesMatchAndDistantPlacesDoNot) {
@@ -70,7 +70,7 @@ double floatDistanceAtShift(const HeightGrid& query, const HeightGrid& match, in
 TEST(RealData, QuantisedDistancesStayCloseToFloat) {
   // Every pair of the six real scans (consecutive frames, places apart, a reverse revisit), at every shift.
   constexpr double kBound = 0.002;  // the bound doc/core_library.md states
-  const std::vector<std::pair<std::string, int>> scans = {{"00", 94}, {"00", 95}, {"00", 198},
+  const std::vector<std::pair<std::string, int>> scans = {{"00", 94},  {"00", 95},  {"00", 198},
                                                           {"00", 199}, {"08", 720}, {"08", 1500}};
   Config config;
   std::vector<HeightGrid> grids;

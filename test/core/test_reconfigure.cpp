@@ -56,7 +56,8 @@ TEST(Reconfigure, ThresholdsApplyFromTheNextKeyframeAndTheDatabaseStays) {
   const auto again = test::rotateTranslate(place, 3.0 * M_PI / 180.0);
   double stamp = 0.0, x = 0.0;
   pipeline.process(viewOf(place), along(x, stamp += 1.0));
-  for (std::uint32_t seed = 10; seed < 13; ++seed) pipeline.process(viewOf(test::streetScene(seed)), along(x += 3.0, stamp += 1.0));
+  for (std::uint32_t seed = 10; seed < 13; ++seed)
+    pipeline.process(viewOf(test::streetScene(seed)), along(x += 3.0, stamp += 1.0));
   const Detection first = pipeline.process(viewOf(again), along(x += 3.0, stamp += 1.0));
   ASSERT_EQ(first.loops.size(), 1u);
   EXPECT_EQ(first.loops.front().match, 0u);

@@ -24,7 +24,8 @@ Descriptor descriptorWithKey(const std::vector<float>& key, const Config& config
   d.unit_columns.resize(static_cast<std::size_t>(config.num_rings) * config.num_sectors);
   const std::vector<float> heights(config.num_rings, 1.0f);
   for (int s = 0; s < config.num_sectors; ++s) {
-    quantiseUnitColumn(heights.data(), config.num_rings, &d.unit_columns[static_cast<std::size_t>(s) * config.num_rings]);
+    quantiseUnitColumn(heights.data(), config.num_rings,
+                       &d.unit_columns[static_cast<std::size_t>(s) * config.num_rings]);
   }
   return d;
 }
@@ -33,8 +34,8 @@ namespace {
 
 /// Vertical faces of an axis-aligned box, sampled on a regular grid (about `step` metres apart) as a
 /// scanner sweeping the facade would: every bin the box covers sees its true top edge.
-void addBoxSurface(pcl::PointCloud<pcl::PointXYZ>* cloud, double cx, double cy, double half_x,
-                   double half_y, double z0, double z1, double step) {
+void addBoxSurface(pcl::PointCloud<pcl::PointXYZ>* cloud, double cx, double cy, double half_x, double half_y, double z0,
+                   double z1, double step) {
   const auto face = [&](double x0, double y0, double x1, double y1) {
     const double length = std::hypot(x1 - x0, y1 - y0);
     const int n = std::max(2, static_cast<int>(length / step));
@@ -42,8 +43,7 @@ void addBoxSurface(pcl::PointCloud<pcl::PointXYZ>* cloud, double cx, double cy, 
     for (int i = 0; i <= n; ++i) {
       const double t = static_cast<double>(i) / n;
       for (int j = 0; j <= m; ++j) {
-        cloud->push_back(pcl::PointXYZ(static_cast<float>(x0 + t * (x1 - x0)),
-                                       static_cast<float>(y0 + t * (y1 - y0)),
+        cloud->push_back(pcl::PointXYZ(static_cast<float>(x0 + t * (x1 - x0)), static_cast<float>(y0 + t * (y1 - y0)),
                                        static_cast<float>(z0 + (z1 - z0) * j / m)));
       }
     }
@@ -78,7 +78,8 @@ PointView inLayout(const std::vector<Eigen::Vector3f>& points, std::size_t strid
 }
 
 const std::vector<std::pair<std::size_t, std::size_t>>& pointLayouts() {
-  static const std::vector<std::pair<std::size_t, std::size_t>> layouts = {{16, 0}, {32, 0}, {12, 0}, {16, 4}, {40, 12}};
+  static const std::vector<std::pair<std::size_t, std::size_t>> layouts = {
+      {16, 0}, {32, 0}, {12, 0}, {16, 4}, {40, 12}};
   return layouts;
 }
 
@@ -104,8 +105,8 @@ pcl::PointCloud<pcl::PointXYZ> streetScene(std::uint32_t seed) {
       const double depth = 6.0 + 8.0 * unit(rng);
       const double height = 4.0 + 26.0 * unit(rng);
       const double setback = 7.0 + 4.0 * unit(rng);
-      addBoxSurface(&cloud, x + length / 2, side * (setback + depth / 2), length / 2, depth / 2,
-                    ground, ground + height, 0.5);
+      addBoxSurface(&cloud, x + length / 2, side * (setback + depth / 2), length / 2, depth / 2, ground,
+                    ground + height, 0.5);
       x += length + 2.0 + 10.0 * unit(rng);
     }
   }
@@ -132,20 +133,20 @@ pcl::PointCloud<pcl::PointXYZ> sectorCentredScene(std::uint32_t seed, int sector
     const double a = (sector + 1.0 / 3.0 + unit(rng) / 3.0) * width;
     const double r = 1.0 + unit(rng) * (max_radius - 2.0);
     const double z = -2.0 + 12.0 * unit(rng) * unit(rng);
-    cloud.push_back(pcl::PointXYZ(static_cast<float>(r * std::cos(a)), static_cast<float>(r * std::sin(a)),
-                                  static_cast<float>(z)));
+    cloud.push_back(
+        pcl::PointXYZ(static_cast<float>(r * std::cos(a)), static_cast<float>(r * std::sin(a)), static_cast<float>(z)));
   }
   return cloud;
 }
 
-pcl::PointCloud<pcl::PointXYZ> rotateTranslate(const pcl::PointCloud<pcl::PointXYZ>& cloud, double yaw,
-                                               double tx, double ty) {
+pcl::PointCloud<pcl::PointXYZ> rotateTranslate(const pcl::PointCloud<pcl::PointXYZ>& cloud, double yaw, double tx,
+                                               double ty) {
   const double c = std::cos(yaw), s = std::sin(yaw);
   pcl::PointCloud<pcl::PointXYZ> out;
   out.reserve(cloud.size());
   for (const auto& p : cloud) {
-    out.push_back(pcl::PointXYZ(static_cast<float>(c * p.x - s * p.y + tx),
-                                static_cast<float>(s * p.x + c * p.y + ty), p.z));
+    out.push_back(
+        pcl::PointXYZ(static_cast<float>(c * p.x - s * p.y + tx), static_cast<float>(s * p.x + c * p.y + ty), p.z));
   }
   return out;
 }

@@ -33,8 +33,8 @@ pcl::PointCloud<pcl::PointXYZ> streetScene(std::uint32_t seed);
 pcl::PointCloud<pcl::PointXYZ> sectorCentredScene(std::uint32_t seed, int sectors, double max_radius);
 
 /// p' = Rz(yaw) * p + (tx, ty, 0): the cloud as seen from a sensor whose frame is T^-1.
-pcl::PointCloud<pcl::PointXYZ> rotateTranslate(const pcl::PointCloud<pcl::PointXYZ>& cloud, double yaw,
-                                               double tx = 0.0, double ty = 0.0);
+pcl::PointCloud<pcl::PointXYZ> rotateTranslate(const pcl::PointCloud<pcl::PointXYZ>& cloud, double yaw, double tx = 0.0,
+                                               double ty = 0.0);
 
 /// `points` laid out `stride` bytes apart with x, y, z at `offset_x` in each, one byte into `bytes` (so
 /// that nothing is aligned), and the view of them; every other byte is 0xAB.

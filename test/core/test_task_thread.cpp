@@ -60,11 +60,11 @@ TEST(RateLimit, PassesABurstThenTheRate) {
   EXPECT_FALSE(limit.take(2000, 0.0));  // 1 kB left
   EXPECT_TRUE(limit.take(1000, 0.0));
   EXPECT_FALSE(limit.take(1, 0.0));
-  EXPECT_FALSE(limit.take(600, 0.5));   // 500 B came back
+  EXPECT_FALSE(limit.take(600, 0.5));  // 500 B came back
   EXPECT_TRUE(limit.take(500, 0.5));
   EXPECT_TRUE(limit.take(4000, 100.0));  // never more than the burst saved up
   EXPECT_FALSE(limit.take(1, 100.0));
-  EXPECT_FALSE(limit.take(10, 99.0));   // a clock going back gives nothing
+  EXPECT_FALSE(limit.take(10, 99.0));  // a clock going back gives nothing
 }
 
 // LIO-SAM's hook at most once a second of ROS time: when a bag loops, ROS time goes back by the bag's

@@ -9,12 +9,14 @@ namespace {
 /// Robot B's odometry frame lies at `frame` in robot A's; a loop from A's keyframe at x = `along` on a
 /// straight street to B's keyframe beside it, its relative pose off by `slide` metres along the street.
 TeamLoopOffer loopAt(double along, double slide, std::size_t handle, const std::string& robot = "b") {
-  const Eigen::Isometry3d frame = Eigen::Translation3d(40.0, -3.0, 0.0) * Eigen::AngleAxisd(0.4, Eigen::Vector3d::UnitZ());
+  const Eigen::Isometry3d frame =
+      Eigen::Translation3d(40.0, -3.0, 0.0) * Eigen::AngleAxisd(0.4, Eigen::Vector3d::UnitZ());
   TeamLoopOffer loop;
   loop.robot = robot;
   loop.run = 1;
   loop.own_pose = Eigen::Translation3d(along, 0.0, 0.0) * Eigen::Isometry3d::Identity();
-  const Eigen::Isometry3d other_world = Eigen::Translation3d(along + 1.0, 3.5, 0.0) * Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitZ());
+  const Eigen::Isometry3d other_world =
+      Eigen::Translation3d(along + 1.0, 3.5, 0.0) * Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitZ());
   loop.other_pose = frame.inverse() * other_world;  // in B's odometry frame
   loop.relative = loop.own_pose.inverse() * other_world;
   loop.relative.translation().x() += slide;
@@ -27,7 +29,7 @@ TeamLoopOffer loopAt(double along, double slide, std::size_t handle, const std::
 TEST(TeamConsistency, ReportsLoopsOnceAnotherAgreesAndHoldsBackOneThatSlid) {
   TeamConsistency check{Config()};  // consistency_min_support 1, 1 m and 2 deg, 0.05 per metre
   TeamRelease r = check.offer(loopAt(0.0, 0.0, 0));
-  EXPECT_TRUE(r.report.empty());  // alone: it waits
+  EXPECT_TRUE(r.report.empty());         // alone: it waits
   r = check.offer(loopAt(2.0, 3.0, 1));  // slid 3 m along the street: agrees with nothing
   EXPECT_TRUE(r.report.empty());
   r = check.offer(loopAt(4.0, 0.0, 2));  // agrees with the first: both go out

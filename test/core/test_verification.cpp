@@ -55,12 +55,12 @@ void expectPose(const VerificationResult& r, const Eigen::Isometry3d& truth, dou
 }
 
 void print(const char* what, const VerificationResult& r) {
-  std::printf("%s: %s%s; overlap %.3f (query %.3f, candidate %.3f), fitness %.4f, constraint %.3f, coarse %.3f, "
-              "hypotheses %d, t = (%.2f, %.2f, %.2f), yaw %.2f deg, %.2f ms\n",
-              what, r.accepted ? "accepted" : "rejected: ", r.reason.c_str(), r.inlier_ratio, r.overlap_query,
-              r.overlap_match, r.fitness, r.constraint_ratio, r.coarse_score, r.hypotheses,
-              r.relative.translation().x(), r.relative.translation().y(), r.relative.translation().z(),
-              yawOf(r.relative) / kDeg, r.seconds * 1e3);
+  std::printf(
+      "%s: %s%s; overlap %.3f (query %.3f, candidate %.3f), fitness %.4f, constraint %.3f, coarse %.3f, "
+      "hypotheses %d, t = (%.2f, %.2f, %.2f), yaw %.2f deg, %.2f ms\n",
+      what, r.accepted ? "accepted" : "rejected: ", r.reason.c_str(), r.inlier_ratio, r.overlap_query, r.overlap_match,
+      r.fitness, r.constraint_ratio, r.coarse_score, r.hypotheses, r.relative.translation().x(),
+      r.relative.translation().y(), r.relative.translation().z(), yawOf(r.relative) / kDeg, r.seconds * 1e3);
 }
 
 TEST(Verification, RecoversAKnownTransformFromAnOffPrior) {
@@ -77,7 +77,8 @@ TEST(Verification, RecoversAKnownTransformFromAnOffPrior) {
   expectPose(r, truth, 0.05, 0.1);
   EXPECT_GT(r.inlier_ratio, 0.8);
   EXPECT_GT(r.constraint_ratio, 0.1);
-  for (int i = 0; i < 6; ++i) EXPECT_GE(r.covariance(i, i), i < 3 ? config.min_translation_variance : config.min_rotation_variance);
+  for (int i = 0; i < 6; ++i)
+    EXPECT_GE(r.covariance(i, i), i < 3 ? config.min_translation_variance : config.min_rotation_variance);
 }
 
 TEST(Verification, RealReverseRevisitKitti08) {
@@ -86,7 +87,8 @@ TEST(Verification, RealReverseRevisitKitti08) {
   EXPECT_NEAR(truth.translation().x(), -2.08, 0.01) << "oracle from ../shared/data/README.md";
   const double prior = yawPrior("08", 720, 1500);
   ASSERT_LT(std::fabs(wrapAngle(prior - yawOf(truth))), 6.0 * kDeg);
-  const VerificationResult r = verify(prepared("08", 720, config), prepared("08", 1500, config), priorPose(prior), config);
+  const VerificationResult r =
+      verify(prepared("08", 720, config), prepared("08", 1500, config), priorPose(prior), config);
   print("08 720/1500", r);
   ASSERT_TRUE(r.accepted) << r.reason;
   // Yaw and the horizontal offset agree with KITTI's ground truth (whose height here is 1.1 m off: the
@@ -107,8 +109,8 @@ TEST(Verification, ConsecutiveScansAcceptedWithTheirPose) {
 
 TEST(Verification, AnAcceptedRegistrationNamesNoTest) {
   VerificationConfig config;
-  const VerificationResult r = verify(prepared("00", 94, config), prepared("00", 95, config),
-                                      priorPose(yawPrior("00", 94, 95)), config);
+  const VerificationResult r =
+      verify(prepared("00", 94, config), prepared("00", 95, config), priorPose(yawPrior("00", 94, 95)), config);
   ASSERT_TRUE(r.accepted) << r.reason;
   EXPECT_TRUE(r.rejected_by.empty());
   EXPECT_EQ(r.rejection_limit, 0.0);
@@ -170,9 +172,9 @@ TEST(Verification, RejectsPlacesFiftyEightMetresApart) {
     EXPECT_FALSE(r.needs_support) << "a wrong place is not even a loop that needs support: " << r.reason;
     EXPECT_FALSE(r.reason.empty());
     // Named by one of the tests, with a value beyond its limit where the test has numbers.
-    EXPECT_TRUE(std::any_of(std::begin(kRejectionTests), std::end(kRejectionTests),
-                            [&](const char* t) { return r.rejected_by == t; }))
-        << r.rejected_by;
+    EXPECT_TRUE(std::any_of(std::begin(kRejectionTests), std::end(kRejectionTests), [&](const char* t) {
+      return r.rejected_by == t;
+    })) << r.rejected_by;
   }
 }
 
@@ -268,7 +270,8 @@ VoxelCloud preparedTilted(const std::string& sequence, int frame, const Eigen::I
                           double degrees, const VerificationConfig& config) {
   pcl::PointCloud<pcl::PointXYZI> moved;
   pcl::transformPointCloud(test::kittiScan(sequence, frame), moved, query_from_match.inverse().matrix().cast<float>());
-  const Eigen::Matrix3f roll = Eigen::AngleAxisf(static_cast<float>(degrees * kDeg), Eigen::Vector3f::UnitX()).toRotationMatrix();
+  const Eigen::Matrix3f roll =
+      Eigen::AngleAxisf(static_cast<float>(degrees * kDeg), Eigen::Vector3f::UnitX()).toRotationMatrix();
   return prepareCloud(viewOf(moved), config, roll);
 }
 
@@ -433,7 +436,8 @@ TEST(Verification, EveryRegistrationMethodRecoversAKnownTransform) {
     ASSERT_TRUE(r.accepted) << r.reason;
     expectPose(r, truth, 0.15, 0.5);
     // And each turns down the 58 m pair.
-    const VerificationResult far = verify(query, prepared("00", 94, config), priorPose(yawPrior("00", 198, 94)), config);
+    const VerificationResult far =
+        verify(query, prepared("00", 94, config), priorPose(yawPrior("00", 198, 94)), config);
     EXPECT_FALSE(far.accepted) << "inlier ratio " << far.inlier_ratio;
   }
 }

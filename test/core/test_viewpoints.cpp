@@ -32,9 +32,9 @@ TEST(Viewpoints, GridsOfSeveralViewpointsInOnePassAreEachViewpointsGridOfTheTurn
   Config config;
   const auto cloud = test::streetScene(3);
   // A gravity alignment of a few degrees in roll and pitch, applied while binning.
-  const Eigen::Matrix3f level = (Eigen::AngleAxisf(0.06f, Eigen::Vector3f::UnitX()) *
-                                 Eigen::AngleAxisf(-0.04f, Eigen::Vector3f::UnitY()))
-                                    .toRotationMatrix();
+  const Eigen::Matrix3f level =
+      (Eigen::AngleAxisf(0.06f, Eigen::Vector3f::UnitX()) * Eigen::AngleAxisf(-0.04f, Eigen::Vector3f::UnitY()))
+          .toRotationMatrix();
   const pcl::PointCloud<pcl::PointXYZ> turned = rotatedCloud(viewOf(cloud), level);
   const std::vector<Eigen::Vector2f> views = {Eigen::Vector2f::Zero(), Eigen::Vector2f(0.0f, 2.5f),
                                               Eigen::Vector2f(0.0f, -2.5f)};

@@ -288,9 +288,10 @@ TEST(Evaluation, VerifiedLoopsCorrectTheDriftedTrajectoryAndHoldOffAFalseOne) {
   const Evaluation e = evaluate(sequence, config, 5.0);
   const TrajectoryCorrection c = correctTrajectory(sequence, e, config);
   ASSERT_TRUE(c.computed) << c.note;
-  std::printf("ATE RMSE: odometry %.3f m, corrected %.3f m (%zu loops), plain Scan Context %.3f m (%zu loops), "
-              "with a false loop %.3f m\n", c.odometry.rmse, c.corrected.rmse, c.loops, c.plain.rmse, c.plain_loops,
-              c.with_false_loop.rmse);
+  std::printf(
+      "ATE RMSE: odometry %.3f m, corrected %.3f m (%zu loops), plain Scan Context %.3f m (%zu loops), "
+      "with a false loop %.3f m\n",
+      c.odometry.rmse, c.corrected.rmse, c.loops, c.plain.rmse, c.plain_loops, c.with_false_loop.rmse);
   EXPECT_EQ(c.loops, e.verified.true_positives + e.verified.false_positives);
   EXPECT_GT(c.odometry.rmse, 0.15) << "the simulated odometry should drift";
   EXPECT_LT(c.corrected.rmse, 0.6 * c.odometry.rmse);
@@ -362,7 +363,8 @@ TEST(Evaluation, WithoutOdometryTheLoopsCorrectThePerfectTrajectoryOnlyByTheirEr
     EXPECT_NE(json.str().find(key), std::string::npos) << key << " in " << json.str();
   }
   EXPECT_NE(trajectoryErrorLine(c).find("odometry (the truth: no odometry of its own) 0.000 / 0.000 m"),
-            std::string::npos) << trajectoryErrorLine(c);
+            std::string::npos)
+      << trajectoryErrorLine(c);
 }
 
 TEST(Evaluation, CandidatesWhoseDataWasDroppedLeaveTheirTurnToKeptOnes) {

@@ -23,8 +23,8 @@ TEST(Metrics, HandComputedSweep) {
   // Sorted by distance: TP, TP, FP (not a revisit), TP, FP (wrong match on a revisit), TP; plus a
   // revisit with no candidate and a non-revisit far away. Revisits: 5 TP-able + wrong-match + none = 7.
   const std::vector<QueryOutcome> o = {
-      outcome(0.05, true, true),  outcome(0.10, true, true),   outcome(0.15, false, false),
-      outcome(0.20, true, true),  outcome(0.25, true, false),  outcome(0.30, true, true),
+      outcome(0.05, true, true),     outcome(0.10, true, true),  outcome(0.15, false, false),
+      outcome(0.20, true, true),     outcome(0.25, true, false), outcome(0.30, true, true),
       outcome(1.0, true, false, -1), outcome(0.9, false, false), outcome(0.35, true, true)};
   const Metrics m = computeMetrics(o, 0.22);
   EXPECT_EQ(m.queries, 9u);

@@ -142,9 +142,10 @@ TEST(Relocalization, AFixedPerfectPriorMapPullsTheDriftingSessionOntoTheTruth) {
   const Evaluation e = evaluate(query, config, 5.0, &perfect);
   const TrajectoryCorrection c = correctTrajectory(query, e, config);
   ASSERT_TRUE(c.computed) << c.note;
-  std::printf("session 2 in a perfect fixed prior: odometry ATE %.3f m (max %.3f), corrected %.3f m (max %.3f) with "
-              "%zu loops, %zu into the prior\n", c.odometry.rmse, c.odometry.max, c.corrected.rmse, c.corrected.max,
-              c.loops, c.prior_loops);
+  std::printf(
+      "session 2 in a perfect fixed prior: odometry ATE %.3f m (max %.3f), corrected %.3f m (max %.3f) with "
+      "%zu loops, %zu into the prior\n",
+      c.odometry.rmse, c.odometry.max, c.corrected.rmse, c.corrected.max, c.loops, c.prior_loops);
   expectPriorHeldFixed(e, perfect, c);
   EXPECT_LT(c.prior_odometry.rmse, 1e-9);
   EXPECT_TRUE(c.own_odometry);
@@ -163,7 +164,9 @@ TEST(Relocalization, AFixedPerfectPriorMapPullsTheDriftingSessionOntoTheTruth) {
   }
   const std::string line = trajectoryErrorLine(c);
   EXPECT_NE(line.find(std::to_string(c.prior_loops) + " into the prior's " + std::to_string(perfect.frames.size()) +
-                      " keyframes, held fixed"), std::string::npos) << line;
+                      " keyframes, held fixed"),
+            std::string::npos)
+      << line;
 }
 
 TEST(Relocalization, TheDriftingPriorMapStaysWhereItWasStored) {
@@ -175,8 +178,10 @@ TEST(Relocalization, TheDriftingPriorMapStaysWhereItWasStored) {
   const Evaluation e = evaluate(query, config, 5.0, &prior());
   const TrajectoryCorrection c = correctTrajectory(query, e, config);
   ASSERT_TRUE(c.computed) << c.note;
-  std::printf("session 2 in the drifting prior: odometry ATE %.3f m, prior's %.3f m, corrected %.3f m (%zu loops, "
-              "%zu into the prior)\n", c.odometry.rmse, c.prior_odometry.rmse, c.corrected.rmse, c.loops, c.prior_loops);
+  std::printf(
+      "session 2 in the drifting prior: odometry ATE %.3f m, prior's %.3f m, corrected %.3f m (%zu loops, "
+      "%zu into the prior)\n",
+      c.odometry.rmse, c.prior_odometry.rmse, c.corrected.rmse, c.loops, c.prior_loops);
   expectPriorHeldFixed(e, prior(), c);
   EXPECT_GT(c.prior_odometry.rmse, 0.05);
   EXPECT_LT(c.corrected.rmse, c.odometry.rmse + c.prior_odometry.rmse);

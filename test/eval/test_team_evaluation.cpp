@@ -170,7 +170,8 @@ TEST(TeamEvaluation, FramesBetweenRobotsAreEstimated) {
   EXPECT_LT(map.robots[1].frame_translation_error, 0.5);
   EXPECT_LT(map.robots[1].frame_rotation_error, 1.0);
   EXPECT_GT(map.robots[1].team_loops + map.robots[0].team_loops, 0u);
-  EXPECT_EQ(map.corrected.poses, run().team.robots[0].sequence.frames.size() + run().team.robots[1].sequence.frames.size());
+  EXPECT_EQ(map.corrected.poses,
+            run().team.robots[0].sequence.frames.size() + run().team.robots[1].sequence.frames.size());
   EXPECT_LT(map.corrected.rmse, 0.5);
 }
 

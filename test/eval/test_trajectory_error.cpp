@@ -20,7 +20,8 @@ std::vector<Eigen::Isometry3d> circle(std::size_t n, double radius) {
 
 TEST(TrajectoryError, ARigidlyMovedCopyHasNoError) {
   const auto truth = circle(50, 20.0);
-  const Eigen::Isometry3d motion = Eigen::Translation3d(5.0, -3.0, 1.0) * Eigen::AngleAxisd(0.7, Eigen::Vector3d::UnitZ());
+  const Eigen::Isometry3d motion =
+      Eigen::Translation3d(5.0, -3.0, 1.0) * Eigen::AngleAxisd(0.7, Eigen::Vector3d::UnitZ());
   std::vector<Eigen::Isometry3d> moved;
   for (const auto& p : truth) moved.push_back(motion * p);
   const TrajectoryError e = absoluteTrajectoryError(moved, truth);

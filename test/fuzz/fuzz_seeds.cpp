@@ -1,6 +1,6 @@
-// Writes the seed corpora of the fuzz targets: fuzz_seeds OUT_DIR makes OUT_DIR/{cloudInput,odometryInput,databaseFile}/
-// with a few valid inputs each, in the byte layouts the targets read (fuzz_cloud.cpp, fuzz_odometry.cpp,
-// fuzz_database.cpp).
+// Writes the seed corpora of the fuzz targets: fuzz_seeds OUT_DIR makes
+// OUT_DIR/{cloudInput,odometryInput,databaseFile}/ with a few valid inputs each, in the byte layouts the targets read
+// (fuzz_cloud.cpp, fuzz_odometry.cpp, fuzz_database.cpp).
 #include <cmath>
 #include <cstdio>
 #include <fstream>

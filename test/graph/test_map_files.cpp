@@ -256,7 +256,7 @@ TEST_F(MapFilesTest, AFailedSaveReportsTheTemporaryFilesItRemoved) {
   const std::string out = dir.file("run");
   ASSERT_EQ(::mkdir(out.c_str(), 0755), 0);
   std::ofstream(out + "/times.txt.tmp.Ab12Cd") << std::string(100, 'x');  // a killed save's
-  ASSERT_EQ(::mkdir((out + "/pose_graph.g2o").c_str(), 0755), 0);          // this save fails there
+  ASSERT_EQ(::mkdir((out + "/pose_graph.g2o").c_str(), 0755), 0);         // this save fails there
   MapFilesReport report;
   std::string error;
   EXPECT_FALSE(writeMapFiles(out, files_, &report, &error));
@@ -363,8 +363,8 @@ TEST_F(MapFilesTest, ASaveKilledAtAnyRenameLeavesOneWholeSet) {
     ASSERT_EQ(::waitpid(child, &status, 0), child);
     ASSERT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == SIGKILL) << "the save was not killed at rename " << k;
     const std::map<std::string, std::string> left = setIn(out);
-    EXPECT_TRUE(left == before || left == after) << "killed at rename " << k << " of " << renames
-                                                 << ": the directory holds files of both sets";
+    EXPECT_TRUE(left == before || left == after)
+        << "killed at rename " << k << " of " << renames << ": the directory holds files of both sets";
     EXPECT_EQ(readText(out + "/notes.txt"), "the user's own file") << "killed at rename " << k;
     // Back to the old set for the next round; this save also clears what the dead one left.
     ASSERT_TRUE(writeMapFiles(out, files_, nullptr, &error)) << error;

@@ -28,10 +28,14 @@ std::vector<Eigen::Isometry3d> blockTruth() {
     const double in = 0.8 * lap, w = 120.0 - 2 * in, h = 60.0 - 2 * in;
     for (std::size_t k = 0; k < kPerLap; ++k) {
       double s = (w + h) * 2.0 * k / kPerLap;  // arc length along this lap's rectangle
-      if (s < w) truth.push_back(planar(in + s, in, 0.0));
-      else if ((s -= w) < h) truth.push_back(planar(in + w, in + s, M_PI / 2));
-      else if ((s -= h) < w) truth.push_back(planar(in + w - s, in + h, M_PI));
-      else truth.push_back(planar(in, in + h - (s - w), -M_PI / 2));
+      if (s < w)
+        truth.push_back(planar(in + s, in, 0.0));
+      else if ((s -= w) < h)
+        truth.push_back(planar(in + w, in + s, M_PI / 2));
+      else if ((s -= h) < w)
+        truth.push_back(planar(in + w - s, in + h, M_PI));
+      else
+        truth.push_back(planar(in, in + h - (s - w), -M_PI / 2));
     }
   }
   return truth;
@@ -74,8 +78,8 @@ void build(const Drive& drive, PoseGraph* graph) {
   for (const auto& pose : drive.odometry) ASSERT_GE(graph->addKeyframe(pose), 0);
   for (std::size_t q = kPerLap; q < drive.truth.size(); q += 3) {
     const std::size_t m = q - kPerLap;
-    const Eigen::Isometry3d measured = drive.truth[q].inverse() * drive.truth[m] *
-                                       planar(metres(rng), metres(rng), radians(rng));
+    const Eigen::Isometry3d measured =
+        drive.truth[q].inverse() * drive.truth[m] * planar(metres(rng), metres(rng), radians(rng));
     ASSERT_TRUE(graph->addLoop(q, m, measured, verifiedCovariance()));
   }
 }
@@ -134,8 +138,8 @@ TEST(PoseGraph, TheRobustLossKeepsAConfidentFalseLoopFromBendingTheMap) {
   for (PoseGraph* g : {&clean, &robust, &plain}) ASSERT_TRUE(g->optimize().solved);
   const double odometry = absoluteTrajectoryError(drive.odometry, drive.truth).rmse;
   const double c = ate(clean, drive), r = ate(robust, drive), p = ate(plain, drive);
-  std::printf("ATE: odometry %.2f m, clean %.3f m, false loop with the robust loss %.3f m, without %.2f m\n",
-              odometry, c, r, p);
+  std::printf("ATE: odometry %.2f m, clean %.3f m, false loop with the robust loss %.3f m, without %.2f m\n", odometry,
+              c, r, p);
   EXPECT_GT(p, 5.0 * c) << "plain least squares should be bent by the false loop";
   EXPECT_LT(r, 0.2 * odometry);
   EXPECT_LT(r, c + 0.2);
@@ -180,8 +184,8 @@ TEST(PoseGraph, FixedKeyframesStayPutAndHoldTheChainThroughItsLoops) {
   std::size_t into_prior = 0;
   for (std::size_t q = kPerLap + 1; q < drive.truth.size(); q += 3) {
     const std::size_t m = q % kPerLap;  // the same place in lap 1, the prior's
-    const Eigen::Isometry3d measured = drive.truth[q].inverse() * drive.truth[m] *
-                                       planar(metres(rng), metres(rng), radians(rng));
+    const Eigen::Isometry3d measured =
+        drive.truth[q].inverse() * drive.truth[m] * planar(metres(rng), metres(rng), radians(rng));
     ASSERT_TRUE(graph.addLoop(q, m, measured, verifiedCovariance(), &error)) << error;
     ++into_prior;
     if (into_prior == 1) {
@@ -189,8 +193,8 @@ TEST(PoseGraph, FixedKeyframesStayPutAndHoldTheChainThroughItsLoops) {
       EXPECT_TRUE((graph.pose(q).inverse() * graph.pose(m)).isApprox(measured, 1e-9));
     }
     if (q >= 2 * kPerLap) {  // and to lap 2, the session's own
-      ASSERT_TRUE(graph.addLoop(q, q - kPerLap, drive.truth[q].inverse() * drive.truth[q - kPerLap],
-                                verifiedCovariance()));
+      ASSERT_TRUE(
+          graph.addLoop(q, q - kPerLap, drive.truth[q].inverse() * drive.truth[q - kPerLap], verifiedCovariance()));
     }
   }
   const PoseGraphResult result = graph.optimize();

@@ -81,8 +81,8 @@ struct Team {
   bool addLoop(PoseGraph* graph, std::size_t q, std::size_t k, std::size_t r, std::mt19937* rng) const {
     std::normal_distribution<double> metres(0.0, 0.03), radians(0.0, 0.1 * M_PI / 180.0);
     const std::size_t m = samePlace(q, k, r);
-    const Eigen::Isometry3d measured = robots[q].truth[k].inverse() * robots[r].truth[m] *
-                                       planar(metres(*rng), metres(*rng), radians(*rng));
+    const Eigen::Isometry3d measured =
+        robots[q].truth[k].inverse() * robots[r].truth[m] * planar(metres(*rng), metres(*rng), radians(*rng));
     std::string error;
     const bool added = graph->addLoop(index[q][k], index[r][m], measured, verifiedCovariance(), &error);
     EXPECT_TRUE(added) << error;
@@ -165,8 +165,8 @@ TEST(PoseGraphChains, InterRobotLoopsRecoverEachRobotsFrame) {
     for (std::size_t k = 0; k < kDriven; ++k) {
       const Eigen::Vector3d truth = (team.robots[0].origin().inverse() * team.robots[r].truth[k]).translation();
       worst = std::max(worst, (graph.pose(team.index[r][k]).translation() - truth).norm());
-      odometry_worst = std::max(odometry_worst,
-                                ((team.trueFrame(r) * team.robots[r].odometry[k]).translation() - truth).norm());
+      odometry_worst =
+          std::max(odometry_worst, ((team.trueFrame(r) * team.robots[r].odometry[k]).translation() - truth).norm());
     }
     std::printf("robot %zu: odometry (at the true frame) up to %.2f m off the truth, corrected %.3f m\n", r,
                 odometry_worst, worst);
@@ -205,8 +205,8 @@ TEST(PoseGraphChains, AGroupJoinedThroughAnotherChainMovesAsOne) {
   ASSERT_TRUE(graph.optimize().solved);
   for (std::size_t r = 1; r < 3; ++r) {
     const Eigen::Isometry3d error = team.trueFrame(r).inverse() * graph.frame(r);
-    std::printf("robot %zu (robots 1-2 joined, then 1-0): frame within %.3f m, %.3f deg\n", r, error.translation().norm(),
-                angleOf(error) * 180.0 / M_PI);
+    std::printf("robot %zu (robots 1-2 joined, then 1-0): frame within %.3f m, %.3f deg\n", r,
+                error.translation().norm(), angleOf(error) * 180.0 / M_PI);
     EXPECT_LT(error.translation().norm(), 0.6);  // as when joined directly (above)
     EXPECT_LT(angleOf(error) * 180.0 / M_PI, 1.0);
   }

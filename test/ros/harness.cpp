@@ -16,12 +16,12 @@ namespace test {
 Harness::Harness(ros::NodeHandle nh) : nh_(nh) {
   cloud_pub = nh_.advertise<sensor_msgs::PointCloud2>("keyframe_cloud", 50);
   odom_pub = nh_.advertise<nav_msgs::Odometry>("keyframe_odom", 50);
-  loop_sub_ = nh_.subscribe<scan_context_loop::LoopClosure>(
-      "loop_closures", 1000, [this](const scan_context_loop::LoopClosure::ConstPtr& m) {
-        std::lock_guard<std::mutex> lock(mutex_);
-        loops_.push_back(*m);
-        last_loop_ = ros::WallTime::now();
-      });
+  loop_sub_ = nh_.subscribe<scan_context_loop::LoopClosure>("loop_closures", 1000,
+                                                            [this](const scan_context_loop::LoopClosure::ConstPtr& m) {
+                                                              std::lock_guard<std::mutex> lock(mutex_);
+                                                              loops_.push_back(*m);
+                                                              last_loop_ = ros::WallTime::now();
+                                                            });
   marker_sub_ = nh_.subscribe<visualization_msgs::MarkerArray>(
       "loop_markers", 10, [this](const visualization_msgs::MarkerArray::ConstPtr& m) {
         std::lock_guard<std::mutex> lock(mutex_);
@@ -119,7 +119,9 @@ void Harness::publishTfAndWorldClouds(const Drive& drive, double rate) {
 }
 
 DiagnosticsWatch::DiagnosticsWatch(ros::NodeHandle nh, std::string node, std::string status)
-    : node_(std::move(node)), status_(std::move(status)), sub_(nh.subscribe("/diagnostics", 10, &DiagnosticsWatch::onDiagnostics, this)) {}
+    : node_(std::move(node)),
+      status_(std::move(status)),
+      sub_(nh.subscribe("/diagnostics", 10, &DiagnosticsWatch::onDiagnostics, this)) {}
 
 DiagnosticsWatch::~DiagnosticsWatch() { sub_.shutdown(); }
 
@@ -168,7 +170,8 @@ bool Harness::waitForKeyframes(std::size_t count, double seconds) const {
     std::size_t shown = 0;
     // A team's node prefixes its namespaces with the robot ("robot1/keyframes").
     for (const auto& m : shownMarkers().markers) {
-      const bool keyframes = m.ns == "keyframes" || (m.ns.size() > 10 && m.ns.compare(m.ns.size() - 10, 10, "/keyframes") == 0);
+      const bool keyframes =
+          m.ns == "keyframes" || (m.ns.size() > 10 && m.ns.compare(m.ns.size() - 10, 10, "/keyframes") == 0);
       shown += keyframes ? m.points.size() : 0;
     }
     if (shown >= count) return true;
@@ -246,8 +249,8 @@ void expectTrueLoop(const Drive& drive, int q, int m, const scan_context_loop::L
   expectTrueLoop(drive.truth[q], drive.truth[m], loop);
 }
 
-void expectTrueLoops(const Drive& drive, const ros::Time& base, const std::vector<scan_context_loop::LoopClosure>& loops,
-                     bool verified) {
+void expectTrueLoops(const Drive& drive, const ros::Time& base,
+                     const std::vector<scan_context_loop::LoopClosure>& loops, bool verified) {
   for (const auto& loop : loops) {
     const int q = keyframeAt(drive, base, loop.query_stamp);
     const int m = keyframeAt(drive, base, loop.match_stamp);

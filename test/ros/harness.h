@@ -115,8 +115,8 @@ void expectTrueLoop(const Eigen::Isometry3d& query_pose, const Eigen::Isometry3d
 void expectTrueLoop(const Drive& drive, int q, int m, const scan_context_loop::LoopClosure& loop);
 /// expectTrueLoop for every loop (each must join two published keyframes), and each verified when
 /// `verified` is set.
-void expectTrueLoops(const Drive& drive, const ros::Time& base, const std::vector<scan_context_loop::LoopClosure>& loops,
-                     bool verified);
+void expectTrueLoops(const Drive& drive, const ros::Time& base,
+                     const std::vector<scan_context_loop::LoopClosure>& loops, bool verified);
 
 }  // namespace test
 }  // namespace scan_context_loop

@@ -1,5 +1,5 @@
-// rostest: malformed clouds, broken poses (NaN, unusable quaternions), stamps going backwards and unpaired clouds among good
-// keyframes; the node must keep running and still find the loops that follow.
+// rostest: malformed clouds, broken poses (NaN, unusable quaternions), stamps going backwards and unpaired clouds among
+// good keyframes; the node must keep running and still find the loops that follow.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>

@@ -104,8 +104,8 @@ TEST_F(CorrectedPosesTest, PathsThatCannotApplyChangeNothing) {
   apply(path({0, 1}));
   const auto before = table();
   apply(path({0, 1, 2}, "odom"));  // another frame than before
-  apply(path({}));                  // empty
-  apply(path({0, 1}, ""));          // no frame
+  apply(path({}));                 // empty
+  apply(path({0, 1}, ""));         // no frame
   nav_msgs::Path loaded = path({});
   loaded.header.frame_id = "map";
   for (int k = 0; k < 3; ++k) {

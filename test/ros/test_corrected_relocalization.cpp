@@ -135,9 +135,10 @@ TEST(CorrectedRelocalization, AMapSavedWithTheCorrectionsRelocalizesInTheCorrect
     double& lap_drift = drifted[k < lap2 ? 0 : 1];
     lap_drift = std::max(lap_drift, errorOf(drive.truth[k], odometry[k]).metres);
   }
-  std::printf("%zu keyframes (lap 2 from %zu): odometry off the truth by up to %.2f m on lap 1, %.2f m on lap 2; "
-              "corrected poses moved up to %.2f m from the odometry, off the truth by up to %.3f m (RMS %.3f m)\n",
-              n, lap2, drifted[0], drifted[1], moved, residual, std::sqrt(residual_sq / n));
+  std::printf(
+      "%zu keyframes (lap 2 from %zu): odometry off the truth by up to %.2f m on lap 1, %.2f m on lap 2; "
+      "corrected poses moved up to %.2f m from the odometry, off the truth by up to %.3f m (RMS %.3f m)\n",
+      n, lap2, drifted[0], drifted[1], moved, residual, std::sqrt(residual_sq / n));
   EXPECT_GT(moved, 1.0) << "the correction is too small to show anything";
 
   // Bad paths reach a's worker, are counted and change nothing (each waits for the last to be counted:
@@ -218,13 +219,14 @@ TEST(CorrectedRelocalization, AMapSavedWithTheCorrectionsRelocalizesInTheCorrect
     if (m >= lap2) ++into_lap2;
   }
   const double count = std::max<std::size_t>(relocalized.size(), 1);
-  std::printf("%zu relocalizations (%zu into lap 2): off the truth by up to %.3f m / %.3f deg (RMS %.3f m; the "
-              "uncorrected map's placement: RMS %.3f m); off where the corrected map puts them by up to %.3f m / "
-              "%.3f deg, off where the uncorrected map would by up to %.3f m / %.3f deg; the matched keyframes' "
-              "corrected poses off the truth by up to %.3f m / %.3f deg\n",
-              relocalized.size(), into_lap2, absolute.metres, absolute.degrees, std::sqrt(absolute_sq / count),
-              std::sqrt(odometry_sq / count), worst.metres, worst.degrees, uncorrected.metres, uncorrected.degrees,
-              map_residual.metres, map_residual.degrees);
+  std::printf(
+      "%zu relocalizations (%zu into lap 2): off the truth by up to %.3f m / %.3f deg (RMS %.3f m; the "
+      "uncorrected map's placement: RMS %.3f m); off where the corrected map puts them by up to %.3f m / "
+      "%.3f deg, off where the uncorrected map would by up to %.3f m / %.3f deg; the matched keyframes' "
+      "corrected poses off the truth by up to %.3f m / %.3f deg\n",
+      relocalized.size(), into_lap2, absolute.metres, absolute.degrees, std::sqrt(absolute_sq / count),
+      std::sqrt(odometry_sq / count), worst.metres, worst.degrees, uncorrected.metres, uncorrected.degrees,
+      map_residual.metres, map_residual.degrees);
   EXPECT_GT(uncorrected.metres, 1.0) << "the uncorrected map puts the relocalized poses where the corrected one does";
 
   // On request: the same frame, on lap 2.

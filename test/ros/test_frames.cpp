@@ -169,8 +169,9 @@ TEST(Frames, SlashedInputsPublishedWithTf2Names) {
   ASSERT_FALSE(timings.empty());
   for (const auto& timing : timings) EXPECT_EQ(timing.header.frame_id, "odom");
   // Loops in the sensor's poses: the odometry gate and the positions use the velodyne, not the base.
-  const auto& keyframes = std::find_if(markers.markers.begin(), markers.markers.end(),
-                                       [](const visualization_msgs::Marker& m) { return m.ns == "keyframes" && m.id == 0; });
+  const auto& keyframes =
+      std::find_if(markers.markers.begin(), markers.markers.end(),
+                   [](const visualization_msgs::Marker& m) { return m.ns == "keyframes" && m.id == 0; });
   ASSERT_NE(keyframes, markers.markers.end());
   ASSERT_FALSE(keyframes->points.empty());
   EXPECT_NEAR(keyframes->points[0].z, drive.truth[0].translation().z(), 1e-3) << "the first keyframe at the sensor";
@@ -180,7 +181,8 @@ TEST(Frames, SlashedInputsPublishedWithTf2Names) {
   expectSelectedPoses(drive, harness.base, selected.messages(), "odom", "velodyne");
   const auto clouds = selected_clouds.messages();
   ASSERT_EQ(clouds.size(), kCloudsChecked);
-  for (std::size_t k = 0; k < clouds.size(); ++k) expectSensorFrameCloud(drive, harness.base, k, clouds[k], "velodyne", 1e-6);
+  for (std::size_t k = 0; k < clouds.size(); ++k)
+    expectSensorFrameCloud(drive, harness.base, k, clouds[k], "velodyne", 1e-6);
 }
 
 TEST(Frames, RegisteredCloudsSelectedInTheSensorFrame) {
@@ -214,7 +216,8 @@ TEST(Frames, RegisteredCloudsSelectedInTheSensorFrame) {
   const auto clouds = selected_clouds.messages();
   ASSERT_EQ(clouds.size(), kCloudsChecked);
   // Registered and brought back in float: within a millimetre.
-  for (std::size_t k = 0; k < clouds.size(); ++k) expectSensorFrameCloud(drive, harness.base, k, clouds[k], "velodyne", 1e-3);
+  for (std::size_t k = 0; k < clouds.size(); ++k)
+    expectSensorFrameCloud(drive, harness.base, k, clouds[k], "velodyne", 1e-3);
 }
 
 TEST(Frames, SilentInputsNamedInAWarning) {

@@ -50,11 +50,12 @@ TEST(KeyframeWorker, WhatThrowsIsCountedAndTheNextKeyframeIsProcessed) {
   LoopClosureOutput output("worker_test", config, options, &counters);
   KeyframeQueue queue(10, &counters.queue_length);
   bool settings_throw = true;  // the hand-over of reconfigured settings throws once
-  KeyframeWorker worker("worker_test", {&queue, &source, &processor, &output, &counters}, options.heap_statistics_interval, [&] {
-    if (!settings_throw) return;
-    settings_throw = false;
-    throw std::runtime_error("the settings hand-over threw");
-  });
+  KeyframeWorker worker("worker_test", {&queue, &source, &processor, &output, &counters},
+                        options.heap_statistics_interval, [&] {
+                          if (!settings_throw) return;
+                          settings_throw = false;
+                          throw std::runtime_error("the settings hand-over threw");
+                        });
   worker.start();
   ASSERT_TRUE(queue.pushTask([] { throw std::runtime_error("a task threw"); }));
   ASSERT_TRUE(queue.push(keyframeAt(1.0)));

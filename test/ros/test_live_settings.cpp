@@ -28,11 +28,15 @@ std::map<std::string, double> valuesOf(const dynamic_reconfigure::Config& messag
 /// The cfg's name for a row's type (ParamDescription::type), "" for one dynamic_reconfigure cannot carry.
 std::string reconfigureType(SettingType type) {
   switch (type) {
-    case SettingType::kInt: return "int";
-    case SettingType::kDouble: return "double";
-    case SettingType::kBool: return "bool";
+    case SettingType::kInt:
+      return "int";
+    case SettingType::kDouble:
+      return "double";
+    case SettingType::kBool:
+      return "bool";
     case SettingType::kString:
-    case SettingType::kChoice: return "str";
+    case SettingType::kChoice:
+      return "str";
   }
   return "";
 }
@@ -80,8 +84,10 @@ TEST(LiveSettings, TheReconfigureDescriptionIsTheLiveRowsWithTheirTypesDefaultsA
         << key << " in cfg/LoopClosure.cfg is not a live key of the settings tables";
     EXPECT_EQ(d->type, reconfigureType(row.type)) << key;
     EXPECT_DOUBLE_EQ(defaults.at(key), row.default_value) << key << ": the cfg's default is not the table's";
-    EXPECT_EQ(lows.at(key), expectedBound(row, true)) << key << ": the cfg's min is not the table's " << row.range.interval();
-    EXPECT_EQ(highs.at(key), expectedBound(row, false)) << key << ": the cfg's max is not the table's " << row.range.interval();
+    EXPECT_EQ(lows.at(key), expectedBound(row, true))
+        << key << ": the cfg's min is not the table's " << row.range.interval();
+    EXPECT_EQ(highs.at(key), expectedBound(row, false))
+        << key << ": the cfg's max is not the table's " << row.range.interval();
   }
   // Every live row is in the cfg.
   const auto expectDescribed = [&](const std::string& key, bool live) {

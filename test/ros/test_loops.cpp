@@ -114,7 +114,8 @@ TEST(LoopClosureNode, PublishesTrueRevisitsWithTheirYawAndMarkers) {
     const Covariance expected = rotate * covarianceOf(loops[i].covariance) * rotate.transpose();
     // (A registered rotation is orthonormal to float precision, hence the tolerance.)
     EXPECT_TRUE(covarianceOf(pairs[2 * i + 1].pose.covariance).isApprox(expected, 1e-5))
-        << "loop " << loops[i].query_id << "\n" << covarianceOf(pairs[2 * i + 1].pose.covariance);
+        << "loop " << loops[i].query_id << "\n"
+        << covarianceOf(pairs[2 * i + 1].pose.covariance);
     EXPECT_TRUE(covarianceOf(pairs[2 * i].pose.covariance).isZero(0.0));
   }
 

@@ -20,9 +20,9 @@ std::vector<std::string> readIn(const std::string& ns, Config* config, NodeOptio
 }
 
 bool mentions(const std::vector<std::string>& problems, const std::string& key) {
-  return std::any_of(problems.begin(), problems.end(),
-                     [&](const std::string& p) { return p.compare(0, key.size() + 1, key + ":") == 0 ||
-                                                        p.compare(0, key.size() + 3, key + " = ") == 0; });
+  return std::any_of(problems.begin(), problems.end(), [&](const std::string& p) {
+    return p.compare(0, key.size() + 1, key + ":") == 0 || p.compare(0, key.size() + 3, key + " = ") == 0;
+  });
 }
 
 TEST(Parameters, DefaultsWhenNothingIsSetAndEveryKeyIsRead) {
@@ -71,16 +71,17 @@ TEST(Parameters, DeprecatedKeyNamesSetTheNewKeysWithAWarning) {
 
 TEST(Parameters, WrongTypesUnknownKeysAndBadValuesAreNamed) {
   ros::NodeHandle pnh("/bad");
-  pnh.setParam("verify", 1);                      // an integer for a boolean
-  pnh.setParam("exclude_recent_frames", 0.4);     // a number for an integer
+  pnh.setParam("verify", 1);                       // an integer for a boolean
+  pnh.setParam("exclude_recent_frames", 0.4);      // a number for an integer
   pnh.setParam("max_radius", std::string("far"));  // a string for a number
   pnh.setParam("ring_key", std::string("median"));
-  pnh.setParam("distance_treshold", 0.3);         // misspelt
-  pnh.setParam("num_rings", 0);                   // out of range
+  pnh.setParam("distance_treshold", 0.3);  // misspelt
+  pnh.setParam("num_rings", 0);            // out of range
   Config config;
   NodeOptions options;
   const auto problems = readIn("/bad", &config, &options);
-  for (const char* key : {"verify", "exclude_recent_frames", "max_radius", "ring_key", "distance_treshold", "num_rings"}) {
+  for (const char* key :
+       {"verify", "exclude_recent_frames", "max_radius", "ring_key", "distance_treshold", "num_rings"}) {
     EXPECT_TRUE(mentions(problems, key)) << key << " not reported";
   }
   EXPECT_EQ(problems.size(), 6u);
@@ -94,10 +95,14 @@ template <typename T>
 void setAll(ros::NodeHandle& pnh, const std::vector<Setting<T>>& table, const T& defaults) {
   for (const auto& s : table) {
     const std::string text = s.get(defaults);
-    if (s.type == SettingType::kInt) pnh.setParam(s.key, std::stoi(text));
-    else if (s.type == SettingType::kDouble) pnh.setParam(s.key, std::stod(text));
-    else if (s.type == SettingType::kBool) pnh.setParam(s.key, text == "true");
-    else pnh.setParam(s.key, text);
+    if (s.type == SettingType::kInt)
+      pnh.setParam(s.key, std::stoi(text));
+    else if (s.type == SettingType::kDouble)
+      pnh.setParam(s.key, std::stod(text));
+    else if (s.type == SettingType::kBool)
+      pnh.setParam(s.key, text == "true");
+    else
+      pnh.setParam(s.key, text);
   }
 }
 

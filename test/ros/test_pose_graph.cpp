@@ -126,8 +126,8 @@ TEST_F(PoseGraphNode, CorrectsTheDriftPublishesTheTfAndTheMapAndHoldsOffAFalseLo
 
   nav_msgs::Path path, raw;
   const auto complete = [&](const nav_msgs::Path& p) { return p.poses.size() == n; };
-  ASSERT_TRUE(corrected.waitFor(complete, 30.0, &path)) << "no corrected path with every keyframe (" << n
-                                                         << "); the latest has " << path.poses.size();
+  ASSERT_TRUE(corrected.waitFor(complete, 30.0, &path))
+      << "no corrected path with every keyframe (" << n << "); the latest has " << path.poses.size();
   ASSERT_TRUE(odometry.waitFor(complete, 30.0, &raw));
   EXPECT_EQ(path.header.frame_id, "map");
   for (std::size_t k = 0; k < n; ++k) {
@@ -157,8 +157,11 @@ TEST_F(PoseGraphNode, CorrectsTheDriftPublishesTheTfAndTheMapAndHoldsOffAFalseLo
 
   // Every loop the node verified is drawn between the corrected poses.
   visualization_msgs::MarkerArray shown;
-  ASSERT_TRUE(markers.waitFor([&](const visualization_msgs::MarkerArray& m) {
-    return !m.markers.empty() && m.markers[0].points.size() == 2 * loops; }, 10.0, &shown));
+  ASSERT_TRUE(markers.waitFor(
+      [&](const visualization_msgs::MarkerArray& m) {
+        return !m.markers.empty() && m.markers[0].points.size() == 2 * loops;
+      },
+      10.0, &shown));
   EXPECT_EQ(shown.markers[0].ns, "verified loops");
 
   // The map on request: the keyframe clouds at the corrected poses, thinned, in the map frame.
@@ -189,17 +192,18 @@ TEST_F(PoseGraphNode, CorrectsTheDriftPublishesTheTfAndTheMapAndHoldsOffAFalseLo
   const std::string outside = map_directory + "_outside";
   ASSERT_TRUE(std::filesystem::create_directory(outside));
   ASSERT_EQ(::symlink(outside.c_str(), (map_directory + "/link").c_str()), 0);
-  const std::vector<std::pair<std::string, std::string>> hostile = {
-      {"../x", "\"..\""}, {outside + "/run", "outside the map directory"}, {"link", "symbolic link"},
-      {"link/run", "outside the map directory"}};
+  const std::vector<std::pair<std::string, std::string>> hostile = {{"../x", "\"..\""},
+                                                                    {outside + "/run", "outside the map directory"},
+                                                                    {"link", "symbolic link"},
+                                                                    {"link/run", "outside the map directory"}};
   for (const auto& call : hostile) {
     scan_context_loop::SaveMap refused;
     refused.request.path = call.first;
     ASSERT_TRUE(ros::service::call("pose_graph/save_map", refused));
     EXPECT_FALSE(refused.response.success) << call.first;
     EXPECT_TRUE(refused.response.files.empty()) << call.first;
-    EXPECT_NE(refused.response.message.find(call.second), std::string::npos) << call.first << ": "
-                                                                              << refused.response.message;
+    EXPECT_NE(refused.response.message.find(call.second), std::string::npos)
+        << call.first << ": " << refused.response.message;
   }
   EXPECT_TRUE(std::filesystem::is_empty(outside)) << "a refused save wrote outside map_directory";
   EXPECT_FALSE(std::filesystem::exists(map_directory + "/../x"));
@@ -237,8 +241,11 @@ TEST_F(PoseGraphNode, CorrectsTheDriftPublishesTheTfAndTheMapAndHoldsOffAFalseLo
   loop_pub.publish(bad_covariance);
   keyframe_pub.publish(back_in_time);
   keyframe_pub.publish(nan_pose);
-  ASSERT_TRUE(markers.waitFor([&](const visualization_msgs::MarkerArray& m) {
-    return !m.markers.empty() && m.markers[0].points.size() == 2 * (loops + 1); }, 10.0, &shown));
+  ASSERT_TRUE(markers.waitFor(
+      [&](const visualization_msgs::MarkerArray& m) {
+        return !m.markers.empty() && m.markers[0].points.size() == 2 * (loops + 1);
+      },
+      10.0, &shown));
   ASSERT_TRUE(corrected.waitFor(complete, 10.0, &path));
   const TrajectoryError held = absoluteTrajectoryError(posesOf(path), drive_->truth);
   EXPECT_LT(held.rmse, 0.5 * before.rmse) << "the false loop pulled the graph: " << held.rmse << " m";

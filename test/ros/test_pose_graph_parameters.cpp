@@ -38,16 +38,16 @@ TEST(PoseGraphParameters, DefaultsTypesUnknownKeysAndRangesAreChecked) {
   EXPECT_EQ(options.map_save, "last_run");
 
   ros::NodeHandle bad("/graph_bad");
-  bad.setParam("publish_tf", 1);                  // an integer for a boolean
-  bad.setParam("max_iterations", 2.5);            // a number for an integer
-  bad.setParam("map_frame", 3);                   // a number for a string
-  bad.setParam("loop_robust_scal", 1.0);          // misspelt
-  bad.setParam("tf_rate", 0.0);                   // out of range
+  bad.setParam("publish_tf", 1);          // an integer for a boolean
+  bad.setParam("max_iterations", 2.5);    // a number for an integer
+  bad.setParam("map_frame", 3);           // a number for a string
+  bad.setParam("loop_robust_scal", 1.0);  // misspelt
+  bad.setParam("tf_rate", 0.0);           // out of range
   bad.setParam("odometry_translation_floor", -1.0);
   PoseGraphOptions bad_options;
   problems = readPoseGraphParameters(bad, &graph, &map, &bad_options);
-  for (const std::string key : {"publish_tf", "max_iterations", "map_frame", "loop_robust_scal", "tf_rate",
-                                "odometry_translation_floor"}) {
+  for (const std::string key :
+       {"publish_tf", "max_iterations", "map_frame", "loop_robust_scal", "tf_rate", "odometry_translation_floor"}) {
     EXPECT_TRUE(std::any_of(problems.begin(), problems.end(),
                             [&](const std::string& p) { return p.compare(0, key.size(), key) == 0; }))
         << key << " not reported";
@@ -74,10 +74,20 @@ TEST(PoseGraphParameters, RobotsAreAListOfIdsAndTheAnchorOneOfThem) {
   EXPECT_EQ(robotIds(spaced_options), (std::vector<std::string>{"a", "b"})) << "the first anchors by default";
 
   const std::vector<std::pair<std::string, std::function<void(ros::NodeHandle&)>>> bad = {
-      {"robots", [](ros::NodeHandle& nh) { nh.setParam("robots", std::vector<std::string>{"a", "../b"}); }},
-      {"robots", [](ros::NodeHandle& nh) { nh.setParam("robots", std::vector<std::string>{"a", "a"}); }},
-      {"robots", [](ros::NodeHandle& nh) { nh.setParam("robots", std::vector<int>{1, 2}); }},
-      {"anchor_robot", [](ros::NodeHandle& nh) {
+      {"robots",
+       [](ros::NodeHandle& nh) {
+         nh.setParam("robots", std::vector<std::string>{"a", "../b"});
+       }},
+      {"robots",
+       [](ros::NodeHandle& nh) {
+         nh.setParam("robots", std::vector<std::string>{"a", "a"});
+       }},
+      {"robots",
+       [](ros::NodeHandle& nh) {
+         nh.setParam("robots", std::vector<int>{1, 2});
+       }},
+      {"anchor_robot",
+       [](ros::NodeHandle& nh) {
          nh.setParam("robots", std::vector<std::string>{"a", "b"});
          nh.setParam("anchor_robot", std::string("c"));
        }},

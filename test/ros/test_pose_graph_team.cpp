@@ -35,7 +35,7 @@ namespace scan_context_loop {
 namespace test {
 namespace {
 
-constexpr std::size_t kPerLap = 180;                  // a keyframe every 2 m
+constexpr std::size_t kPerLap = 180;  // a keyframe every 2 m
 
 using test::planar;
 Eigen::Isometry3d blockPoseOf(std::size_t k, double in) { return test::blockPose(k, in, kPerLap); }
@@ -62,7 +62,8 @@ Robot drive(const std::string& id, std::size_t start, double in, double yaw_bias
   for (std::size_t k = 1; k < kDriven; ++k) {
     Eigen::Isometry3d step = r.truth[k - 1].inverse() * r.truth[k];
     step.translation() += Eigen::Vector3d(metres(rng), metres(rng), 0.0);
-    step.linear() = step.linear() * Eigen::AngleAxisd(yaw_bias + radians(rng), Eigen::Vector3d::UnitZ()).toRotationMatrix();
+    step.linear() =
+        step.linear() * Eigen::AngleAxisd(yaw_bias + radians(rng), Eigen::Vector3d::UnitZ()).toRotationMatrix();
     r.odometry.push_back(r.odometry.back() * step);
   }
   return r;
@@ -109,7 +110,8 @@ scan_context_loop::LoopClosure loopMsg(const Robot& q, std::size_t kq, const Rob
     loop.query_robot = q.id;
     loop.match_robot = m.id;
   }
-  loop.relative_pose = tf2::toMsg(q.truth[kq].inverse() * m.truth[km] * planar(metres(*rng), metres(*rng), radians(*rng)));
+  loop.relative_pose =
+      tf2::toMsg(q.truth[kq].inverse() * m.truth[km] * planar(metres(*rng), metres(*rng), radians(*rng)));
   for (int i = 0; i < 6; ++i) loop.covariance[7 * i] = i < 3 ? 0.01 : 7.6e-5;
   loop.verified = true;
   return loop;
@@ -155,7 +157,8 @@ TEST(PoseGraphTeam, RobotsJoinedByLoopsLandInTheAnchorsFrameAndAnUnjoinedOneStay
   for (std::size_t r = 0; r < robots.size(); ++r) {
     const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(30.0);
     while ((odom_pubs[r].getNumSubscribers() == 0 || loop_pubs[r].getNumSubscribers() == 0 ||
-            cloud_pubs[r].getNumSubscribers() == 0) && ros::WallTime::now() < end) {
+            cloud_pubs[r].getNumSubscribers() == 0) &&
+           ros::WallTime::now() < end) {
       ros::WallDuration(0.05).sleep();
     }
     ASSERT_GT(odom_pubs[r].getNumSubscribers(), 0u) << robots[r].id;
@@ -187,7 +190,8 @@ TEST(PoseGraphTeam, RobotsJoinedByLoopsLandInTheAnchorsFrameAndAnUnjoinedOneStay
     ++inter;
   }
   for (std::size_t k = 2; k < kPerLap; k += 8) {
-    scan_context_loop::LoopClosure loop = loopMsg(robots[0], k, robots[1], samePlace(robots[0], k, robots[1]), false, &rng);
+    scan_context_loop::LoopClosure loop =
+        loopMsg(robots[0], k, robots[1], samePlace(robots[0], k, robots[1]), false, &rng);
     loop.match_robot = "robot2";  // query_robot empty: robot1, whose topic it comes on
     loop_pubs[0].publish(loop);
     ++inter;
@@ -203,19 +207,25 @@ TEST(PoseGraphTeam, RobotsJoinedByLoopsLandInTheAnchorsFrameAndAnUnjoinedOneStay
   // gtest PoseGraphChains.InterRobotLoopsRecoverEachRobotsFrame, with twice the bias: 0.7 m at most).
   constexpr double kTolerance = 1.0;
   nav_msgs::Path path2;
-  const bool landed = corrected[1]->waitFor([&](const nav_msgs::Path& p) {
-    return p.poses.size() == kDriven && p.header.frame_id == "map" && worstOff(p, robots[1], anchor_origin) < kTolerance;
-  }, 60.0, &path2);
+  const bool landed = corrected[1]->waitFor(
+      [&](const nav_msgs::Path& p) {
+        return p.poses.size() == kDriven && p.header.frame_id == "map" &&
+               worstOff(p, robots[1], anchor_origin) < kTolerance;
+      },
+      60.0, &path2);
   const double odometry_off = [&] {
     double worst = 0.0;  // robot 2's odometry placed at its true frame
     for (std::size_t k = 0; k < kDriven; ++k) {
-      worst = std::max(worst, ((robots[1].truth.front() * robots[1].odometry[k]).translation() -
-                               robots[1].truth[k].translation()).norm());
+      worst = std::max(
+          worst,
+          ((robots[1].truth.front() * robots[1].odometry[k]).translation() - robots[1].truth[k].translation()).norm());
     }
     return worst;
   }();
-  std::printf("robot 2: odometry (at its true frame) up to %.2f m off its truth; corrected, in the map, %.2f m "
-              "(%zu inter-robot loops)\n", odometry_off, worstOff(path2, robots[1], anchor_origin), inter);
+  std::printf(
+      "robot 2: odometry (at its true frame) up to %.2f m off its truth; corrected, in the map, %.2f m "
+      "(%zu inter-robot loops)\n",
+      odometry_off, worstOff(path2, robots[1], anchor_origin), inter);
   ASSERT_TRUE(landed) << "robot 2's path: " << path2.poses.size() << " poses in " << path2.header.frame_id << ", "
                       << worstOff(path2, robots[1], anchor_origin) << " m off";
   EXPECT_GT(odometry_off, 3.0) << "the drift is too small to show anything";
@@ -240,17 +250,19 @@ TEST(PoseGraphTeam, RobotsJoinedByLoopsLandInTheAnchorsFrameAndAnUnjoinedOneStay
   ASSERT_NO_THROW(tf = tf_buffer.lookupTransform("map", "robot2/odom", ros::Time(0), ros::Duration(5.0)));
   double tf_off = 0.0;
   nav_msgs::Path latest2;
-  const bool tf_matches = corrected[1]->waitFor([&](const nav_msgs::Path& p) {
-    if (p.poses.size() != kDriven) return false;
-    try {
-      tf = tf_buffer.lookupTransform("map", "robot2/odom", ros::Time(0));
-    } catch (const tf2::TransformException&) {
-      return false;
-    }
-    const Eigen::Isometry3d expected = posesOf(p).back() * robots[1].odometry.back().inverse();
-    tf_off = (tf2::transformToEigen(tf).translation() - expected.translation()).norm();
-    return tf_off < 1e-3;
-  }, 10.0, &latest2);
+  const bool tf_matches = corrected[1]->waitFor(
+      [&](const nav_msgs::Path& p) {
+        if (p.poses.size() != kDriven) return false;
+        try {
+          tf = tf_buffer.lookupTransform("map", "robot2/odom", ros::Time(0));
+        } catch (const tf2::TransformException&) {
+          return false;
+        }
+        const Eigen::Isometry3d expected = posesOf(p).back() * robots[1].odometry.back().inverse();
+        tf_off = (tf2::transformToEigen(tf).translation() - expected.translation()).norm();
+        return tf_off < 1e-3;
+      },
+      10.0, &latest2);
   EXPECT_TRUE(tf_matches) << "tf map -> robot2/odom is " << tf_off << " m from robot 2's corrected path";
 
   // Robot 3, joined to no one: its paths in its own odometry frame, its first keyframe at its origin,

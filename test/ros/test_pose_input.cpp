@@ -44,8 +44,8 @@ TEST(PoseInput, AUnitOrSlightlyOffQuaternionIsTakenAndNormalised) {
 TEST(PoseInput, AZeroNaNOrBadlyScaledQuaternionIsRefused) {
   const double nan = std::numeric_limits<double>::quiet_NaN();
   const double off = 1.0 + 2.0 * kQuaternionNormTolerance;
-  for (const auto& msg : {poseWith(0.0, 0.0, 0.0, 0.0), poseWith(nan, 0.0, 0.0, 1.0),
-                          poseWith(0.0, 0.0, 0.0, 2.0), poseWith(0.0, 0.0, 0.0, off)}) {
+  for (const auto& msg : {poseWith(0.0, 0.0, 0.0, 0.0), poseWith(nan, 0.0, 0.0, 1.0), poseWith(0.0, 0.0, 0.0, 2.0),
+                          poseWith(0.0, 0.0, 0.0, off)}) {
     Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
     std::string why;
     EXPECT_FALSE(poseFromMsg(msg, &pose, &why)) << msg;

@@ -298,25 +298,25 @@ TEST(Relocalization, AutosavesWriteTheDatabaseWhileTheNodeRuns) {
   const std::size_t n = drive.truth.size(), half = n / 2;
   const std::string abandoned = map + ".tmp.Dead00";  // what a save left when its process died
   std::ofstream(abandoned) << "an unfinished save";
-  runNodelet("/e/loop_closure",
-             {{"database_save", map}, {"database_autosave_seconds", 0.5}, {"queue_size", 2000},
-              {"exclude_recent_frames", 30}},
-             [&] {
-               ASSERT_TRUE(e.waitForNode(30.0));
-               e.publish(drive, 0, half, 15.0);
-               ASSERT_TRUE(e.waitForKeyframes(half, 60.0));
-               EXPECT_EQ(waitForFile(map, static_cast<long>(half), 20.0), static_cast<long>(half))
-                   << "no autosave of the first half while the node runs";
-               e.publish(drive, half, n, 15.0);
-               ASSERT_TRUE(e.waitForKeyframes(n, 60.0));
-               EXPECT_EQ(waitForFile(map, static_cast<long>(n), 20.0), static_cast<long>(n))
-                   << "no autosave of the whole drive while the node runs";
-               EXPECT_GE(keyframesIn(map + ".bak"), static_cast<long>(half)) << "the replaced autosave is kept";
-               const ros::WallTime now = ros::WallTime::now();
-               EXPECT_GE(diagnostics.value("database saves", now, 10.0), 2);
-               EXPECT_EQ(diagnostics.value("database saves failed", now, 10.0), 0);
-               EXPECT_EQ(diagnostics.value("keyframes dropped", now, 10.0), 0);
-             });
+  runNodelet(
+      "/e/loop_closure",
+      {{"database_save", map}, {"database_autosave_seconds", 0.5}, {"queue_size", 2000}, {"exclude_recent_frames", 30}},
+      [&] {
+        ASSERT_TRUE(e.waitForNode(30.0));
+        e.publish(drive, 0, half, 15.0);
+        ASSERT_TRUE(e.waitForKeyframes(half, 60.0));
+        EXPECT_EQ(waitForFile(map, static_cast<long>(half), 20.0), static_cast<long>(half))
+            << "no autosave of the first half while the node runs";
+        e.publish(drive, half, n, 15.0);
+        ASSERT_TRUE(e.waitForKeyframes(n, 60.0));
+        EXPECT_EQ(waitForFile(map, static_cast<long>(n), 20.0), static_cast<long>(n))
+            << "no autosave of the whole drive while the node runs";
+        EXPECT_GE(keyframesIn(map + ".bak"), static_cast<long>(half)) << "the replaced autosave is kept";
+        const ros::WallTime now = ros::WallTime::now();
+        EXPECT_GE(diagnostics.value("database saves", now, 10.0), 2);
+        EXPECT_EQ(diagnostics.value("database saves failed", now, 10.0), 0);
+        EXPECT_EQ(diagnostics.value("keyframes dropped", now, 10.0), 0);
+      });
   EXPECT_NE(::access(abandoned.c_str(), F_OK), 0) << "an abandoned save's temporary file is removed at start";
   EXPECT_EQ(keyframesIn(map), static_cast<long>(n)) << "the shutdown save";
   ::unlink(map.c_str());

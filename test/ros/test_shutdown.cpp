@@ -164,8 +164,8 @@ void expectSigintStopsItUnderLoad(Burst* burst, const DiagnosticsWatch& watch, C
 TEST(Shutdown, SigintStopsAStandaloneNodeUnderLoad) {
   DiagnosticsWatch watch(ros::NodeHandle(), "standalone/loop_closure");
   Burst burst(ros::NodeHandle("standalone"), 40);
-  Child node({"scan_context_loop", "loop_closure_node", "__ns:=standalone", "__name:=loop_closure",
-              "_queue_size:=3", "_exclude_recent_frames:=30"});
+  Child node({"scan_context_loop", "loop_closure_node", "__ns:=standalone", "__name:=loop_closure", "_queue_size:=3",
+              "_exclude_recent_frames:=30"});
   ASSERT_GT(node.pid(), 0);
   ASSERT_TRUE(burst.harness().waitForNode(60.0)) << "the node never subscribed";
   expectSigintStopsItUnderLoad(&burst, watch, &node, "the standalone node", "node_sigint_seconds");

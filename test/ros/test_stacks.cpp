@@ -121,8 +121,10 @@ void expectCorrectedPath(ros::NodeHandle nh, const Latest<nav_msgs::Path>& corre
   ASSERT_GE(before, 0.0) << "a keyframe the bag's truth does not have";
   ASSERT_GE(after, 0.0);
   const double ratio = after / before;
-  std::printf("%s: position RMSE from the first keyframe: odometry %.3f m, corrected %.3f m, ratio %.3f "
-              "(%zu keyframes)\n", stack.c_str(), before, after, ratio, selected.size());
+  std::printf(
+      "%s: position RMSE from the first keyframe: odometry %.3f m, corrected %.3f m, ratio %.3f "
+      "(%zu keyframes)\n",
+      stack.c_str(), before, after, ratio, selected.size());
   ::testing::Test::RecordProperty("odometry_rmse_m", std::to_string(before));
   ::testing::Test::RecordProperty("corrected_rmse_m", std::to_string(after));
   ::testing::Test::RecordProperty("corrected_to_odometry", std::to_string(ratio));

@@ -164,7 +164,8 @@ TEST(Team, ThreeRobotsCloseTrueLoopsIntoEachOthersKeyframes) {
     for (const auto& loop : topic->messages()) {
       EXPECT_EQ(loop.query_robot, robot) << "a loop on " << robot << "'s topic from another robot's keyframe";
       // Either direction of one pair of keyframes counts once.
-      const auto key = loop.query_robot < loop.match_robot || (loop.query_robot == loop.match_robot && loop.query_stamp < loop.match_stamp)
+      const auto key = loop.query_robot < loop.match_robot ||
+                               (loop.query_robot == loop.match_robot && loop.query_stamp < loop.match_stamp)
                            ? std::make_tuple(loop.query_robot, loop.query_stamp, loop.match_robot, loop.match_stamp)
                            : std::make_tuple(loop.match_robot, loop.match_stamp, loop.query_robot, loop.query_stamp);
       if (!seen.insert(key).second) ++duplicates;
@@ -172,8 +173,8 @@ TEST(Team, ThreeRobotsCloseTrueLoopsIntoEachOthersKeyframes) {
         ++intra;
         continue;
       }
-      SCOPED_TRACE(loop.query_robot + " " + std::to_string(loop.query_stamp.toSec()) + " -> " + loop.match_robot +
-                   " " + std::to_string(loop.match_stamp.toSec()));
+      SCOPED_TRACE(loop.query_robot + " " + std::to_string(loop.query_stamp.toSec()) + " -> " + loop.match_robot + " " +
+                   std::to_string(loop.match_stamp.toSec()));
       EXPECT_TRUE(loop.verified);
       Eigen::Isometry3d query, match, measured;
       ASSERT_TRUE(world(loop.query_robot, loop.query_stamp, &query)) << "no keyframe of the bag at the query stamp";
@@ -212,7 +213,8 @@ TEST(Team, ThreeRobotsCloseTrueLoopsIntoEachOthersKeyframes) {
   for (const auto& r : records.messages()) record_bytes += ros::serialization::serializationLength(r);
   const std::size_t shared = std::max<std::size_t>(1, records.count());
   const auto status = diagnostics.messages();
-  const double sent = diagnosticSum(status, "team bytes sent"), fetched = diagnosticSum(status, "team registration data fetched");
+  const double sent = diagnosticSum(status, "team bytes sent"),
+               fetched = diagnosticSum(status, "team registration data fetched");
   std::size_t keyframes = 0;
   for (const auto& [r, o] : odometry) keyframes += o->count();
   report << "; records " << records.count() << " on the topic, " << record_bytes / shared << " bytes each; "
@@ -223,8 +225,8 @@ TEST(Team, ThreeRobotsCloseTrueLoopsIntoEachOthersKeyframes) {
     for (const auto& m : o->messages()) odometry_bytes += ros::serialization::serializationLength(m);
   }
   for (auto& input : inputs) input.shutdown();
-  report << "; a robot's keyframe cloud and odometry " << (input_bytes + odometry_bytes) / std::max<std::size_t>(1, keyframes)
-         << " bytes per keyframe";
+  report << "; a robot's keyframe cloud and odometry "
+         << (input_bytes + odometry_bytes) / std::max<std::size_t>(1, keyframes) << " bytes per keyframe";
   if (pnh.param("records_expected", true)) {
     EXPECT_GT(records.count(), 0u);
     EXPECT_LT(record_bytes / shared, 8000u) << "a record is a descriptor, a few kilobytes";

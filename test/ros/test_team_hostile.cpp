@@ -187,9 +187,10 @@ TEST(TeamHostile, TheRealRobotsKeepFindingTheirLoopsAndAHungPeerDoesNotHoldUpAnU
     expectTrueLoop(drive, static_cast<int>(loop.query_id), static_cast<int>(loop.match_id), loop);
   }
   EXPECT_GE(into_robot1, n / 4) << "loops from robot2 into robot1, of " << n << " keyframes";
-  std::printf("robot2: %zu loops into robot1 over %zu keyframes; during a hung request robot3 unloaded in %.2f s, "
-              "robot4 exited on SIGINT in %.2f s\n",
-              into_robot1, n, unload_seconds, sigint_seconds);
+  std::printf(
+      "robot2: %zu loops into robot1 over %zu keyframes; during a hung request robot3 unloaded in %.2f s, "
+      "robot4 exited on SIGINT in %.2f s\n",
+      into_robot1, n, unload_seconds, sigint_seconds);
 
   const ros::WallTime now = ros::WallTime::now();
   EXPECT_GE(two_diagnostics.value("team claims refused (robot id bound to another node)", now, 10.0), 3)

@@ -45,8 +45,8 @@ double diagnostic(const Latest<diagnostic_msgs::DiagnosticArray>& topic, const s
 }
 
 /// Waits until diagnostic `key` reaches `at_least`; its last value.
-double waitForDiagnostic(const Latest<diagnostic_msgs::DiagnosticArray>& topic, const std::string& key,
-                         double at_least, double seconds) {
+double waitForDiagnostic(const Latest<diagnostic_msgs::DiagnosticArray>& topic, const std::string& key, double at_least,
+                         double seconds) {
   const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(seconds);
   double value = -1.0;
   while (ros::ok() && ros::WallTime::now() < end) {
@@ -209,7 +209,9 @@ TEST(TeamInput, AResetThenALoadOfAsManyKeyframesStartsANewRun) {
 
   scan_context_loop::TeamMember after;
   ASSERT_TRUE(member.waitFor(
-      [&](const scan_context_loop::TeamMember& m) { return m.run != before.run && m.keyframes == load.response.keyframes; },
+      [&](const scan_context_loop::TeamMember& m) {
+        return m.run != before.run && m.keyframes == load.response.keyframes;
+      },
       10.0, &after))
       << "still run " << after.run << " with " << after.keyframes << " keyframes after the reset and the load";
   // The new run serves the loaded keyframes from the first; the old run is no more.

@@ -32,7 +32,8 @@ TEST(LoopClosureNode, PosesFromTfAndRegisteredClouds) {
   const long dropped = diagnostics.value("keyframes dropped", before, 10.0);  // a full queue, under load
   // A keyframe a full queue dropped under load is counted too (the accounting below): what tf must
   // give is the pose of every other keyframe but the first few.
-  EXPECT_GE(kept + dropped, static_cast<long>(drive.truth.size()) - 5) << refused << " refused, " << dropped << " dropped";
+  EXPECT_GE(kept + dropped, static_cast<long>(drive.truth.size()) - 5)
+      << refused << " refused, " << dropped << " dropped";
   sensor_msgs::PointCloud2 late, zero_rotation;
   pcl::toROSMsg(drive.scan(0), late);
   late.header.frame_id = "odom";

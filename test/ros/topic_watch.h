@@ -39,8 +39,8 @@ class Latest {
   }
   /// The same once no message came for `quiet` seconds as well: the publisher's final state.
   bool waitForFinal(const std::function<bool(const M&)>& ready, double quiet, double seconds, M* out) const {
-    return waitFor([&](const M& m) { return (ros::WallTime::now() - arrived_).toSec() >= quiet && ready(m); },
-                   seconds, out);
+    return waitFor([&](const M& m) { return (ros::WallTime::now() - arrived_).toSec() >= quiet && ready(m); }, seconds,
+                   out);
   }
 
  private:

@@ -165,10 +165,10 @@ TEST(Cli, HelpTextListsEveryOptionAndArgument) {
   const cli::Parser p = makeParser(&v);
   const std::string usage = p.usage();
   EXPECT_EQ(usage.rfind("usage: tool IN_DIR OUT_DIR [EXTRA] [options]\n", 0), 0u) << usage;
-  for (const char* s :
-       {"Does things.", "IN_DIR", "OUT_DIR", "EXTRA", "--name TEXT", "a string", "--number M", "--number-alias M",
-        "a number", "more:", "--count N", "an integer", "--seed N", "--set KEY=VALUE", "an override (repeatable)",
-        "--flag", "a flag", "--procedural", "--help", "-h"}) {
+  for (const char* s : {"Does things.", "IN_DIR",     "OUT_DIR",          "EXTRA",           "--name TEXT",
+                        "a string",     "--number M", "--number-alias M", "a number",        "more:",
+                        "--count N",    "an integer", "--seed N",         "--set KEY=VALUE", "an override (repeatable)",
+                        "--flag",       "a flag",     "--procedural",     "--help",          "-h"}) {
     EXPECT_NE(usage.find(s), std::string::npos) << s << " missing from\n" << usage;
   }
   // Every line fits the width the tools print at.

@@ -73,22 +73,24 @@ std::size_t residentBytes() {
 int main(int argc, char** argv) {
   std::string data = "../shared/data";
   std::size_t max_size = 100000;
-  scl::cli::Parser cli("scan_context_bench",
-                       "Prints the core's benchmark table as Markdown: descriptor time on six real KITTI scans (raw "
-                       "and 0.4 m voxels), gravity alignment, pair distance, online query + insert at 1k, 10k, 100k and "
-                       "1M keyframes (up to MAX_DATABASE_SIZE), verification, and bytes per keyframe.");
+  scl::cli::Parser cli(
+      "scan_context_bench",
+      "Prints the core's benchmark table as Markdown: descriptor time on six real KITTI scans (raw "
+      "and 0.4 m voxels), gravity alignment, pair distance, online query + insert at 1k, 10k, 100k and "
+      "1M keyframes (up to MAX_DATABASE_SIZE), verification, and bytes per keyframe.");
   cli.positional("DATA_DIR", "the real data, holding kitti/00 and kitti/08 (default ../shared/data)", &data, false)
-      .positional("MAX_DATABASE_SIZE", "largest database size for the online rows (default 100000)",
-                  [&max_size](const std::string& v, std::string* error) {
-                    std::uint64_t n = 0;
-                    if (scl::cli::toUnsigned(v, &n) && n > 0) {
-                      max_size = static_cast<std::size_t>(n);
-                      return true;
-                    }
-                    *error = "needs a positive integer, got '" + v + "'";
-                    return false;
-                  },
-                  false);
+      .positional(
+          "MAX_DATABASE_SIZE", "largest database size for the online rows (default 100000)",
+          [&max_size](const std::string& v, std::string* error) {
+            std::uint64_t n = 0;
+            if (scl::cli::toUnsigned(v, &n) && n > 0) {
+              max_size = static_cast<std::size_t>(n);
+              return true;
+            }
+            *error = "needs a positive integer, got '" + v + "'";
+            return false;
+          },
+          false);
   if (const int status = cli.parse(argc, argv); status >= 0) return status;
   scl::Config config;
 
@@ -105,8 +107,8 @@ int main(int argc, char** argv) {
 
   std::printf("| measurement | points / size | median | p99 | max |\n|---|---|---|---|---|\n");
   const auto row = [](const char* what, const std::string& size, const Stats& s, const char* unit) {
-    std::printf("| %s | %s | %.3f %s | %.3f %s | %.3f %s |\n", what, size.c_str(), s.median, unit, s.p99, unit,
-                s.max, unit);
+    std::printf("| %s | %s | %.3f %s | %.3f %s | %.3f %s |\n", what, size.c_str(), s.median, unit, s.p99, unit, s.max,
+                unit);
   };
   for (int pass = 0; pass < 2; ++pass) {
     const auto& clouds = pass == 0 ? raw : down;
@@ -114,7 +116,10 @@ int main(int argc, char** argv) {
     std::size_t points = 0;
     for (const auto& c : clouds) {
       points += c.size();
-      const auto v = timeIt(100, [&] { volatile int n = scl::makeDescriptor(c, config).occupied_columns; (void)n; });
+      const auto v = timeIt(100, [&] {
+        volatile int n = scl::makeDescriptor(c, config).occupied_columns;
+        (void)n;
+      });
       t.insert(t.end(), v.begin(), v.end());
     }
     for (double& x : t) x /= 1000.0;
@@ -126,7 +131,8 @@ int main(int argc, char** argv) {
   // rises across the range band, which changes which points the fit considers).
   const float twenty_degrees = static_cast<float>(20.0 * M_PI / 180.0);
   const Eigen::Matrix3f tilt = (Eigen::AngleAxisf(twenty_degrees, Eigen::Vector3f::UnitY()) *
-                                Eigen::AngleAxisf(twenty_degrees, Eigen::Vector3f::UnitX())).toRotationMatrix();
+                                Eigen::AngleAxisf(twenty_degrees, Eigen::Vector3f::UnitX()))
+                                   .toRotationMatrix();
   for (int pass = 0; pass < 2; ++pass) {
     std::vector<double> t;
     std::size_t points = 0;
@@ -157,7 +163,10 @@ int main(int argc, char** argv) {
     std::size_t points = 0;
     for (const auto& c : raw) {
       points += c.size();
-      const auto v = timeIt(50, [&] { volatile std::size_t n = scl::prepareCloud(scl::viewOf(c), verification).size(); (void)n; });
+      const auto v = timeIt(50, [&] {
+        volatile std::size_t n = scl::prepareCloud(scl::viewOf(c), verification).size();
+        (void)n;
+      });
       t.insert(t.end(), v.begin(), v.end());
       prepared.push_back(scl::prepareCloud(scl::viewOf(c), verification));
     }
@@ -166,8 +175,8 @@ int main(int argc, char** argv) {
     std::vector<double> u;
     const std::vector<std::pair<int, int>> pairs = {{4, 5}, {5, 4}, {0, 1}, {2, 3}, {0, 2}, {2, 0}};
     for (const auto& p : pairs) {
-      const double yaw = scl::align(scl::makeDescriptor(raw[p.first], config), scl::makeDescriptor(raw[p.second], config),
-                                    config).yaw;
+      const double yaw =
+          scl::align(scl::makeDescriptor(raw[p.first], config), scl::makeDescriptor(raw[p.second], config), config).yaw;
       const std::vector<Eigen::Isometry3d> guesses = {scl::priorPose(yaw), scl::priorPose(yaw + 1.2),
                                                       scl::priorPose(yaw - 2.0)};
       const auto v = timeIt(30, [&] {
@@ -246,8 +255,8 @@ int main(int argc, char** argv) {
   }
   std::printf("\nkeyframes eligible but not searchable at query time: %zu\n", blind);
   const scl::Database::IndexBuilds builds = db.indexBuilds();
-  std::printf("kd-tree builds: %zu on the database's thread (%zu waited for), %zu on the caller's\n",
-              builds.background, builds.waited, builds.at_once);
+  std::printf("kd-tree builds: %zu on the database's thread (%zu waited for), %zu on the caller's\n", builds.background,
+              builds.waited, builds.at_once);
   std::printf("bytes per keyframe: %zu accounted (descriptor, keys, record, tree); %.0f measured RSS growth\n",
               db.bytesPerKeyframe(), static_cast<double>(rss_after - rss_before) / db.size());
   return 0;

@@ -90,7 +90,8 @@ inline PriorSessions makeKeyframes(std::size_t count, const std::vector<HeightGr
     k.path_length = static_cast<double>(i);
     k.descriptor = makeDescriptor(stream.next(), config);
     sessions.keyframes.push_back(std::move(k));
-    pose = pose * Eigen::Translation3d(1.0, 0.0, 0.0) * Eigen::AngleAxisd(0.01 * std::sin(0.001 * i), Eigen::Vector3d::UnitZ());
+    pose = pose * Eigen::Translation3d(1.0, 0.0, 0.0) *
+           Eigen::AngleAxisd(0.01 * std::sin(0.001 * i), Eigen::Vector3d::UnitZ());
     if (!clouds.empty()) {
       sessions.gravity_alignment.push_back(Eigen::Matrix3f::Identity());
       sessions.clouds.push_back(std::make_unique<VoxelCloud>(clouds[i % clouds.size()]));

@@ -121,9 +121,9 @@ bool measure(const char* what, std::size_t count, const std::vector<scl::HeightG
     }
   }
   const double bytes = static_cast<double>(fs::file_size(path));
-  std::printf("| %s | %zu | %.1f MB | %.0f | %.1f ms | %.3f s | %.0f ms | %.3f s | %.3f s + %.3f s |\n", what,
-              count, bytes / 1e6, bytes / count, snapshot_seconds * 1e3, save_seconds, neighbour_seconds * 1e3,
-              first_seconds, read_seconds, join_seconds);
+  std::printf("| %s | %zu | %.1f MB | %.0f | %.1f ms | %.3f s | %.0f ms | %.3f s | %.3f s + %.3f s |\n", what, count,
+              bytes / 1e6, bytes / count, snapshot_seconds * 1e3, save_seconds, neighbour_seconds * 1e3, first_seconds,
+              read_seconds, join_seconds);
   return true;
 }
 
@@ -240,19 +240,23 @@ int main(int argc, char** argv) {
                        "CLOUD_KEYFRAMES with the real scans' registration data. Loading includes the checks and "
                        "the kd-tree build; the file is read from the page cache (written just before).");
   cli.positional("DATA_DIR", "the real data, holding kitti/00 and kitti/08 (default ../shared/data)", &data, false)
-      .positional("KEYFRAMES", "keyframes without registration data (default 100000)",
-                  [&keyframes](const std::string& v, std::string* error) { return positiveCount(v, &keyframes, error); },
-                  false)
-      .positional("CLOUD_KEYFRAMES", "keyframes with registration data (default 2000)",
-                  [&cloud_keyframes](const std::string& v, std::string* error) {
-                    return positiveCount(v, &cloud_keyframes, error);
-                  },
-                  false)
+      .positional(
+          "KEYFRAMES", "keyframes without registration data (default 100000)",
+          [&keyframes](const std::string& v, std::string* error) { return positiveCount(v, &keyframes, error); }, false)
+      .positional(
+          "CLOUD_KEYFRAMES", "keyframes with registration data (default 2000)",
+          [&cloud_keyframes](const std::string& v, std::string* error) {
+            return positiveCount(v, &cloud_keyframes, error);
+          },
+          false)
       .option("--dir", "DIR", "where the files are written (and removed afterwards; default the temporary directory)",
               &directory)
-      .option("--load", "FILE", "only load FILE once and print the seconds reading and joining took, their page faults, the seconds until the kd-tree built in the background was done, and the peak RSS [KB]", &load)
-      .option("--write", "FILE", "only write the KEYFRAMES synthetic keyframes (no registration data) to FILE, as a map to load",
-              &write);
+      .option("--load", "FILE",
+              "only load FILE once and print the seconds reading and joining took, their page faults, the seconds "
+              "until the kd-tree built in the background was done, and the peak RSS [KB]",
+              &load)
+      .option("--write", "FILE",
+              "only write the KEYFRAMES synthetic keyframes (no registration data) to FILE, as a map to load", &write);
   if (const int status = cli.parse(argc, argv); status >= 0) return status;
 
   const scl::Config config;
@@ -268,19 +272,21 @@ int main(int argc, char** argv) {
   if (!write.empty()) return writeOnly(write, keyframes, grids, config);
   const std::string plain = (fs::path(directory) / "scan_context_bench_database.scl").string();
   const std::string with_clouds = (fs::path(directory) / "scan_context_bench_database_clouds.scl").string();
-  std::printf("| file | keyframes | size | bytes / keyframe | snapshot (the worker's part) | write (with fsync) | a "
-              "neighbour's write and rename meanwhile, longest | load, first run | load, best of 3: read and check + "
-              "join and index |\n|---|---|---|---|---|---|---|---|---|\n");
+  std::printf(
+      "| file | keyframes | size | bytes / keyframe | snapshot (the worker's part) | write (with fsync) | a "
+      "neighbour's write and rename meanwhile, longest | load, first run | load, best of 3: read and check + "
+      "join and index |\n|---|---|---|---|---|---|---|---|---|\n");
   bool ok = measure("descriptors, stamps, poses", keyframes, grids, {}, config, plain) &&
-                  measure("with registration data (LZ4)", cloud_keyframes, grids, clouds, config, with_clouds);
+            measure("with registration data (LZ4)", cloud_keyframes, grids, clouds, config, with_clouds);
   // A new process touches every page of the keyframes' memory for the first time.
   constexpr int kFreshRuns = 3;
   if (ok) {
-    std::printf("\nload in a new process (nothing allocated before), %d runs; above exact_search_limit the kd-tree is "
-                "built in the background after the join, queries scanning every key meanwhile:\n\n| file | best | worst "
-                "| best run: read and check + join | kd-tree done after | peak RSS | worst run: read and check + join "
-                "| kd-tree done after | peak RSS |\n|---|---|---|---|---|---|---|---|---|\n",
-                kFreshRuns);
+    std::printf(
+        "\nload in a new process (nothing allocated before), %d runs; above exact_search_limit the kd-tree is "
+        "built in the background after the join, queries scanning every key meanwhile:\n\n| file | best | worst "
+        "| best run: read and check + join | kd-tree done after | peak RSS | worst run: read and check + join "
+        "| kd-tree done after | peak RSS |\n|---|---|---|---|---|---|---|---|---|\n",
+        kFreshRuns);
   }
   ok = ok && loadInNewProcesses("descriptors, stamps, poses", plain, kFreshRuns) &&
        loadInNewProcesses("with registration data (LZ4)", with_clouds, kFreshRuns);

@@ -143,8 +143,9 @@ int main(int argc, char** argv) {
   }
   rusage usage{};
   ::getrusage(RUSAGE_CHILDREN, &usage);
-  std::printf("| robots | keyframes a robot | record size | own keyframe: resident (accounted) | foreign keyframe: "
-              "resident (accounted) | foreign / own | peak resident, largest child |\n|---|---|---|---|---|---|---|\n");
+  std::printf(
+      "| robots | keyframes a robot | record size | own keyframe: resident (accounted) | foreign keyframe: "
+      "resident (accounted) | foreign / own | peak resident, largest child |\n|---|---|---|---|---|---|---|\n");
   std::printf("| %zu | %zu | %zu B | %.0f B (%.0f B) | %.0f B (%.0f B) | %.2f | %.0f MB |\n", robots, keyframes,
               records.front().size(), own_bytes, own_accounted, foreign_bytes, foreign_accounted,
               foreign_bytes / own_bytes, usage.ru_maxrss / 1024.0);

@@ -16,8 +16,8 @@ namespace cli {
 
 namespace {
 
-constexpr std::size_t kWidth = 108;   // usage text lines stay within this many columns
-constexpr std::size_t kColumn = 29;   // descriptions start here
+constexpr std::size_t kWidth = 108;  // usage text lines stay within this many columns
+constexpr std::size_t kColumn = 29;  // descriptions start here
 
 /// Appends `text` word-wrapped, its first line continuing `line` and later lines indented by `indent`.
 void wrap(const std::string& text, std::string line, std::size_t indent, std::string* out) {
@@ -115,7 +115,13 @@ Parser& Parser::positional(const std::string& name, const std::string& help, Set
 }
 
 Parser& Parser::positional(const std::string& name, const std::string& help, std::string* value, bool required) {
-  return positional(name, help, [value](const std::string& v, std::string*) { *value = v; return true; }, required);
+  return positional(
+      name, help,
+      [value](const std::string& v, std::string*) {
+        *value = v;
+        return true;
+      },
+      required);
 }
 
 Parser& Parser::section(const std::string& title) {
@@ -143,7 +149,10 @@ Parser& Parser::option(const std::string& name, const std::string& metavar, cons
 
 Parser& Parser::option(const std::string& name, const std::string& metavar, const std::string& help,
                        std::string* value) {
-  return option(name, metavar, help, [value](const std::string& v, std::string*) { *value = v; return true; });
+  return option(name, metavar, help, [value](const std::string& v, std::string*) {
+    *value = v;
+    return true;
+  });
 }
 
 Parser& Parser::option(const std::string& name, const std::string& metavar, const std::string& help, double* value) {
@@ -187,7 +196,10 @@ Parser& Parser::flag(const std::string& name, const std::string& help, std::func
   Entry e;
   e.names = {name};
   e.help = help;
-  e.set = [set](const std::string&, std::string*) { set(); return true; };
+  e.set = [set](const std::string&, std::string*) {
+    set();
+    return true;
+  };
   return add(std::move(e));
 }
 

@@ -36,8 +36,7 @@ class Parser {
   Parser& option(const std::string& name, const std::string& metavar, const std::string& help, std::string* value);
   Parser& option(const std::string& name, const std::string& metavar, const std::string& help, double* value);
   Parser& option(const std::string& name, const std::string& metavar, const std::string& help, int* value);
-  Parser& option(const std::string& name, const std::string& metavar, const std::string& help,
-                 std::uint32_t* value);
+  Parser& option(const std::string& name, const std::string& metavar, const std::string& help, std::uint32_t* value);
   /// Repeatable: each occurrence appends its value.
   Parser& option(const std::string& name, const std::string& metavar, const std::string& help,
                  std::vector<std::string>* values);
@@ -75,7 +74,7 @@ class Parser {
     std::string metavar;             // empty for flags
     std::string help;
     Setter set;
-    bool required = true;            // positionals only
+    bool required = true;  // positionals only
     std::string section;
   };
   const Entry* find(const std::string& name) const;

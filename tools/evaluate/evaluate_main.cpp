@@ -21,17 +21,19 @@ int main(int argc, char** argv) {
   std::vector<std::string> overrides;
   std::string config_file, prior_path, prior_truth, save_database, save_map;
   bool save_clouds = false, team = false;
-  scl::cli::Parser cli("scan_context_evaluate",
-                       "Runs the Scan Context detector frame by frame over a KITTI-format sequence (velodyne/*.bin, "
-                       "poses.txt, calib.txt, optional times.txt and odom_poses.txt) through the node's own code "
-                       "(KeyframePipeline), and writes OUT_DIR/results.csv, metrics.json and trajectory.csv (scripts/evaluate adds pr.png and "
-                       "map.png); with verification also verifications.csv, one row per candidate registered, scored "
-                       "against the truth; with --prior also relocalization.csv; with --save-database the run's "
-                       "database. With --team, SEQUENCE_DIR is a team's (team.txt and one sequence per robot): every robot's "
-                       "keyframes run in the world's clock order through a pipeline of its own, exchanging keyframe "
-                       "records and registration data as the node's team does, and OUT_DIR gets team.json, "
-                       "inter_robot_loops.csv and one folder per robot. Prints a summary, and last the line "
-                       "`output: OUT_DIR`.");
+  scl::cli::Parser cli(
+      "scan_context_evaluate",
+      "Runs the Scan Context detector frame by frame over a KITTI-format sequence (velodyne/*.bin, "
+      "poses.txt, calib.txt, optional times.txt and odom_poses.txt) through the node's own code "
+      "(KeyframePipeline), and writes OUT_DIR/results.csv, metrics.json and trajectory.csv (scripts/evaluate adds "
+      "pr.png and "
+      "map.png); with verification also verifications.csv, one row per candidate registered, scored "
+      "against the truth; with --prior also relocalization.csv; with --save-database the run's "
+      "database. With --team, SEQUENCE_DIR is a team's (team.txt and one sequence per robot): every robot's "
+      "keyframes run in the world's clock order through a pipeline of its own, exchanging keyframe "
+      "records and registration data as the node's team does, and OUT_DIR gets team.json, "
+      "inter_robot_loops.csv and one folder per robot. Prints a summary, and last the line "
+      "`output: OUT_DIR`.");
   cli.positional("SEQUENCE_DIR", "the KITTI-format sequence", &sequence_dir)
       .positional("OUT_DIR", "where the results go (created with its parents when missing)", &out_dir)
       .option("--config", "FILE",
@@ -68,8 +70,10 @@ int main(int argc, char** argv) {
               "after the run, save the pipeline's database (the prior's keyframes too) to FILE, the node's "
               "format (~load_database, database_load reads it); tags are frame indices",
               &save_database)
-      .flag("--save-clouds", "with --save-database: include the registration data, so that loaded keyframes "
-            "can be verified", &save_clouds)
+      .flag("--save-clouds",
+            "with --save-database: include the registration data, so that loaded keyframes "
+            "can be verified",
+            &save_clouds)
       .option("--save-map", "DIR",
               "write the corrected map into DIR (created) as the pose_graph node's ~save_map does: map.pcd (the "
               "keyframe scans at the corrected poses, voxel-filtered), corrected_tum.txt, odometry_tum.txt, "
@@ -95,7 +99,8 @@ int main(int argc, char** argv) {
   for (const auto& w : warnings) std::fprintf(stderr, "scan_context_evaluate: warning: %s\n", w.c_str());
   const auto problems = config.validate();
   if (!problems.empty() || !(radius > 0.0)) {
-    for (const auto& p : problems) std::fprintf(stderr, "scan_context_evaluate: invalid configuration: %s\n", p.c_str());
+    for (const auto& p : problems)
+      std::fprintf(stderr, "scan_context_evaluate: invalid configuration: %s\n", p.c_str());
     if (!(radius > 0.0)) std::fprintf(stderr, "scan_context_evaluate: --revisit-radius must be positive\n");
     return 2;
   }
@@ -126,8 +131,7 @@ int main(int argc, char** argv) {
   for (std::size_t i = 0; i < result.errors.size() && i < 5; ++i) {
     std::fprintf(stderr, "scan_context_evaluate: skipped %s\n", result.errors[i].c_str());
   }
-  if (!scl::cli::makeDirectories(out_dir, &error) ||
-      !eval::writeResultsCsv(out_dir + "/results.csv", result, &error) ||
+  if (!scl::cli::makeDirectories(out_dir, &error) || !eval::writeResultsCsv(out_dir + "/results.csv", result, &error) ||
       !eval::writeMetricsJson(out_dir + "/metrics.json", result, sequence, config, radius, &error) ||
       !eval::writeTrajectoryCsv(out_dir + "/trajectory.csv", sequence, &error) ||
       (result.verification && !eval::writeVerificationsCsv(out_dir + "/verifications.csv", result, &error)) ||
@@ -166,23 +170,26 @@ int main(int argc, char** argv) {
   std::printf("descriptor %.3f ms median, %.3f ms p99; query + insert %.3f ms median, %.3f ms p99\n",
               eval::percentile(result.descriptor_ms, 0.5), eval::percentile(result.descriptor_ms, 0.99),
               eval::percentile(result.query_ms, 0.5), eval::percentile(result.query_ms, 0.99));
-  std::printf("CPU: %.2f ms a keyframe reading, describing, querying and verifying (%zu keyframes); whole process "
-              "%.2f s with the pose graph and files\n",
-              result.descriptor_ms.empty() ? 0.0 : 1e3 * result.cpu_seconds / static_cast<double>(result.descriptor_ms.size()),
-              result.descriptor_ms.size(), eval::processCpuSeconds());
+  std::printf(
+      "CPU: %.2f ms a keyframe reading, describing, querying and verifying (%zu keyframes); whole process "
+      "%.2f s with the pose graph and files\n",
+      result.descriptor_ms.empty() ? 0.0 : 1e3 * result.cpu_seconds / static_cast<double>(result.descriptor_ms.size()),
+      result.descriptor_ms.size(), eval::processCpuSeconds());
   if (result.verification) {
     const eval::VerifiedMetrics& v = result.verified;
-    std::printf("verified loops: precision %.3f, recall %.3f (%zu TP, %zu FP); relative pose error of true ones: "
-                "translation %.3f m median / %.3f p90, yaw %.2f deg median / %.2f p90\n",
-                v.precision, v.recall, v.true_positives, v.false_positives, v.translation_error_median,
-                v.translation_error_p90, v.yaw_error_median, v.yaw_error_p90);
+    std::printf(
+        "verified loops: precision %.3f, recall %.3f (%zu TP, %zu FP); relative pose error of true ones: "
+        "translation %.3f m median / %.3f p90, yaw %.2f deg median / %.2f p90\n",
+        v.precision, v.recall, v.true_positives, v.false_positives, v.translation_error_median, v.translation_error_p90,
+        v.yaw_error_median, v.yaw_error_p90);
     std::printf("revisits whose first candidate is the right place: %zu, of which %zu verified (%.3f)\n",
                 v.first_candidate_right, v.first_candidate_right_verified,
                 v.first_candidate_right > 0 ? double(v.first_candidate_right_verified) / v.first_candidate_right : 0.0);
-    std::printf("verification per keyframe: %.2f candidates on average, %d at most; %.1f ms median, %.1f ms p99, "
-                "%.1f ms max\n",
-                v.candidates_mean, v.candidates_max, eval::percentile(result.verify_ms, 0.5),
-                eval::percentile(result.verify_ms, 0.99), eval::percentile(result.verify_ms, 1.0));
+    std::printf(
+        "verification per keyframe: %.2f candidates on average, %d at most; %.1f ms median, %.1f ms p99, "
+        "%.1f ms max\n",
+        v.candidates_mean, v.candidates_max, eval::percentile(result.verify_ms, 0.5),
+        eval::percentile(result.verify_ms, 0.99), eval::percentile(result.verify_ms, 1.0));
     if (config.consistency_min_support > 0) {
       std::printf("consistency check: %zu loops reported after their keyframe, %zu dropped without support\n",
                   v.reported_late, result.loops_dropped);
@@ -190,18 +197,21 @@ int main(int argc, char** argv) {
   }
   if (result.has_prior) {
     const eval::RelocalizationMetrics& r = result.relocalization;
-    std::printf("relocalization in %s (%zu keyframes): %zu of %zu query keyframes at a prior place (R = %.1f m); "
-                "loops into the prior: precision %.3f, recall %.3f (%zu TP, %zu FP)\n",
-                result.prior_source.c_str(), r.prior_keyframes, r.prior_places, r.queries, radius, r.precision, r.recall,
-                r.true_positives, r.false_positives);
-    std::printf("relocalization pose error of true ones: translation %.3f m median / %.3f p90, yaw %.3f deg median "
-                "/ %.3f p90\n",
-                r.translation_error_median, r.translation_error_p90, r.yaw_error_median, r.yaw_error_p90);
+    std::printf(
+        "relocalization in %s (%zu keyframes): %zu of %zu query keyframes at a prior place (R = %.1f m); "
+        "loops into the prior: precision %.3f, recall %.3f (%zu TP, %zu FP)\n",
+        result.prior_source.c_str(), r.prior_keyframes, r.prior_places, r.queries, radius, r.precision, r.recall,
+        r.true_positives, r.false_positives);
+    std::printf(
+        "relocalization pose error of true ones: translation %.3f m median / %.3f p90, yaw %.3f deg median "
+        "/ %.3f p90\n",
+        r.translation_error_median, r.translation_error_p90, r.yaw_error_median, r.yaw_error_p90);
     if (r.first_query >= 0) {
-      std::printf("first correct relocalization: %.1f s, %.0f m after the start (frame %d; first prior place at "
-                  "%.1f s, %.0f m); %zu wrong before it\n",
-                  r.first_seconds, r.first_metres, r.first_query, r.first_place_seconds, r.first_place_metres,
-                  r.false_before_first);
+      std::printf(
+          "first correct relocalization: %.1f s, %.0f m after the start (frame %d; first prior place at "
+          "%.1f s, %.0f m); %zu wrong before it\n",
+          r.first_seconds, r.first_metres, r.first_query, r.first_place_seconds, r.first_place_metres,
+          r.false_before_first);
     } else {
       std::printf("no correct relocalization\n");
     }

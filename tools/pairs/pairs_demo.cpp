@@ -56,12 +56,13 @@ int main(int argc, char** argv) {
       {"00", 94, 198, "58 m apart, different places"},
       {"08", 720, 1500, "real reverse-direction revisit"},
   };
-  std::printf("threshold %.3f, %d rings x %d sectors, max radius %.0f m, ring key %s, lateral viewpoints every "
-              "%.1f m (%d a side); view = the viewpoint of the best distance\n\n",
-              config.distance_threshold, config.num_rings, config.num_sectors, config.max_radius,
-              scl::ringKeyTypeName(config.ring_key), config.lateral_offset_step, config.lateral_offset_count);
-  std::printf("%-4s %6s %6s  %8s  %6s  %-5s  %9s  %9s  %7s  %s\n", "seq", "query", "match", "distance",
-              "view", "match", "yaw [deg]", "true yaw", "apart", "");
+  std::printf(
+      "threshold %.3f, %d rings x %d sectors, max radius %.0f m, ring key %s, lateral viewpoints every "
+      "%.1f m (%d a side); view = the viewpoint of the best distance\n\n",
+      config.distance_threshold, config.num_rings, config.num_sectors, config.max_radius,
+      scl::ringKeyTypeName(config.ring_key), config.lateral_offset_step, config.lateral_offset_count);
+  std::printf("%-4s %6s %6s  %8s  %6s  %-5s  %9s  %9s  %7s  %s\n", "seq", "query", "match", "distance", "view", "match",
+              "yaw [deg]", "true yaw", "apart", "");
   int wrong = 0;
   for (const auto& pair : pairs) {
     const std::string dir = data + "/kitti/" + pair.sequence;
@@ -89,8 +90,8 @@ int main(int argc, char** argv) {
     const bool should = apart < 5.0;
     wrong += match != should;
     std::printf("%-4s %6d %6d  %8.4f  %+5.1fm  %-5s  %9.2f  %9.2f  %5.1f m  %s\n", pair.sequence, pair.query,
-                pair.match, al.distance, view, match ? "yes" : "no", al.yaw * 180.0 / M_PI,
-                true_yaw * 180.0 / M_PI, apart, pair.note);
+                pair.match, al.distance, view, match ? "yes" : "no", al.yaw * 180.0 / M_PI, true_yaw * 180.0 / M_PI,
+                apart, pair.note);
   }
   std::printf("\n%d of %zu decisions disagree with the ground truth (revisit = under 5 m apart)\n", wrong,
               pairs.size());

@@ -35,11 +35,14 @@ void section(std::ostringstream& out, const std::string& title) {
 
 std::string yamlValue(const SettingRow& row) {
   switch (row.type) {
-    case SettingType::kDouble: return floatText(row.default_number);
+    case SettingType::kDouble:
+      return floatText(row.default_number);
     case SettingType::kInt:
-    case SettingType::kBool: return row.default_text;
+    case SettingType::kBool:
+      return row.default_text;
     case SettingType::kChoice:
-    case SettingType::kString: return yamlString(row.default_text);
+    case SettingType::kString:
+      return yamlString(row.default_text);
   }
   return row.default_text;
 }

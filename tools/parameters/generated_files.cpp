@@ -42,9 +42,9 @@ std::string poseGraphYaml() {
       "scan_context_loop: parameters of the reference pose-graph backend (pose_graph nodelet / node),",
       "with their defaults. A private parameter that is not listed here stops the node. Load it with",
       "<rosparam command=\"load\" file=\"$(find scan_context_loop)/config/pose_graph.yaml\"/>."};
-  return defaultsYaml(concat(header, generatedFrom("src/graph/pose_graph_settings.cpp")),
-                      {settingRows(poseGraphSettings()), settingRows(keyframeMapSettings()),
-                       settingRows(poseGraphNodeSettings())});
+  return defaultsYaml(
+      concat(header, generatedFrom("src/graph/pose_graph_settings.cpp")),
+      {settingRows(poseGraphSettings()), settingRows(keyframeMapSettings()), settingRows(poseGraphNodeSettings())});
 }
 
 std::string loopClosureCfg() {

@@ -23,11 +23,15 @@ std::string pythonNumber(SettingType type, double v) {
 
 const char* parameterType(SettingType type) {
   switch (type) {
-    case SettingType::kInt: return "int_t";
-    case SettingType::kDouble: return "double_t";
-    case SettingType::kBool: return "bool_t";
+    case SettingType::kInt:
+      return "int_t";
+    case SettingType::kDouble:
+      return "double_t";
+    case SettingType::kBool:
+      return "bool_t";
     case SettingType::kChoice:
-    case SettingType::kString: return "str_t";
+    case SettingType::kString:
+      return "str_t";
   }
   return "";
 }

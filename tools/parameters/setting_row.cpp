@@ -7,11 +7,16 @@ namespace scan_context_loop {
 
 const char* typeName(SettingType type) {
   switch (type) {
-    case SettingType::kInt: return "int";
-    case SettingType::kDouble: return "double";
-    case SettingType::kBool: return "bool";
-    case SettingType::kChoice: return "choice";
-    case SettingType::kString: return "string";
+    case SettingType::kInt:
+      return "int";
+    case SettingType::kDouble:
+      return "double";
+    case SettingType::kBool:
+      return "bool";
+    case SettingType::kChoice:
+      return "choice";
+    case SettingType::kString:
+      return "string";
   }
   return "";
 }

@@ -10,7 +10,6 @@
 #include <thread>
 #include <vector>
 
-
 #include "scan_context_loop/eval/kitti_io.h"
 #include "scan_context_sim/city_drive.h"
 #include "scan_context_sim/narrow_drive.h"
@@ -60,8 +59,7 @@ struct Options {
 void addOptions(scl::cli::Parser* cli, Options* o) {
   cli->positional("OUT_DIR", "the sequence folder (created with its parents when missing)", &o->out)
       .section("trajectory (one of)")
-      .flag("--procedural",
-            "a 2.1 km city drive with same-direction, reverse and one-lane-offset revisits (default)",
+      .flag("--procedural", "a 2.1 km city drive with same-direction, reverse and one-lane-offset revisits (default)",
             [o] {
               o->kitti.clear();
               o->city = o->narrow = o->block = false;
@@ -112,8 +110,7 @@ void addOptions(scl::cli::Parser* cli, Options* o) {
                 }
                 return true;
               })
-      .option("--kitti-poses", "DIR", "a real KITTI trajectory: DIR/poses.txt, DIR/calib.txt, DIR/times.txt",
-              &o->kitti)
+      .option("--kitti-poses", "DIR", "a real KITTI trajectory: DIR/poses.txt, DIR/calib.txt, DIR/times.txt", &o->kitti)
       .option("--first", "N", "first frame of the KITTI trajectory's window (default: all)", &o->first)
       .option("--last", "N", "last frame of the KITTI trajectory's window (default: all)", &o->last)
       .option("--keyframe-spacing", "M",
@@ -135,8 +132,7 @@ void addOptions(scl::cli::Parser* cli, Options* o) {
               "about 0.7 x DEG, 90th percentile 1.25 x DEG (default 0: level)",
               &o->tilt)
       .option("--mount-pitch", "DEG",
-              "the sensor mounted pitched by DEG (positive: nose down), all drive long (default 0)",
-              &o->mount_pitch)
+              "the sensor mounted pitched by DEG (positive: nose down), all drive long (default 0)", &o->mount_pitch)
       .option("--dim-range", "M",
               "range at which a dim return (10 % reflectivity, head-on) is detected half the time; brighter "
               "surfaces reach further, grazing ground fades sooner (default: the sensor's, 40-120; 0: no fading)",
@@ -152,8 +148,8 @@ void addOptions(scl::cli::Parser* cli, Options* o) {
               "revisits as days later, more the later (0: off, default; 1: strong): parked cars and vegetation "
               "change, construction sites, traffic, people",
               &o->changed_world)
-      .option("--traffic", "F",
-              "with --changed-world: F times its traffic and pedestrians (default 1; 3: rush hour)", &o->traffic)
+      .option("--traffic", "F", "with --changed-world: F times its traffic and pedestrians (default 1; 3: rush hour)",
+              &o->traffic)
       .flag("--repeat-templates", "buildings and frontage from a few designs per district: streets alike",
             &o->repeat_templates)
       .option("--session", "N",
@@ -209,8 +205,10 @@ void addOptions(scl::cli::Parser* cli, Options* o) {
                   "the odometry",
               [o](const std::string& name, std::string* error) {
                 const sim::StackShape* shape = sim::findStackShape(name);
-                if (shape == nullptr) *error = "must be one of " + sim::stackNames() + ", got '" + name + "'";
-                else o->bag.shape = *shape;
+                if (shape == nullptr)
+                  *error = "must be one of " + sim::stackNames() + ", got '" + name + "'";
+                else
+                  o->bag.shape = *shape;
                 return shape != nullptr;
               })
       .option("--cloud-topic", "T", "the clouds' topic (default keyframe_cloud)", &o->bag.shape.cloud_topic)
@@ -261,8 +259,9 @@ std::string check(const Options& o) {
     if (o.session != 1) return "--team has no --session 2";
     if (o.changed_world > 0.0) return "--team has no --changed-world (its traffic follows one drive)";
     if (o.tilt > 0.0 || o.mount_pitch != 0.0) return "--team has no --tilt or --mount-pitch";
-    if (o.failures.any()) return "--team has no odometry failures (--heading-ramp, --heading-jumps, --slip-length, "
-                                 "--odometry-restart)";
+    if (o.failures.any())
+      return "--team has no odometry failures (--heading-ramp, --heading-jumps, --slip-length, "
+             "--odometry-restart)";
     if (!o.bag.shape.name.empty() || o.bag_frames) {
       return "--team bags have the default shape, each robot's topics and frames in its namespace: no --stack, "
              "--sensor-frame or --odom-frame";
@@ -401,8 +400,8 @@ int main(int argc, char** argv) {
   // A stack's bag has every scan; otherwise a keyframe every --keyframe-spacing metres.
   const bool per_scan = std::isnan(o.spacing) && o.bag.shape.rate_hz > 0.0;
   const double spacing = std::isnan(o.spacing) ? 2.0 : o.spacing;
-  const std::vector<std::size_t> keyframes = per_scan ? sim::framesEvery(drive.times, 1.0 / o.bag.shape.rate_hz)
-                                                      : sim::keyframesEvery(drive.path, spacing);
+  const std::vector<std::size_t> keyframes =
+      per_scan ? sim::framesEvery(drive.times, 1.0 / o.bag.shape.rate_hz) : sim::keyframesEvery(drive.path, spacing);
   sim::SequenceData data;
   data.world_clock = world_clock;
   sim::TiltOptions tilt;
@@ -435,34 +434,44 @@ int main(int argc, char** argv) {
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   std::ofstream info(o.out + "/sequence.txt");
   info << "trajectory: "
-       << (!o.kitti.empty() ? o.kitti : o.city ? "city" : o.narrow ? "narrow" : o.block ? "block" : "procedural") << "\n"
+       << (!o.kitti.empty() ? o.kitti
+           : o.city         ? "city"
+           : o.narrow       ? "narrow"
+           : o.block        ? "block"
+                            : "procedural")
+       << "\n"
        << "frames: " << o.first << " .. " << (o.last < 0 ? std::string("end") : std::to_string(o.last)) << "\n"
        << "keyframes: " << keyframes.size() << "\n";
-  if (per_scan) info << "scan_rate_hz: " << o.bag.shape.rate_hz;
-  else info << "keyframe_spacing_m: " << spacing;
+  if (per_scan)
+    info << "scan_rate_hz: " << o.bag.shape.rate_hz;
+  else
+    info << "keyframe_spacing_m: " << spacing;
   info << "\nlength_m: " << length << "\nsensor: " << sensor.name << "\n";
   if (sensor.pattern == sim::ScanPattern::kSpinning) {
     info << "beams: " << sensor.elevations_deg.size() << "\ncolumns: " << sensor.columns;
   } else {
     info << "rays_per_scan: " << sensor.rays_per_scan << "\nfov_horizontal_deg: " << sensor.fov_horizontal_deg;
   }
-  info << "\nelevation_top_deg: " << sim::fovTopDeg(sensor)
-       << "\nelevation_bottom_deg: " << sim::fovBottomDeg(sensor) << "\nrange_noise_m: " << sensor.range_noise
-       << "\ndropout: " << sensor.dropout << "\nmax_range_m: " << sensor.max_range
-       << "\ndim_range_m: " << sensor.dim_range << "\nmount_height_m: " << sensor.mount_height
-       << "\nvoxel_m: " << o.voxel << "\nseed: " << o.seed << "\nworld_primitives: " << world.size()
-       << "\ndynamic_car_fraction: " << o.dynamic_cars << "\ndrift_translation_per_m: "
-       << o.drift.translation_per_metre << "\ndrift_yaw_deg_per_m: " << o.drift.yaw_per_metre
-       << "\ndrift_yaw_per_deg: " << o.drift.yaw_per_degree
+  info << "\nelevation_top_deg: " << sim::fovTopDeg(sensor) << "\nelevation_bottom_deg: " << sim::fovBottomDeg(sensor)
+       << "\nrange_noise_m: " << sensor.range_noise << "\ndropout: " << sensor.dropout
+       << "\nmax_range_m: " << sensor.max_range << "\ndim_range_m: " << sensor.dim_range
+       << "\nmount_height_m: " << sensor.mount_height << "\nvoxel_m: " << o.voxel << "\nseed: " << o.seed
+       << "\nworld_primitives: " << world.size() << "\ndynamic_car_fraction: " << o.dynamic_cars
+       << "\ndrift_translation_per_m: " << o.drift.translation_per_metre
+       << "\ndrift_yaw_deg_per_m: " << o.drift.yaw_per_metre << "\ndrift_yaw_per_deg: " << o.drift.yaw_per_degree
        << "\ndrift_correlation_m: " << o.drift.correlation_length << "\nseconds: " << seconds << "\n";
   if (o.tilt > 0) info << "tilt_deg: " << o.tilt << "\n";
   if (o.mount_pitch != 0.0) info << "mount_pitch_deg: " << o.mount_pitch << "\n";
   const sim::OdometryFailures& f = o.failures;
-  if (f.heading_ramp_deg != 0.0) info << "odometry_heading_ramp_deg: " << f.heading_ramp_deg << " from " << f.ramp_start << "\n";
-  if (f.heading_jumps > 0) info << "odometry_heading_jumps: " << f.heading_jumps << " x " << f.heading_jump_deg << " deg\n";
-  if (f.slip_length > 0.0) info << "odometry_slip: " << f.slip_length << " m from " << f.slip_start << " m, scale " << f.slip_scale << "\n";
+  if (f.heading_ramp_deg != 0.0)
+    info << "odometry_heading_ramp_deg: " << f.heading_ramp_deg << " from " << f.ramp_start << "\n";
+  if (f.heading_jumps > 0)
+    info << "odometry_heading_jumps: " << f.heading_jumps << " x " << f.heading_jump_deg << " deg\n";
+  if (f.slip_length > 0.0)
+    info << "odometry_slip: " << f.slip_length << " m from " << f.slip_start << " m, scale " << f.slip_scale << "\n";
   if (f.restart_at >= 0.0) info << "odometry_restart_m: " << f.restart_at << "\n";
-  info << "changed_world: " << o.changed_world << "\ntraffic: " << o.traffic << "\nrepeat_templates: " << o.repeat_templates << "\n";
+  info << "changed_world: " << o.changed_world << "\ntraffic: " << o.traffic
+       << "\nrepeat_templates: " << o.repeat_templates << "\n";
   if (!o.bag.shape.name.empty()) info << "stack: " << o.bag.shape.name << "\n";
   info << "session: " << o.session << "\n";
   if (o.session == 2) {
@@ -476,7 +485,7 @@ int main(int argc, char** argv) {
       return 1;
     }
   }
-  std::printf("%zu keyframes (%.0f m, %.0f points on average, %s) in %.1f s with %d threads -> %s\n",
-              keyframes.size(), length, mean_points, sensor.name.c_str(), seconds, threads, o.out.c_str());
+  std::printf("%zu keyframes (%.0f m, %.0f points on average, %s) in %.1f s with %d threads -> %s\n", keyframes.size(),
+              length, mean_points, sensor.name.c_str(), seconds, threads, o.out.c_str());
   return 0;
 }

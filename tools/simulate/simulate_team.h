@@ -17,8 +17,8 @@ struct TeamRun {
   std::string out;
   TeamOptions team;
   SensorModel sensor;
-  WorldOptions world;  ///< seed, dynamic cars, repeated templates
-  DriftOptions drift;  ///< its seed is replaced by each robot's own
+  WorldOptions world;    ///< seed, dynamic cars, repeated templates
+  DriftOptions drift;    ///< its seed is replaced by each robot's own
   double spacing = 2.0;  ///< one keyframe every `spacing` metres [m]
   double voxel = 0.0;
   std::uint32_t seed = 1;

@@ -27,8 +27,7 @@ struct Alignment {
 };
 
 /// Distance at one given shift (same convention as Alignment::shift).
-double distanceAtShift(const Descriptor& query, const Descriptor& match, int shift,
-                       int* shared_columns = nullptr);
+double distanceAtShift(const Descriptor& query, const Descriptor& match, int shift, int* shared_columns = nullptr);
 
 /// Best shift by the sector keys (exhaustive over all shifts, L2 between the keys).
 int coarseShift(const Descriptor& query, const Descriptor& match);

@@ -73,7 +73,7 @@ class CloudStore {
   // By keyframe index, the stored ones only: a store holds a few thousand of a database's keyframes,
   // and a save shares them without walking a slot for each of a million keyframes.
   std::map<std::size_t, std::shared_ptr<const VoxelCloud>> clouds_;
-  std::vector<BlockArena::Handle> levels_;  // by level; null before its first cloud and once dropped
+  std::vector<BlockArena::Handle> levels_;                    // by level; null before its first cloud and once dropped
   std::vector<std::shared_ptr<const VoxelCloud>> releasing_;  // dropped, memory not yet freed
 };
 

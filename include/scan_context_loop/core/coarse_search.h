@@ -39,14 +39,13 @@ std::vector<Eigen::Vector2f> structureColumns(const VoxelCloud& cloud, float cel
 
 struct CoarseHit {
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();  ///< T_query<-match
-  double score = 0.0;  ///< mean map value under the moved columns, in [0, 1]
-  int hypothesis = 0;  ///< which of the given hypotheses it refines
+  double score = 0.0;                                      ///< mean map value under the moved columns, in [0, 1]
+  int hypothesis = 0;                                      ///< which of the given hypotheses it refines
 };
 
 /// For each hypothesis (T_query<-match guesses), the best placement over yaw offsets of
 /// -yaw_step, 0, +yaw_step [rad] and translations within +-radius [m] on the map's grid; best first.
 std::vector<CoarseHit> coarseSearch(const StructureMap& query, const std::vector<Eigen::Vector2f>& match_columns,
-                                    const std::vector<Eigen::Isometry3d>& hypotheses, double radius,
-                                    double yaw_step);
+                                    const std::vector<Eigen::Isometry3d>& hypotheses, double radius, double yaw_step);
 
 }  // namespace scan_context_loop

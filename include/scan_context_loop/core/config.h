@@ -62,7 +62,8 @@ struct VerificationConfig {
   /// A registration that passes every other test with an overlap in [supported_inlier_ratio,
   /// min_inlier_ratio) needs support: it is reported only once a confirmed loop that passed in full
   /// agrees with it strictly through the odometry (ConsistencyFilter): sparse sensors see less of the
-  /// same structure from a few metres aside. Equal to min_inlier_ratio: off. Without the consistency check such loops are not reported.
+  /// same structure from a few metres aside. Equal to min_inlier_ratio: off. Without the consistency check such loops
+  /// are not reported.
   double supported_inlier_ratio = 0.4;
   /// The same two floors for the column overlap (VerificationResult::column_overlap), which asks of each
   /// structure voxel only whether the other keyframe saw its surface anywhere in a column around it: a

@@ -22,9 +22,9 @@ namespace scan_context_loop {
 
 /// What the caller knows about a keyframe besides its cloud.
 struct KeyframeInfo {
-  double stamp = 0.0;                       ///< seconds; must not decrease from one keyframe to the next
-  std::optional<Eigen::Isometry3d> pose;    ///< odometry pose of the sensor, if known
-  std::int64_t tag = -1;                    ///< free for the caller (e.g. a sequence frame index)
+  double stamp = 0.0;                     ///< seconds; must not decrease from one keyframe to the next
+  std::optional<Eigen::Isometry3d> pose;  ///< odometry pose of the sensor, if known
+  std::int64_t tag = -1;                  ///< free for the caller (e.g. a sequence frame index)
 };
 
 /// One scored candidate.
@@ -103,7 +103,8 @@ class Database {
   /// session they are candidates at once, never gated by odometry; they enter the kd-tree now. Returns
   /// false and changes nothing when a descriptor does not fit the configuration, the session numbers
   /// are not as above, or a keyframe breaks what add() checks within its session (finite stamps and
-  /// poses that are rotations, stamps that never decrease, finite descriptors); `error` then names the keyframe and the problem.
+  /// poses that are rotations, stamps that never decrease, finite descriptors); `error` then names the keyframe and the
+  /// problem.
   ///
   /// With `values_checked` (PriorSessions::descriptors_checked: a database file's reader has checked each
   /// descriptor's values, descriptorImplausibility) the descriptors' grid sizes are checked but not their
@@ -114,9 +115,7 @@ class Database {
   std::uint32_t session() const { return session_; }
   std::size_t sessionStart() const { return session_start_; }
   /// Whether keyframes a and b were recorded in one session (their odometry relates them).
-  bool sameSession(std::size_t a, std::size_t b) const {
-    return keyframe(a).session == keyframe(b).session;
-  }
+  bool sameSession(std::size_t a, std::size_t b) const { return keyframe(a).session == keyframe(b).session; }
 
   std::size_t size() const { return keyframes_.size(); }
   /// Throws std::out_of_range past the end.
@@ -134,13 +133,13 @@ class Database {
   std::size_t indexedCount() const { return indexed_; }
   /// How the kd-tree has been rebuilt so far.
   struct IndexBuilds {
-    std::size_t background = 0;  ///< builds started on the database's thread
-    std::size_t waited = 0;      ///< of those, swapped in only after the owner waited for the thread
-    std::size_t at_once = 0;     ///< built on the owner's thread: a batch of keys within the exact limit
+    std::size_t background = 0;      ///< builds started on the database's thread
+    std::size_t waited = 0;          ///< of those, swapped in only after the owner waited for the thread
+    std::size_t at_once = 0;         ///< built on the owner's thread: a batch of keys within the exact limit
     std::size_t batches_behind = 0;  ///< of the background builds, a larger batch's (appendSessions): the
                                      ///< owner scanned its keys until the build was done
-    bool in_flight = false;      ///< a build has started and is not swapped in yet
-    bool finished = true;        ///< no build is running (one in flight may have finished, not swapped in)
+    bool in_flight = false;          ///< a build has started and is not swapped in yet
+    bool finished = true;            ///< no build is running (one in flight may have finished, not swapped in)
   };
   IndexBuilds indexBuilds() const;
   /// Approximate memory per keyframe: descriptor, keys, bookkeeping and kd-tree share, the keys and

@@ -14,8 +14,9 @@
 
 namespace scan_context_loop {
 
-/// A read-only view of points stored with a fixed stride (pcl_adapters.h makes one of a PCL cloud), x, y and z as float32 at given byte offsets.
-/// Works on PCL clouds, raw sensor_msgs/PointCloud2 data and KITTI .bin buffers without copying.
+/// A read-only view of points stored with a fixed stride (pcl_adapters.h makes one of a PCL cloud), x, y and z as
+/// float32 at given byte offsets. Works on PCL clouds, raw sensor_msgs/PointCloud2 data and KITTI .bin buffers without
+/// copying.
 struct PointView {
   const std::uint8_t* data = nullptr;
   std::size_t count = 0;
@@ -115,6 +116,5 @@ double quantisedColumnTolerance(int rings);
 /// beyond kMaxPointHeight, an occupancy ring key outside [0, 1] (each with kUnitColumnTolerance of slack
 /// for rounding). A file's descriptors are checked with it, so that none can match every query.
 std::string descriptorImplausibility(const Descriptor& d, RingKeyType ring_key);
-
 
 }  // namespace scan_context_loop

@@ -22,10 +22,10 @@ namespace scan_context_loop {
 
 /// A candidate that went through geometric verification.
 struct VerifiedCandidate {
-  std::size_t index = 0;  ///< candidate keyframe number
-  Alignment alignment;    ///< its descriptor alignment (distance, yaw prior)
+  std::size_t index = 0;                                ///< candidate keyframe number
+  Alignment alignment;                                  ///< its descriptor alignment (distance, yaw prior)
   Eigen::Vector2d viewpoint = Eigen::Vector2d::Zero();  ///< the viewpoint it was found from
-  bool tracked = false;   ///< proposed by loop tracking (Loop::tracked), not by the descriptor
+  bool tracked = false;  ///< proposed by loop tracking (Loop::tracked), not by the descriptor
   VerificationResult result;
 
   /// The loop it makes with query keyframe `query` (verified when the registration accepted it).
@@ -35,9 +35,9 @@ struct VerifiedCandidate {
 struct Detection {
   /// false: keyframe selection (KeyframePipeline) passed over the cloud; nothing else is set.
   bool selected = true;
-  bool accepted = false;     ///< false: the keyframe was rejected (see error) and nothing changed
+  bool accepted = false;  ///< false: the keyframe was rejected (see error) and nothing changed
   std::string error;
-  std::size_t index = 0;     ///< keyframe number given to the new keyframe
+  std::size_t index = 0;  ///< keyframe number given to the new keyframe
   /// The keyframe began a new session (its stamp jumped back, Config::new_session_jump).
   bool new_session = false;
   /// Candidates among the earlier keyframes, from every viewpoint (Config::lateral_offset_step), best
@@ -80,8 +80,11 @@ struct Detection {
 class LoopDetector {
  public:
   explicit LoopDetector(const Config& config)
-      : database_(config), store_(static_cast<std::size_t>(config.verification.max_bytes)),
-        verification_(config.verification), verifier_(verification_), consistency_(config) {}
+      : database_(config),
+        store_(static_cast<std::size_t>(config.verification.max_bytes)),
+        verification_(config.verification),
+        verifier_(verification_),
+        consistency_(config) {}
 
   Detection process(const PointView& points, const KeyframeInfo& info);
 
@@ -188,9 +191,9 @@ class LoopDetector {
   VerificationConfig verification_;
   Verifier verifier_;
   ChunkedLog<Eigen::Matrix3f> gravity_alignment_;  // L_R_sensor per keyframe; a snapshot shares its chunks
-  WorldTilt world_tilt_;                     // of the current session's odometry frame
-  std::uint32_t world_tilt_session_ = 0;     // the session it is of
-  std::size_t posed_keyframes_ = 0;          // keyframes with a pose since the world's tilt is known
+  WorldTilt world_tilt_;                           // of the current session's odometry frame
+  std::uint32_t world_tilt_session_ = 0;           // the session it is of
+  std::size_t posed_keyframes_ = 0;                // keyframes with a pose since the world's tilt is known
   ConsistencyFilter consistency_;
   LoopTracker tracker_;
 };

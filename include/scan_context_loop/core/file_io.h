@@ -114,7 +114,7 @@ class AtomicFileWriter {
   int fd_ = -1;
   std::size_t written_ = 0;
   std::size_t started_ = 0, settled_ = 0;  // bytes whose write to disk was started / is done
-  int write_behind_error_ = 0;              // the first errno of writeBehind, 0 when none
+  int write_behind_error_ = 0;             // the first errno of writeBehind, 0 when none
   const std::atomic<bool>* cancel_ = nullptr;
 };
 

@@ -39,8 +39,8 @@ struct FreeSpaceCheck {
   double ratio() const { return covered > 0 ? static_cast<double>(violating) / covered : 0.0; }
 };
 
-/// Moves `from`'s structure voxels by T_to<-from and counts, within 25 m of `to`'s sensor, those that stand closer than `to`'s nearest
-/// structure in their direction by more than margin + margin_ratio * range.
+/// Moves `from`'s structure voxels by T_to<-from and counts, within 25 m of `to`'s sensor, those that stand closer than
+/// `to`'s nearest structure in their direction by more than margin + margin_ratio * range.
 FreeSpaceCheck checkFreeSpace(const VoxelCloud& from, const FreeSpace& to, const Eigen::Isometry3d& to_from,
                               float margin = 1.0f, float margin_ratio = 0.05f);
 

@@ -41,14 +41,15 @@ class LoopTracker {
   /// For keyframe `query`, already in `database`: the keyframe of the anchor's match session nearest to
   /// where the anchor and the odometry put the query, among the first `eligible` keyframes (the ones
   /// the query may match) near the anchor's match along that session (nearAnchorMatch) and, when
-  /// `usable` is given, for which it holds (the keyframes whose registration data are kept), within kReach. Nothing when Config::track_distance is 0, the anchor's query
-  /// is of another session or more than track_distance of odometry path back, or a pose is missing.
+  /// `usable` is given, for which it holds (the keyframes whose registration data are kept), within kReach. Nothing
+  /// when Config::track_distance is 0, the anchor's query is of another session or more than track_distance of odometry
+  /// path back, or a pose is missing.
   std::optional<TrackedCandidate> predict(const Database& database, std::size_t query, std::size_t eligible,
                                           const std::function<bool(std::size_t)>& usable = {}) const;
 
   /// Whether a loop (tracked or not) lands where the anchor and the odometry put it: its query is one
-  /// predict() would serve, its match is near the anchor's (nearAnchorMatch) and it agrees with the anchor (loopsAgree), `strict` (without the drift
-  /// allowance) for a loop that needs support.
+  /// predict() would serve, its match is near the anchor's (nearAnchorMatch) and it agrees with the anchor
+  /// (loopsAgree), `strict` (without the drift allowance) for a loop that needs support.
   bool agrees(const Loop& loop, const Database& database, bool strict) const;
 
  private:

@@ -26,16 +26,16 @@ inline bool parseNodeMode(const std::string& text, NodeMode* out) {
 
 struct NodeOptions {
   PoseSource pose_source = PoseSource::kOdom;  ///< odom: keyframe_odom messages; tf: look the pose up
-  std::string fixed_frame = "odom";     ///< tf mode: the frame poses are looked up in
-  double tf_timeout = 0.1;              ///< tf mode: how long to wait for a transform [s]
-  std::string sensor_frame;             ///< the sensor's tf frame (empty: the cloud's frame_id)
+  std::string fixed_frame = "odom";            ///< tf mode: the frame poses are looked up in
+  double tf_timeout = 0.1;                     ///< tf mode: how long to wait for a transform [s]
+  std::string sensor_frame;                    ///< the sensor's tf frame (empty: the cloud's frame_id)
   /// Odometry whose child frame is not the sensor's: move the poses to the sensor with the extrinsic
   /// child <- sensor from tf (looked up without waiting; keyframes wait for it a few seconds, then a
   /// warning names both frames and the poses are used as they are).
   bool sensor_extrinsic_from_tf = true;
-  bool approximate_sync = true;         ///< approximate (true) or exact time synchronisation
-  int sync_queue_size = 20;             ///< message_filters queue per input
-  int queue_size = 20;                  ///< keyframes waiting for the worker; more are dropped and counted
+  bool approximate_sync = true;  ///< approximate (true) or exact time synchronisation
+  int sync_queue_size = 20;      ///< message_filters queue per input
+  int queue_size = 20;           ///< keyframes waiting for the worker; more are dropped and counted
   /// Keyframes between reads of malloc's statistics for the diagnostics (on the worker, when its queue
   /// is empty; glibc's mallinfo2 walks the whole heap); 0 never.
   int heap_statistics_interval = 1000;
@@ -48,13 +48,13 @@ struct NodeOptions {
   /// "detect": loops within and across sessions; "relocalize": a prior map (database_load) read-only,
   /// each keyframe's verified place in it published on `relocalization` (sets prior_sessions_only).
   NodeMode mode = NodeMode::kDetect;
-  std::string map_frame = "map";        ///< relocalize: the frame of the loaded map's poses
-  std::string database_load;            ///< a database file loaded at start as prior sessions ("": none)
-  std::string database_save;            ///< the database saved here at shutdown ("": not saved)
+  std::string map_frame = "map";  ///< relocalize: the frame of the loaded map's poses
+  std::string database_load;      ///< a database file loaded at start as prior sessions ("": none)
+  std::string database_save;      ///< the database saved here at shutdown ("": not saved)
   /// With database_save: a file already there that this run did not load (database_load empty, misspelt
   /// or another file) is replaced only when true; else this run's database is saved beside it.
   bool database_save_overwrite = false;
-  bool database_save_clouds = true;     ///< saves include the registration clouds (needed to verify later)
+  bool database_save_clouds = true;  ///< saves include the registration clouds (needed to verify later)
   /// With database_save: the database is also written there every this many seconds (wall time) while
   /// it changes, on a thread of its own, so a crash loses at most that much; 0 saves at shutdown only.
   double database_autosave_seconds = 300.0;
@@ -64,8 +64,8 @@ struct NodeOptions {
   /// The map directory ~save_database writes in ("": that of database_save, else of database_load, else
   /// $ROS_HOME/scan_context_loop).
   std::string database_directory;
-  /// Several robots (doc/multi_robot.md): this robot's id, [A-Za-z0-9_]+ starting with a letter ("": no team). With one, the node
-  /// shares its keyframes with the other robots' nodes and finds loops into theirs.
+  /// Several robots (doc/multi_robot.md): this robot's id, [A-Za-z0-9_]+ starting with a letter ("": no team). With
+  /// one, the node shares its keyframes with the other robots' nodes and finds loops into theirs.
   std::string robot_id;
   /// The namespace the team's nodes share: its keyframe_records and members topics.
   std::string team_namespace = "/team";

@@ -24,6 +24,6 @@ using PoseCorrections = std::map<std::size_t, Eigen::Isometry3d>;
 /// before the first such j the first one's; a keyframe without a pose stays without. Sessions without a
 /// correction keep their poses; corrections at indices past the keyframes are ignored.
 std::vector<std::optional<Eigen::Isometry3d>> correctedSessionPoses(const std::vector<const Keyframe*>& keyframes,
-                                                                     const PoseCorrections& corrections);
+                                                                    const PoseCorrections& corrections);
 
 }  // namespace scan_context_loop

@@ -26,7 +26,9 @@ struct VoxelCloud {
   VoxelCloud() = default;
   /// A copy of `other` whose arrays, exactly as long as its voxels, are in `memory`.
   VoxelCloud(const VoxelCloud& other, std::pmr::memory_resource* memory)
-      : resolution(other.resolution), max_range(other.max_range), means(other.means, memory),
+      : resolution(other.resolution),
+        max_range(other.max_range),
+        means(other.means, memory),
         normals(other.normals, memory) {}
 
   float resolution = 1.0f;
@@ -65,11 +67,11 @@ struct VoxelCloud {
 };
 
 struct VoxelOptions {
-  float resolution = 1.0f;   ///< voxel edge [m]
-  float max_range = 40.0f;   ///< horizontal crop [m]
-  float min_z = -8.0f;       ///< vertical extent kept, sensor frame [m]
+  float resolution = 1.0f;  ///< voxel edge [m]
+  float max_range = 40.0f;  ///< horizontal crop [m]
+  float min_z = -8.0f;      ///< vertical extent kept, sensor frame [m]
   float max_z = 24.0f;
-  int min_points = 3;        ///< voxels with fewer points are dropped (no plane)
+  int min_points = 3;  ///< voxels with fewer points are dropped (no plane)
 };
 
 /// Points a voxel cloud is made from at most: dense scans hold far more points near the sensor than a

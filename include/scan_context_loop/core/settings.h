@@ -48,7 +48,7 @@ template <typename T>
 struct Setting {
   std::string key;
   SettingType type = SettingType::kDouble;
-  std::string doc;                   ///< one line
+  std::string doc;  ///< one line
   /// What a user should know beyond `doc` (whole sentences, no line breaks; may be empty): the comment
   /// above the key in the YAML file of defaults says it after the doc.
   std::string details;

@@ -22,15 +22,15 @@ namespace scan_context_loop {
 
 /// A verified loop from one of this robot's keyframes to another robot's.
 struct TeamLoopOffer {
-  std::string robot;             ///< the other robot
-  std::uint64_t run = 0;         ///< its node's run
-  std::uint32_t session = 0;     ///< its keyframe's session there
-  std::uint32_t own_session = 0;  ///< this robot's keyframe's session
+  std::string robot;                                             ///< the other robot
+  std::uint64_t run = 0;                                         ///< its node's run
+  std::uint32_t session = 0;                                     ///< its keyframe's session there
+  std::uint32_t own_session = 0;                                 ///< this robot's keyframe's session
   Eigen::Isometry3d own_pose = Eigen::Isometry3d::Identity();    ///< odometry pose of this robot's keyframe
   Eigen::Isometry3d other_pose = Eigen::Isometry3d::Identity();  ///< the other's, in its odometry frame
-  double own_path = 0.0, other_path = 0.0;  ///< odometry path lengths within their sessions [m]
+  double own_path = 0.0, other_path = 0.0;                       ///< odometry path lengths within their sessions [m]
   Eigen::Isometry3d relative = Eigen::Isometry3d::Identity();    ///< T_own<-other (sensor frames)
-  std::size_t handle = 0;        ///< the caller's, returned as the loop is released or dropped
+  std::size_t handle = 0;  ///< the caller's, returned as the loop is released or dropped
 };
 
 /// What one offer released: loops to report now (handles; an earlier waiting one first), and loops that

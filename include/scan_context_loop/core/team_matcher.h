@@ -37,9 +37,7 @@ struct TeamKeyframeId {
   bool operator<(const TeamKeyframeId& o) const {
     return std::tie(robot, run, keyframe) < std::tie(o.robot, o.run, o.keyframe);
   }
-  bool operator==(const TeamKeyframeId& o) const {
-    return robot == o.robot && run == o.run && keyframe == o.keyframe;
-  }
+  bool operator==(const TeamKeyframeId& o) const { return robot == o.robot && run == o.run && keyframe == o.keyframe; }
   /// "robot/run/keyframe", for logs.
   std::string text() const;
 };

@@ -119,7 +119,7 @@ class Verifier {
   VerificationConfig config_;
   const VoxelCloud* query_ = nullptr;
   VoxelIndex query_index_, match_index_;
-  StructureMap query_map_;  // bird's-eye structure of the query (coarse_search.h)
+  StructureMap query_map_;             // bird's-eye structure of the query (coarse_search.h)
   FreeSpace query_free_, match_free_;  // what each side saw through (free_space.h)
   std::size_t query_structure_ = 0;
 };

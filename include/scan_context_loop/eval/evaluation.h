@@ -19,13 +19,13 @@ namespace eval {
 /// One candidate that went through verification, scored against the truth (verifications.csv): what
 /// the acceptance thresholds are chosen on.
 struct VerificationAttempt {
-  int query = -1, match = -1;   ///< frame indices
-  double distance = 1.0;        ///< descriptor distance
-  double gap = 0.0;             ///< true distance between the two keyframes [m]
-  bool true_place = false;      ///< within the revisit radius
-  VerificationResult result;    ///< the decision, its reason and every feature it was made on
+  int query = -1, match = -1;                       ///< frame indices
+  double distance = 1.0;                            ///< descriptor distance
+  double gap = 0.0;                                 ///< true distance between the two keyframes [m]
+  bool true_place = false;                          ///< within the revisit radius
+  VerificationResult result;                        ///< the decision, its reason and every feature it was made on
   double translation_error = 0.0, yaw_error = 0.0;  ///< of the registered pose against the truth [m], [rad]
-  double rotation_error = 0.0;  ///< angle of the registered rotation against the true one [rad]
+  double rotation_error = 0.0;                      ///< angle of the registered rotation against the true one [rad]
 };
 
 struct Evaluation {
@@ -38,7 +38,7 @@ struct Evaluation {
   Metrics metrics;
   bool verification = false;  ///< Config::verify was on: verified_* fields and metrics are filled
   VerifiedMetrics verified;
-  std::size_t rejected = 0;  ///< keyframes the detector refused (see errors)
+  std::size_t rejected = 0;       ///< keyframes the detector refused (see errors)
   std::size_t loops_dropped = 0;  ///< verified loops the consistency check dropped
   std::vector<std::string> errors;
   /// Every loop reported, in order, as the node publishes them (keyframe numbers in arrival order).
@@ -81,8 +81,8 @@ double processCpuSeconds();
 /// earlier keyframe, the prior's included, and against the prior map alone (Evaluation::relocalization).
 /// Returns false, `error` saying why, when the prior database does not join the pipeline or the
 /// database cannot be saved.
-bool evaluate(const Sequence& sequence, const Config& config, const EvaluationOptions& options,
-              Evaluation* evaluation, std::string* error);
+bool evaluate(const Sequence& sequence, const Config& config, const EvaluationOptions& options, Evaluation* evaluation,
+              std::string* error);
 
 /// evaluate() without a database: with a `prior` sequence or none.
 Evaluation evaluate(const Sequence& sequence, const Config& config, double revisit_radius,

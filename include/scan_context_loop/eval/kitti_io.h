@@ -19,8 +19,7 @@ bool readScan(const std::string& path, pcl::PointCloud<pcl::PointXYZI>* cloud, s
 /// The same, into `buffer` (four floats a point; reuse it from scan to scan, so its memory is touched
 /// once, not per scan) with `view` set to its points: no point cloud is built.
 bool readScan(const std::string& path, std::vector<float>* buffer, PointView* view, std::string* error);
-bool writeScan(const std::string& path, const pcl::PointCloud<pcl::PointXYZI>& cloud,
-               std::string* error);
+bool writeScan(const std::string& path, const pcl::PointCloud<pcl::PointXYZI>& cloud, std::string* error);
 
 /// Exactly 12 finite numbers, the 3 x 4 matrix row by row, and nothing else (white space aside).
 bool parsePoseRow(const std::string& text, Eigen::Isometry3d* pose);
@@ -28,8 +27,7 @@ bool parsePoseRow(const std::string& text, Eigen::Isometry3d* pose);
 /// Reads 3x4 row-major pose rows, one per line. Returns false, naming the file and line, on a line that
 /// is not exactly 12 finite numbers (blank lines are skipped).
 bool readPoses(const std::string& path, std::vector<Eigen::Isometry3d>* poses, std::string* error);
-bool writePoses(const std::string& path, const std::vector<Eigen::Isometry3d>& poses,
-                std::string* error);
+bool writePoses(const std::string& path, const std::vector<Eigen::Isometry3d>& poses, std::string* error);
 
 /// Reads the `Tr:` line (camera <- velodyne) of calib.txt: exactly 12 finite numbers.
 bool readCalibTr(const std::string& path, Eigen::Isometry3d* tr, std::string* error);

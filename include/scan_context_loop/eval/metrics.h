@@ -11,18 +11,18 @@ namespace eval {
 
 /// One query's outcome, scored against the truth.
 struct QueryOutcome {
-  int query = -1;           ///< sequence frame index of the query keyframe
-  int match = -1;           ///< frame index of the best candidate, -1 without one
-  double distance = 1.0;    ///< the best candidate's descriptor distance (even above the threshold)
-  double yaw = 0.0;         ///< estimated yaw prior [rad]
-  bool revisit = false;     ///< an eligible earlier keyframe lies within the revisit radius
-  bool correct = false;     ///< the best candidate lies within the revisit radius
-  double match_gap = -1.0;  ///< true distance between query and match [m], -1 without a match
-  double true_yaw = 0.0;    ///< yaw of the match in the query frame from the true poses [rad]
+  int query = -1;               ///< sequence frame index of the query keyframe
+  int match = -1;               ///< frame index of the best candidate, -1 without one
+  double distance = 1.0;        ///< the best candidate's descriptor distance (even above the threshold)
+  double yaw = 0.0;             ///< estimated yaw prior [rad]
+  bool revisit = false;         ///< an eligible earlier keyframe lies within the revisit radius
+  bool correct = false;         ///< the best candidate lies within the revisit radius
+  double match_gap = -1.0;      ///< true distance between query and match [m], -1 without a match
+  double true_yaw = 0.0;        ///< yaw of the match in the query frame from the true poses [rad]
   bool match_in_prior = false;  ///< the best candidate is a keyframe of the prior map (evaluate's prior)
 
   // With verification (Config::verify):
-  int verified_match = -1;       ///< frame index of the accepted candidate, -1 when none was accepted
+  int verified_match = -1;         ///< frame index of the accepted candidate, -1 when none was accepted
   bool verified_in_prior = false;  ///< the accepted candidate is a keyframe of the prior map
   /// The accepted loop's registered pose is within 1 m and 2 deg of the truth: a correct constraint,
   /// even between keyframes farther apart than the revisit radius (then verified_beyond_radius).
@@ -64,7 +64,7 @@ struct PrPoint {
 
 struct Metrics {
   std::size_t queries = 0, revisits = 0;
-  double threshold = 0.0;  ///< the configured threshold
+  double threshold = 0.0;                          ///< the configured threshold
   double precision = 1.0, recall = 0.0, f1 = 0.0;  ///< at the configured threshold
   std::size_t true_positives = 0, false_positives = 0;
   double f1_max = 0.0, f1_max_threshold = 0.0;

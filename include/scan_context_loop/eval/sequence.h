@@ -32,7 +32,6 @@ struct Sequence {
 /// poses than poses.txt.
 bool loadSequence(const std::string& dir, const SequenceOptions& options, Sequence* sequence, std::string* error);
 
-
 /// The true LiDAR pose of every frame of the sequence in `dir` (poses.txt through calib.txt's Tr), whether
 /// or not its scan exists.
 bool readTruePoses(const std::string& dir, std::vector<Eigen::Isometry3d>* truth, std::string* error);

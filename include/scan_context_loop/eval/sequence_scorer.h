@@ -74,12 +74,12 @@ class SequenceScorer {
   double radius_;
   bool has_prior_ = false;
   Evaluation& e_;
-  std::vector<Eigen::Vector3d> positions_;  // true positions of the accepted keyframes
-  std::vector<Keyframe> keyframes_;         // detector index -> sequence and keyframe
-  std::vector<float> scan_buffer_;          // the scan being fed, its memory kept from scan to scan
-  std::size_t prior_count_ = 0;             // keyframes of the prior map
+  std::vector<Eigen::Vector3d> positions_;           // true positions of the accepted keyframes
+  std::vector<Keyframe> keyframes_;                  // detector index -> sequence and keyframe
+  std::vector<float> scan_buffer_;                   // the scan being fed, its memory kept from scan to scan
+  std::size_t prior_count_ = 0;                      // keyframes of the prior map
   std::vector<long> outcome_of_, prior_outcome_of_;  // detector index -> outcome, -1 for none
-  std::vector<double> metres_;  // true distance along the query sequence to each keyframe
+  std::vector<double> metres_;                       // true distance along the query sequence to each keyframe
 };
 
 /// After the last step: the metrics of the outcomes (Evaluation::metrics, verified, relocalization).

@@ -19,8 +19,8 @@ namespace eval {
 
 /// A verified loop between two robots, scored against the truth.
 struct InterRobotLoop {
-  std::size_t query_robot = 0, match_robot = 0;  ///< indices in TeamSequence::robots
-  std::size_t query = 0, match = 0;              ///< keyframes of their sequences (Sequence index)
+  std::size_t query_robot = 0, match_robot = 0;                ///< indices in TeamSequence::robots
+  std::size_t query = 0, match = 0;                            ///< keyframes of their sequences (Sequence index)
   Eigen::Isometry3d relative = Eigen::Isometry3d::Identity();  ///< registered T_query<-match
   Eigen::Matrix<double, 6, 6> covariance = Eigen::Matrix<double, 6, 6>::Identity();
   double gap = 0.0;                ///< true distance between the two keyframes [m]
@@ -33,9 +33,9 @@ struct InterRobotLoop {
 struct TeamRobotEvaluation {
   /// Its own keyframes and loops, as a single run (keyframe_of maps its keyframe numbers to its sequence).
   Evaluation evaluation;
-  std::size_t keyframes = 0;        ///< stored, so shared
-  std::size_t record_bytes = 0;     ///< its records, sent once each
-  std::size_t received_bytes = 0;   ///< the other robots' records it received
+  std::size_t keyframes = 0;                   ///< stored, so shared
+  std::size_t record_bytes = 0;                ///< its records, sent once each
+  std::size_t received_bytes = 0;              ///< the other robots' records it received
   std::size_t fetched = 0, fetched_bytes = 0;  ///< registration data it fetched
   std::size_t fetch_failures = 0, records_refused = 0;
   /// Its keyframes matched against the others' records (with at least one held), those within the

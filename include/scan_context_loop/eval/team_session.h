@@ -24,26 +24,26 @@ namespace eval {
 
 /// A verified loop between two robots' keyframes, found by the query's robot.
 struct TeamLoop {
-  std::size_t query_robot = 0, match_robot = 0;  ///< robot indices in the session
-  std::size_t query = 0, match = 0;              ///< keyframe numbers at each robot (database indices)
+  std::size_t query_robot = 0, match_robot = 0;                ///< robot indices in the session
+  std::size_t query = 0, match = 0;                            ///< keyframe numbers at each robot (database indices)
   Eigen::Isometry3d relative = Eigen::Isometry3d::Identity();  ///< T_query<-match, sensor frames
   Eigen::Matrix<double, 6, 6> covariance = Eigen::Matrix<double, 6, 6>::Identity();  ///< loopCovariance
 };
 
 /// What one stored keyframe did in the team.
 struct TeamStep {
-  std::size_t record_bytes = 0;    ///< its record, sent once (every other robot receives it)
-  std::size_t fetched = 0;         ///< registration data its robot fetched to verify it
+  std::size_t record_bytes = 0;  ///< its record, sent once (every other robot receives it)
+  std::size_t fetched = 0;       ///< registration data its robot fetched to verify it
   std::size_t fetched_bytes = 0;
-  std::size_t fetch_failures = 0;  ///< data that did not come or did not fit
+  std::size_t fetch_failures = 0;   ///< data that did not come or did not fit
   std::size_t records_refused = 0;  ///< by another robot (none when every robot runs one configuration)
-  std::size_t held = 0;            ///< the other robots' records its robot held when matching it
-  int matches = 0;                 ///< TeamMatcher::match calls (one, plus one per round of fetches)
-  bool found = false;              ///< a loop into another robot's keyframe was verified
+  std::size_t held = 0;             ///< the other robots' records its robot held when matching it
+  int matches = 0;                  ///< TeamMatcher::match calls (one, plus one per round of fetches)
+  bool found = false;               ///< a loop into another robot's keyframe was verified
   /// Loops between robots reported now: this keyframe's, once another loop between the same two frames
   /// agrees with it (TeamConsistency), and an earlier one it confirmed; possibly none.
   std::vector<TeamLoop> loops;
-  std::size_t dropped = 0;         ///< verified loops that no other loop ever agreed with
+  std::size_t dropped = 0;  ///< verified loops that no other loop ever agreed with
 };
 
 class TeamSession {
@@ -77,7 +77,7 @@ class TeamSession {
   std::vector<std::unique_ptr<KeyframePipeline>> pipelines_;
   std::vector<std::unique_ptr<TeamMatcher>> matchers_;
   std::vector<std::unique_ptr<TeamConsistency>> consistency_;  // per robot, as each node has its own
-  std::map<std::size_t, TeamLoop> unconfirmed_;                 // loops waiting for support, by handle
+  std::map<std::size_t, TeamLoop> unconfirmed_;                // loops waiting for support, by handle
   std::size_t next_handle_ = 0;
 };
 

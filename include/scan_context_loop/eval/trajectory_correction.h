@@ -27,7 +27,7 @@ struct TrajectoryCorrection {
   /// The sequence has odometry of its own (odom_poses.txt, fed to the detector); false: the truth is the
   /// odometry, whose error is then 0.
   bool own_odometry = true;
-  TrajectoryError odometry;   ///< the odometry's keyframe poses as they are
+  TrajectoryError odometry;  ///< the odometry's keyframe poses as they are
   /// The loops the detector reported (verified ones when verification is on), each with the covariance
   /// the node publishes.
   TrajectoryError corrected;

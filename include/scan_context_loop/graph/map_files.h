@@ -35,10 +35,10 @@ namespace scan_context_loop {
 
 /// One robot of a team's map: its keyframes and its estimated odometry frame.
 struct MapRobot {
-  std::string id;                       ///< robot id ([A-Za-z0-9_]+), names its files
-  std::vector<std::size_t> keyframes;   ///< its keyframes' indices in MapFiles, in stamp order
+  std::string id;                                           ///< robot id ([A-Za-z0-9_]+), names its files
+  std::vector<std::size_t> keyframes;                       ///< its keyframes' indices in MapFiles, in stamp order
   Eigen::Isometry3d frame = Eigen::Isometry3d::Identity();  ///< T_map<-odom (PoseGraph::frame)
-  bool joined = false;                  ///< in the anchor's group (PoseGraph::joined)
+  bool joined = false;                                      ///< in the anchor's group (PoseGraph::joined)
 };
 
 /// What a save writes: one entry per keyframe in stamps, corrected and odometry (same length).
@@ -66,8 +66,8 @@ MapFiles mapFilesOf(const PoseGraph& graph, const std::vector<std::int64_t>& sta
 /// What a save wrote.
 struct MapFilesReport {
   std::string directory;
-  std::vector<std::string> files;   ///< full paths, in the order written
-  std::vector<std::uint64_t> bytes; ///< each file's size
+  std::vector<std::string> files;    ///< full paths, in the order written
+  std::vector<std::uint64_t> bytes;  ///< each file's size
   std::size_t keyframes = 0, loops = 0, points = 0;
   double voxel = 0.0;
   /// Temporary files of earlier saves that died before their rename, removed before this one (also

@@ -65,12 +65,12 @@ struct PoseGraphFactor {
 };
 
 struct PoseGraphResult {
-  bool solved = false;          ///< Ceres reported a usable solution
+  bool solved = false;  ///< Ceres reported a usable solution
   int iterations = 0;
   double initial_cost = 0.0;
   double final_cost = 0.0;
   double seconds = 0.0;
-  std::string message;          ///< Ceres' brief report, or why nothing was solved
+  std::string message;  ///< Ceres' brief report, or why nothing was solved
 };
 
 class PoseGraph {

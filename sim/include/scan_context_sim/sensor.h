@@ -34,11 +34,11 @@ struct SensorModel {
   int columns = 2000;                 ///< kSpinning: firings per revolution
   /// Non-repetitive patterns: ray i of the scan at `time` fires at time + i / ray_rate, so the pattern
   /// depends on the time and each scan differs from the one before.
-  double ray_rate = 0.0;               ///< rays per second
-  int rays_per_scan = 0;               ///< ray_rate x the scan period
-  float fov_horizontal_deg = 360.0f;   ///< kRosette: width of the field of view, centred on x [deg]
-  float fov_top_deg = 0.0f;            ///< elevation of the field of view's top edge [deg]
-  float fov_bottom_deg = 0.0f;         ///< and of its bottom edge [deg]
+  double ray_rate = 0.0;              ///< rays per second
+  int rays_per_scan = 0;              ///< ray_rate x the scan period
+  float fov_horizontal_deg = 360.0f;  ///< kRosette: width of the field of view, centred on x [deg]
+  float fov_top_deg = 0.0f;           ///< elevation of the field of view's top edge [deg]
+  float fov_bottom_deg = 0.0f;        ///< and of its bottom edge [deg]
   double pattern_hz[2] = {0.0, 0.0};  ///< the pattern's two rates (see ScanPattern) [1/s]
   float max_range = 100.0f;           ///< [m]
   float min_range = 0.9f;             ///< returns closer than this are dropped [m]
@@ -48,7 +48,7 @@ struct SensorModel {
   /// brighter surfaces reach further (with the square root of the reflectivity), and grazing ones --
   /// distant ground -- fade sooner, as the rings of real scans do. 0: every return within max_range.
   float dim_range = 100.0f;
-  float mount_height = 1.73f;         ///< sensor above the ground [m]
+  float mount_height = 1.73f;  ///< sensor above the ground [m]
   /// A ray without a return (nothing hit, lost, too dim, out of range) is still reported, as (0, 0, 0):
   /// Ouster's drivers publish their organised clouds this way.
   bool zeros_for_no_return = false;

@@ -16,8 +16,8 @@ struct SequenceData {
   /// T_world<-frame of truth: the scans are cast from origin * truth[k] (a team robot's sequence is
   /// relative to its own first keyframe).
   Eigen::Isometry3d origin = Eigen::Isometry3d::Identity();
-  std::vector<double> times;                       ///< seconds from the first keyframe
-  double world_clock = 0.0;  ///< the world's clock at the first keyframe [s] (a later drive's start)
+  std::vector<double> times;  ///< seconds from the first keyframe
+  double world_clock = 0.0;   ///< the world's clock at the first keyframe [s] (a later drive's start)
 };
 
 /// Writes dir/velodyne/%06d.bin (optionally voxel-downsampled), poses.txt, odom_poses.txt, times.txt

@@ -13,13 +13,13 @@ namespace scan_context_loop {
 namespace sim {
 
 struct StackShape {
-  std::string name;                     ///< "aloam", "lego_loam", "lio_sam", "fast_lio"; empty: the default shape
+  std::string name;  ///< "aloam", "lego_loam", "lio_sam", "fast_lio"; empty: the default shape
   std::string cloud_topic = "keyframe_cloud";
   std::string odom_topic = "keyframe_odom";  ///< nav_msgs/Odometry, the same stamps as the clouds
-  std::string cloud_frame = "velodyne";  ///< the clouds' frame_id
-  std::string odom_frame = "odom";       ///< the odometry's frame_id
-  std::string child_frame = "velodyne";  ///< the odometry's child_frame_id
-  bool registered = false;   ///< clouds registered in odom_frame with the odometry's pose, else in cloud_frame
+  std::string cloud_frame = "velodyne";      ///< the clouds' frame_id
+  std::string odom_frame = "odom";           ///< the odometry's frame_id
+  std::string child_frame = "velodyne";      ///< the odometry's child_frame_id
+  bool registered = false;  ///< clouds registered in odom_frame with the odometry's pose, else in cloud_frame
   /// Odometry in camera axes (y up), with the fixed extrinsic extrinsic_parent -> extrinsic_child.
   bool camera_axes = false;
   /// The camera-axes extrinsic's frames as the stack's launch file writes them (child_frame and
@@ -32,12 +32,12 @@ struct StackShape {
   /// stamped a period ahead, as that tool sends them. 0: once, latched, on /tf_static (tf2's static
   /// broadcaster).
   double fixed_tf_period = 0.0;
-  bool odom_tf = false;      ///< the odometry is also broadcast on /tf (odom_frame -> child_frame, its stamps)
+  bool odom_tf = false;  ///< the odometry is also broadcast on /tf (odom_frame -> child_frame, its stamps)
   /// The odometry's world frame is the first scan's (LiDAR-only odometry, and FAST-LIO, which estimates
   /// gravity but leaves its world frame at the first IMU frame): as tilted as the sensor was then, not
   /// gravity-aligned. Otherwise the world is z up (LIO-SAM aligns it with gravity from the IMU).
   bool world_at_first_scan = false;
-  double rate_hz = 0.0;      ///< scans a second the stack publishes (0: one cloud per keyframe)
+  double rate_hz = 0.0;  ///< scans a second the stack publishes (0: one cloud per keyframe)
 };
 
 /// A transform that never changes: T_parent<-child.

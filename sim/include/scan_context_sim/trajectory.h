@@ -57,7 +57,8 @@ struct DriftOptions {
 
 /// Odometry that starts at the first true pose and composes each true relative motion with an error
 /// drawn from the drifting biases (plus a little white noise).
-std::vector<Eigen::Isometry3d> driftedOdometry(const std::vector<Eigen::Isometry3d>& truth, const DriftOptions& options);
+std::vector<Eigen::Isometry3d> driftedOdometry(const std::vector<Eigen::Isometry3d>& truth,
+                                               const DriftOptions& options);
 
 }  // namespace sim
 }  // namespace scan_context_loop

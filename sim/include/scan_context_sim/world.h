@@ -15,13 +15,13 @@ enum class Material : std::uint8_t {
   kGround,    ///< asphalt
   kPavement,  ///< raised concrete pavement between the kerb and the property line
   kBuilding,
-  kWall,      ///< walls and fences
+  kWall,  ///< walls and fences
   kCar,
   kTrunk,
-  kFoliage,   ///< tree canopies, hedges, bushes
-  kPole,      ///< street lights and their arms
-  kSign,      ///< retro-reflective sign boards
-  kPerson     ///< pedestrians
+  kFoliage,  ///< tree canopies, hedges, bushes
+  kPole,     ///< street lights and their arms
+  kSign,     ///< retro-reflective sign boards
+  kPerson    ///< pedestrians
 };
 
 /// One solid. Boxes are vertical prisms with a yaw; cylinders are vertical; ellipsoids are axis-aligned.
@@ -66,7 +66,7 @@ class World {
 
  private:
   std::vector<Primitive> primitives_;
-  std::vector<Eigen::Vector2f> yaw_axes_;  // cos and sin of each box's yaw, so rays need no trigonometry
+  std::vector<Eigen::Vector2f> yaw_axes_;             // cos and sin of each box's yaw, so rays need no trigonometry
   Eigen::Vector3d ground_ = Eigen::Vector3d::Zero();  // slope_x, slope_y, offset
   float cell_ = 4.0f;
   float min_x_ = 0.0f, min_y_ = 0.0f;

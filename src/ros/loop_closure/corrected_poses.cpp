@@ -138,8 +138,9 @@ void CorrectedPoses::apply(const nav_msgs::Path& path, const Database& database)
     refuse(unusable, std::to_string(unusable) + " poses skipped: the last had " + problem);
   }
   if (elsewhere > 0) {
-    refuse(elsewhere, std::to_string(elsewhere) + " poses skipped: their stamps name keyframes of another session "
-                                                  "than the one this path corrects (recorded here, keyframes " +
+    refuse(elsewhere, std::to_string(elsewhere) +
+                          " poses skipped: their stamps name keyframes of another session "
+                          "than the one this path corrects (recorded here, keyframes " +
                           std::to_string(begin) + " to " + std::to_string(end - 1) + ")");
   }
   if (unnamed > 0) unknown(unnamed);

@@ -74,9 +74,9 @@ class CorrectedPoses {
 
   // The worker's.
   std::string frame_;
-  std::unordered_map<std::uint64_t, std::vector<std::size_t>> by_stamp_;  // recorded keyframes by stamp [ns]
+  std::unordered_map<std::uint64_t, std::vector<std::size_t>> by_stamp_;   // recorded keyframes by stamp [ns]
   std::map<std::uint32_t, std::pair<std::size_t, std::size_t>> sessions_;  // recorded: [first, end) indices
-  std::set<std::uint32_t> loaded_;                                          // sessions a file gave
+  std::set<std::uint32_t> loaded_;                                         // sessions a file gave
   std::size_t indexed_ = 0;
   std::shared_ptr<const PoseCorrections> corrections_;
   std::size_t version_ = 0;

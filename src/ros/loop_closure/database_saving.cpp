@@ -67,7 +67,8 @@ void LoopClosureRos::saveAtShutdown() {
   };
   if (!writer_.waitFor(left())) {
     writer_.cancel();
-    ROS_WARN_NAMED(name_, "the autosave in progress did not finish within database_shutdown_seconds (%.1f s): cancelled",
+    ROS_WARN_NAMED(name_,
+                   "the autosave in progress did not finish within database_shutdown_seconds (%.1f s): cancelled",
                    options_.database_shutdown_seconds);
   }
   const std::string path = saveTarget();
@@ -110,8 +111,7 @@ void LoopClosureRos::saveAtShutdown() {
                     "database_shutdown_seconds (%.1f s) and was cancelled; %s, so %zu keyframes of this run are "
                     "lost. Raise database_shutdown_seconds (roslaunch sends SIGTERM 15 s after SIGINT) or lower "
                     "database_autosave_seconds",
-                    keyframes, path.c_str(), options_.database_shutdown_seconds,
-                    kept.c_str(),
+                    keyframes, path.c_str(), options_.database_shutdown_seconds, kept.c_str(),
                     keyframes > on_disk ? keyframes - on_disk : keyframes);
   } else {
     ++counters_.save_failures;
@@ -139,22 +139,23 @@ void LoopClosureRos::autosave() {
   DatabaseSnapshot snapshot = takeSnapshot(options_.database_save_clouds);
   // Only a write that succeeded marks the database saved: after a failure (a full disk, EIO) the next
   // autosave writes again, even when nothing changed meanwhile.
-  writer_.writeInBackground(std::move(snapshot), path, true, [this, path, now](const std::string& error, double seconds) {
-    if (!error.empty()) {
-      ++counters_.save_failures;
-      ROS_ERROR_THROTTLE_NAMED(60.0, name_, "autosave to %s failed: %s (%zu failures; the file there is as before)",
-                               path.c_str(), error.c_str(), counters_.save_failures.load());
-      return;
-    }
-    {
-      std::lock_guard<std::mutex> lock(saved_mutex_);
-      saved_ = now;
-    }
-    ++counters_.saves;
-    counters_.last_save_keyframes = now.size;
-    counters_.last_save_seconds = seconds;
-    ROS_DEBUG_NAMED(name_, "autosaved %zu keyframes to %s in %.2f s", now.size, path.c_str(), seconds);
-  });
+  writer_.writeInBackground(
+      std::move(snapshot), path, true, [this, path, now](const std::string& error, double seconds) {
+        if (!error.empty()) {
+          ++counters_.save_failures;
+          ROS_ERROR_THROTTLE_NAMED(60.0, name_, "autosave to %s failed: %s (%zu failures; the file there is as before)",
+                                   path.c_str(), error.c_str(), counters_.save_failures.load());
+          return;
+        }
+        {
+          std::lock_guard<std::mutex> lock(saved_mutex_);
+          saved_ = now;
+        }
+        ++counters_.saves;
+        counters_.last_save_keyframes = now.size;
+        counters_.last_save_seconds = seconds;
+        ROS_DEBUG_NAMED(name_, "autosaved %zu keyframes to %s in %.2f s", now.size, path.c_str(), seconds);
+      });
   // When a write is still in progress nothing starts: the next autosave takes up what changed.
 }
 

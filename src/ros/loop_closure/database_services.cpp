@@ -67,8 +67,7 @@ bool LoopClosureRos::onSave(scan_context_loop::SaveDatabase::Request& request,
     removeAbandonedWrites(path);
     // The snapshot on the worker (milliseconds), the write here: detection goes on meanwhile.
     DatabaseSnapshot snapshot;
-    const std::string failure =
-        runOnWorker([&] { snapshot = takeSnapshot(request.include_clouds); });
+    const std::string failure = runOnWorker([&] { snapshot = takeSnapshot(request.include_clouds); });
     response.keyframes = static_cast<std::uint32_t>(snapshot.size());
     const bool replacing = fileExists(path);
     const auto started = std::chrono::steady_clock::now();
@@ -78,8 +77,8 @@ bool LoopClosureRos::onSave(scan_context_loop::SaveDatabase::Request& request,
       ++counters_.saves;
       counters_.last_save_keyframes = snapshot.size();
       counters_.last_save_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
-      response.message = "saved " + std::to_string(response.keyframes) + " keyframes to " + path +
-                         backupNote(path, replacing);
+      response.message =
+          "saved " + std::to_string(response.keyframes) + " keyframes to " + path + backupNote(path, replacing);
       ROS_INFO_NAMED(name_, "save_database: %s", response.message.c_str());
       return true;
     }
@@ -142,9 +141,9 @@ bool LoopClosureRos::onRelocalize(scan_context_loop::Relocalize::Request& reques
     }
     const Detection detection = processor_->pipeline().locate(view);
     if (!detection.verified) {
-      response.message = detection.verifications.empty() ? "no candidate in the map"
-                                                         : "no candidate verified: " +
-                                                               detection.verifications.back().result.reason;
+      response.message = detection.verifications.empty()
+                             ? "no candidate in the map"
+                             : "no candidate verified: " + detection.verifications.back().result.reason;
       return;
     }
     const VerifiedCandidate& place = detection.verifications.back();

@@ -7,9 +7,9 @@ namespace scan_context_loop {
 
 /// glibc's mallinfo2 walks every free chunk of every malloc arena, each under the arena's lock: on a
 /// heap of a few GB with freed memory scattered through it that takes tens of ms, while every thread
-/// that allocates in that arena waits (doc/testing.md, the soak). So the worker reads them itself, every `interval` keyframes once its queue is empty
-/// (a read never delays a waiting keyframe), and the diagnostics report the last values.
-/// Only the worker thread calls it.
+/// that allocates in that arena waits (doc/testing.md, the soak). So the worker reads them itself, every `interval`
+/// keyframes once its queue is empty (a read never delays a waiting keyframe), and the diagnostics report the last
+/// values. Only the worker thread calls it.
 class HeapStatistics {
  public:
   /// interval: keyframes between reads; 0 never reads.

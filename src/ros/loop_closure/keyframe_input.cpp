@@ -22,7 +22,8 @@ KeyframeInput::KeyframeInput(const ros::NodeHandle& nh, const std::string& name,
 void KeyframeInput::start() {
   start_wall_ = wallNow();
   if (options_.pose_source == PoseSource::kTf) {
-    cloud_only_sub_ = nh_.subscribe(topic_names::kKeyframeCloud, options_.sync_queue_size, &KeyframeInput::onCloudOnly, this);
+    cloud_only_sub_ =
+        nh_.subscribe(topic_names::kKeyframeCloud, options_.sync_queue_size, &KeyframeInput::onCloudOnly, this);
   } else {
     cloud_sub_.subscribe(nh_, topic_names::kKeyframeCloud, options_.sync_queue_size);
     odom_sub_.subscribe(nh_, topic_names::kKeyframeOdom, options_.sync_queue_size);
@@ -33,8 +34,8 @@ void KeyframeInput::start() {
                                                                          cloud_sub_, odom_sub_));
       approx_sync_->registerCallback(&KeyframeInput::onCloudAndOdom, this);
     } else {
-      exact_sync_.reset(new message_filters::Synchronizer<ExactPolicy>(ExactPolicy(options_.sync_queue_size),
-                                                                       cloud_sub_, odom_sub_));
+      exact_sync_.reset(
+          new message_filters::Synchronizer<ExactPolicy>(ExactPolicy(options_.sync_queue_size), cloud_sub_, odom_sub_));
       exact_sync_->registerCallback(&KeyframeInput::onCloudAndOdom, this);
     }
     sync_timer_ = nh_.createWallTimer(ros::WallDuration(1.0), &KeyframeInput::checkSynchronisation, this);
@@ -130,7 +131,8 @@ void KeyframeInput::checkInputs(const ros::WallTimerEvent&) {
   if (since_cloud >= after) {
     const bool tf = options_.pose_source == PoseSource::kTf;
     const std::string topic = tf ? cloud_only_sub_.getTopic() : cloud_sub_.getTopic();
-    const std::uint32_t publishers = tf ? cloud_only_sub_.getNumPublishers() : cloud_sub_.getSubscriber().getNumPublishers();
+    const std::uint32_t publishers =
+        tf ? cloud_only_sub_.getNumPublishers() : cloud_sub_.getSubscriber().getNumPublishers();
     const std::string poses = tf ? " (poses come from tf, in " + options_.fixed_frame + ", at each cloud's stamp)" : "";
     ROS_WARN_THROTTLE_NAMED(every, name_, "no keyframe cloud on %s for %.0f s (%u publishers)%s", topic.c_str(),
                             since_cloud, publishers, poses.c_str());

@@ -25,8 +25,8 @@ namespace scan_context_loop {
 class KeyframeInput {
  public:
   /// `nh` resolves the topics; `name` prefixes the logs. The others must outlive this.
-  KeyframeInput(const ros::NodeHandle& nh, const std::string& name, const NodeOptions& options,
-                KeyframeQueue* queue, NodeCounters* counters);
+  KeyframeInput(const ros::NodeHandle& nh, const std::string& name, const NodeOptions& options, KeyframeQueue* queue,
+                NodeCounters* counters);
   /// Subscribes and starts the input checks.
   void start();
   /// Unsubscribes and stops the checks.

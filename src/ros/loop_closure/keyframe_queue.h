@@ -23,16 +23,16 @@ struct QueuedKeyframe {
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
   // Frame ids as tf2 names them (frame_ids.h), normalised by the callback.
   std::string pose_frame;
-  std::string child_frame;  ///< the odometry's child_frame_id (odom mode)
-  std::string cloud_frame;  ///< the cloud's frame_id
+  std::string child_frame;                       ///< the odometry's child_frame_id (odom mode)
+  std::string cloud_frame;                       ///< the cloud's frame_id
   std::chrono::steady_clock::time_point queued;  ///< when the callback queued it
   std::size_t queue_length = 0;                  ///< keyframes left in the queue when the worker took it
 };
 
 /// What the worker takes from the queue at once: a task comes before a keyframe, one at a time.
 struct WorkerJob {
-  std::function<void()> task;   ///< a service's work, or empty
-  bool has_keyframe = false;    ///< `keyframe` was taken (never with a task)
+  std::function<void()> task;  ///< a service's work, or empty
+  bool has_keyframe = false;   ///< `keyframe` was taken (never with a task)
   QueuedKeyframe keyframe;
   bool redraw_markers = false;  ///< a marker subscriber connected since the last take
 };
@@ -64,7 +64,7 @@ class KeyframeQueue {
  private:
   const std::size_t capacity_;
   std::atomic<std::size_t>* const length_;
-  std::mutex mutex_;  // guards every member below, and the writes to *length_
+  std::mutex mutex_;            // guards every member below, and the writes to *length_
   std::condition_variable cv_;  // the worker waits on it in take()
   std::deque<QueuedKeyframe> keyframes_;
   std::deque<std::function<void()>> tasks_;  // service work for the worker, in order

@@ -41,7 +41,8 @@ void KeyframeSource::offer(QueuedKeyframe keyframe, std::vector<PosedKeyframe>* 
   if (held_.size() >= static_cast<std::size_t>(options_.queue_size)) {
     held_.pop_front();
     ++counters_->dropped;
-    ROS_WARN_THROTTLE_NAMED(5.0, name_, "%zu keyframes held for the tf extrinsic: the oldest dropped (%zu dropped so far)",
+    ROS_WARN_THROTTLE_NAMED(5.0, name_,
+                            "%zu keyframes held for the tf extrinsic: the oldest dropped (%zu dropped so far)",
                             held_.size(), counters_->dropped.load());
   }
   held_.push_back(std::move(keyframe));

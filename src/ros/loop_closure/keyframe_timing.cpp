@@ -16,8 +16,7 @@ constexpr double kSlowKeyframeMs = 50.0;
 
 /// The parts of LoopDetector::process that Detection times [ms].
 double coreMs(const Detection& d) {
-  return (d.descriptor_seconds + d.query_seconds + d.verify_seconds + d.ground_check_seconds + d.choose_seconds) *
-         1e3;
+  return (d.descriptor_seconds + d.query_seconds + d.verify_seconds + d.ground_check_seconds + d.choose_seconds) * 1e3;
 }
 
 double ms(std::chrono::steady_clock::duration d) { return std::chrono::duration<double, std::milli>(d).count(); }

@@ -26,8 +26,8 @@ LoopClosureRos::~LoopClosureRos() {
     const std::size_t discarded = queue_->stop();
     if (discarded > 0) {
       counters_.dropped += discarded;
-      ROS_WARN_NAMED(name_, "%zu keyframes still queued at shutdown were not processed (%zu dropped in all)",
-                     discarded, counters_.dropped.load());
+      ROS_WARN_NAMED(name_, "%zu keyframes still queued at shutdown were not processed (%zu dropped in all)", discarded,
+                     counters_.dropped.load());
     }
   }
   if (worker_) worker_->join();
@@ -117,13 +117,13 @@ bool LoopClosureRos::start() {
   input_.reset(new KeyframeInput(nh_, name_, options_, queue_.get(), &counters_));
   input_->start();
   if (options_.mode != NodeMode::kRelocalize) {
-    corrected_sub_ = nh_.subscribe<nav_msgs::Path>(topic_names::kCorrectedPath, 1, [this](const nav_msgs::PathConstPtr& path) {
-      if (corrected_->offer(path)) queue_->pushTask([this] { corrected_->applyNewest(processor_->database()); });
-    });
+    corrected_sub_ =
+        nh_.subscribe<nav_msgs::Path>(topic_names::kCorrectedPath, 1, [this](const nav_msgs::PathConstPtr& path) {
+          if (corrected_->offer(path)) queue_->pushTask([this] { corrected_->applyNewest(processor_->database()); });
+        });
   }
-  diagnostics_.reset(
-      new NodeDiagnostics(nh_, pnh_, name_, counters_, source_->hasExtrinsic(), options_.lio_sam_output,
-                          !options_.robot_id.empty()));
+  diagnostics_.reset(new NodeDiagnostics(nh_, pnh_, name_, counters_, source_->hasExtrinsic(), options_.lio_sam_output,
+                                         !options_.robot_id.empty()));
 
   if (!options_.robot_id.empty()) {
     team_.reset(new TeamExchange(pnh_, name_, config_, options_, &counters_, &output_->loops()));
@@ -132,7 +132,8 @@ bool LoopClosureRos::start() {
     team_->start();
   }
   worker_->start();
-  if (!options_.database_save.empty() && options_.mode != NodeMode::kRelocalize && options_.database_autosave_seconds > 0) {
+  if (!options_.database_save.empty() && options_.mode != NodeMode::kRelocalize &&
+      options_.database_autosave_seconds > 0) {
     autosave_timer_ = nh_.createWallTimer(ros::WallDuration(options_.database_autosave_seconds),
                                           [this](const ros::WallTimerEvent&) { requestAutosave(); });
     ROS_INFO_NAMED(name_, "the database is saved to %s every %.0f s while it changes, and at shutdown",
@@ -184,7 +185,8 @@ void LoopClosureRos::takeReconfigured() {
     return;
   }
   std::string changes;
-  for (const auto& c : liveSettingsChanged(config_, options_, next, next_options)) changes += (changes.empty() ? "" : ", ") + c;
+  for (const auto& c : liveSettingsChanged(config_, options_, next, next_options))
+    changes += (changes.empty() ? "" : ", ") + c;
   ROS_INFO_NAMED(name_, "settings changed from the next keyframe on: %s", changes.c_str());
   config_ = next;
   for (const auto& s : nodeSettings()) {

@@ -77,8 +77,8 @@ class LoopClosureRos {
   bool start();
 
  private:
-  // Database services and relocalization (database_services.cpp), saving (database_saving.cpp). Each service hands its work to the
-  // worker, which owns the database, and waits for it.
+  // Database services and relocalization (database_services.cpp), saving (database_saving.cpp). Each service hands its
+  // work to the worker, which owns the database, and waits for it.
   bool onSave(scan_context_loop::SaveDatabase::Request& request, scan_context_loop::SaveDatabase::Response& response);
   bool onLoad(scan_context_loop::LoadDatabase::Request& request, scan_context_loop::LoadDatabase::Response& response);
   bool onReset(std_srvs::Trigger::Request& request, std_srvs::Trigger::Response& response);
@@ -126,7 +126,9 @@ class LoopClosureRos {
   /// The database as a save saw it: its size, the ~resets and the corrections' version then.
   struct SavedState {
     std::size_t size = 0, resets = 0, corrections = 0;
-    bool operator==(const SavedState& o) const { return size == o.size && resets == o.resets && corrections == o.corrections; }
+    bool operator==(const SavedState& o) const {
+      return size == o.size && resets == o.resets && corrections == o.corrections;
+    }
   };
   // What the last autosave that succeeded wrote, so that an unchanged database is not written again and
   // a failed write is retried. Set by the writer's thread when a write lands, read by the worker.
@@ -151,12 +153,12 @@ class LoopClosureRos {
 
   // Set up in start(), used from callbacks (ROS handles are thread-safe).
   ros::ServiceServer save_srv_, load_srv_, reset_srv_, relocalize_srv_;
-  ros::Subscriber corrected_sub_;  // corrected_path (detect mode): queues a task for the worker
-  ros::CallbackQueue service_queue_;                  // the services' (thread-safe)
+  ros::Subscriber corrected_sub_;                       // corrected_path (detect mode): queues a task for the worker
+  ros::CallbackQueue service_queue_;                    // the services' (thread-safe)
   std::unique_ptr<ros::AsyncSpinner> service_spinner_;  // its thread
-  DatabaseWriter writer_;                             // thread-safe
+  DatabaseWriter writer_;                               // thread-safe
   ros::WallTimer autosave_timer_;
-  std::atomic<bool> autosave_queued_{false};          // an autosave task waits in the queue
+  std::atomic<bool> autosave_queued_{false};  // an autosave task waits in the queue
   std::unique_ptr<tf2_ros::Buffer> tf_buffer_;
   std::unique_ptr<tf2_ros::TransformListener> tf_listener_;
   boost::recursive_mutex reconfigure_mutex_;  // dynamic_reconfigure's own (guards its Server's state)

@@ -15,11 +15,22 @@ std_msgs::Float64MultiArray loopArray(const scan_context_loop::LoopClosure& loop
   out.layout.dim[0].size = kLoopArraySize;
   out.layout.dim[0].stride = kLoopArraySize;
   const geometry_msgs::Pose& p = loop.relative_pose;
-  out.data = {static_cast<double>(loop.query_id), static_cast<double>(loop.match_id),
-              static_cast<double>(loop.query_session), static_cast<double>(loop.match_session),
-              loop.query_stamp.toSec(), loop.match_stamp.toSec(), loop.verified ? 1.0 : 0.0, loop.fitness,
-              loop.distance, p.position.x, p.position.y, p.position.z, p.orientation.x, p.orientation.y,
-              p.orientation.z, p.orientation.w};
+  out.data = {static_cast<double>(loop.query_id),
+              static_cast<double>(loop.match_id),
+              static_cast<double>(loop.query_session),
+              static_cast<double>(loop.match_session),
+              loop.query_stamp.toSec(),
+              loop.match_stamp.toSec(),
+              loop.verified ? 1.0 : 0.0,
+              loop.fitness,
+              loop.distance,
+              p.position.x,
+              p.position.y,
+              p.position.z,
+              p.orientation.x,
+              p.orientation.y,
+              p.orientation.z,
+              p.orientation.w};
   out.data.insert(out.data.end(), loop.covariance.begin(), loop.covariance.end());
   return out;
 }

@@ -124,8 +124,8 @@ void LoopPublisher::publishLoops(const Detection& detection, const std::string& 
       ROS_INFO_THROTTLE_NAMED(1.0, name_,
                               "loop %u -> %u: %.1f m apart by odometry, yaw %.1f deg, distance %.3f, verified "
                               "(fitness %.4f m^2, support %u)",
-                              loop.query_id, loop.match_id, apart, loop.yaw * 180.0 / M_PI, loop.distance,
-                              loop.fitness, loop.support);
+                              loop.query_id, loop.match_id, apart, loop.yaw * 180.0 / M_PI, loop.distance, loop.fitness,
+                              loop.support);
     } else {
       ROS_INFO_THROTTLE_NAMED(1.0, name_, "loop %u -> %u: %.1f m apart by odometry, yaw %.1f deg, distance %.3f",
                               loop.query_id, loop.match_id, apart, loop.yaw * 180.0 / M_PI, loop.distance);

@@ -51,9 +51,9 @@ class MarkerPublisher {
   const Config& config_;
   ros::Publisher pub_;
   std::vector<LoopEdge> loops_, rejected_;
-  MarkerState shown_;   // what the published markers already show
+  MarkerState shown_;  // what the published markers already show
   std::string robot_;
-  std::string frame_;   // the pose frame of the newest keyframe
+  std::string frame_;  // the pose frame of the newest keyframe
 };
 
 }  // namespace scan_context_loop

@@ -47,12 +47,10 @@ std_msgs::ColorRGBA sessionColour(std::uint32_t s) {
 
 /// The first chunk that changed when `published` items of a list were already out: the chunk of the
 /// last published item (it may have grown, and a strip's chunk ends on the next chunk's first point).
-std::size_t firstChangedChunk(std::size_t published) {
-  return published == 0 ? 0 : (published - 1) / kMarkerChunk;
-}
+std::size_t firstChangedChunk(std::size_t published) { return published == 0 ? 0 : (published - 1) / kMarkerChunk; }
 
-void addKeyframeChunk(const MarkerKeyframes& drawn, std::size_t chunk, const std::string& frame,
-                      const ros::Time& stamp, visualization_msgs::MarkerArray* array) {
+void addKeyframeChunk(const MarkerKeyframes& drawn, std::size_t chunk, const std::string& frame, const ros::Time& stamp,
+                      visualization_msgs::MarkerArray* array) {
   const auto& session = drawn.session;
   const std::size_t count = drawn.count;
   const std::size_t begin = chunk * kMarkerChunk, end = std::min(count, begin + kMarkerChunk);
@@ -76,9 +74,8 @@ void addKeyframeChunk(const MarkerKeyframes& drawn, std::size_t chunk, const std
   if (trajectory.points.size() >= 2) array->markers.push_back(trajectory);
 }
 
-void addLoop(const MarkerKeyframes& keyframes, const LoopEdge& loop, std::size_t index,
-             const std::string& frame, const ros::Time& stamp, double threshold,
-             visualization_msgs::MarkerArray* array) {
+void addLoop(const MarkerKeyframes& keyframes, const LoopEdge& loop, std::size_t index, const std::string& frame,
+             const ros::Time& stamp, double threshold, visualization_msgs::MarkerArray* array) {
   const int id = static_cast<int>(index);
   const float t = static_cast<float>(std::min(1.0, std::max(0.0, loop.distance / threshold)));
   const auto c = colour(t, 1.0f - t, 0.0f);
@@ -106,9 +103,8 @@ void addLoop(const MarkerKeyframes& keyframes, const LoopEdge& loop, std::size_t
   array->markers.push_back(label);
 }
 
-void addRejectedChunk(const MarkerKeyframes& keyframes, const std::vector<LoopEdge>& rejected,
-                      std::size_t chunk, const std::string& frame, const ros::Time& stamp,
-                      visualization_msgs::MarkerArray* array) {
+void addRejectedChunk(const MarkerKeyframes& keyframes, const std::vector<LoopEdge>& rejected, std::size_t chunk,
+                      const std::string& frame, const ros::Time& stamp, visualization_msgs::MarkerArray* array) {
   auto lines = base(frame, stamp, "rejected", static_cast<int>(chunk), visualization_msgs::Marker::LINE_LIST);
   lines.scale.x = 0.15;
   lines.color = colour(0.6f, 0.6f, 0.6f, 0.25f);

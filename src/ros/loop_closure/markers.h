@@ -34,12 +34,11 @@ struct MarkerKeyframes {
 };
 
 /// Keyframe positions (spheres, coloured by `sessions`: the session of each keyframe, or empty for one
-/// session), the trajectory (line segments between consecutive keyframes of one session), loop edges (lines from green at
-/// distance 0 to red at the threshold) with both ends marked, a label per loop ("query -> match,
-/// distance"), and candidates that verification rejected as thin grey lines. With `published`, only
-/// what changed since it (the last keyframe and rejected chunks, the new loops) is made, and
-/// `published` is advanced; without it (or from a zero state) everything. Markers keep their ids
-/// (namespace, id) across updates, so RViz replaces a chunk and keeps the rest.
+/// session), the trajectory (line segments between consecutive keyframes of one session), loop edges (lines from green
+/// at distance 0 to red at the threshold) with both ends marked, a label per loop ("query -> match, distance"), and
+/// candidates that verification rejected as thin grey lines. With `published`, only what changed since it (the last
+/// keyframe and rejected chunks, the new loops) is made, and `published` is advanced; without it (or from a zero state)
+/// everything. Markers keep their ids (namespace, id) across updates, so RViz replaces a chunk and keeps the rest.
 visualization_msgs::MarkerArray makeLoopMarkers(const std::vector<Eigen::Vector3d>& positions,
                                                 const std::vector<std::uint32_t>& sessions,
                                                 const std::vector<LoopEdge>& loops,

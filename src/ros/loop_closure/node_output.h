@@ -61,7 +61,7 @@ class LoopClosureOutput {
 
  private:
   MarkerPublisher markers_;
-  LoopPublisher loops_;  // draws on markers_
+  LoopPublisher loops_;                                  // draws on markers_
   std::unique_ptr<SelectedKeyframePublisher> selected_;  // none in relocalize mode
   ros::Publisher timing_pub_;
 };

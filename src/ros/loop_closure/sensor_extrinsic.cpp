@@ -45,10 +45,11 @@ SensorExtrinsic::State SensorExtrinsic::resolve(const std::string& child, const 
     ROS_INFO_NAMED(name_,
                    "tf extrinsic %s <- %s after %.1f s: translation (%.3f, %.3f, %.3f) m, rotation (x y z w) "
                    "(%.4f, %.4f, %.4f, %.4f); odometry of %s is moved to the sensor %s",
-                   child.c_str(), sensor.c_str(), now - waiting_since_, t.x(), t.y(), t.z(), q.x(), q.y(), q.z(),
-                   q.w(), child.c_str(), sensor.c_str());
+                   child.c_str(), sensor.c_str(), now - waiting_since_, t.x(), t.y(), t.z(), q.x(), q.y(), q.z(), q.w(),
+                   child.c_str(), sensor.c_str());
     if (state_ == State::kFallback) {
-      ROS_WARN_NAMED(name_, "the keyframes before it took the odometry's poses as the sensor's: their loops to "
+      ROS_WARN_NAMED(name_,
+                     "the keyframes before it took the odometry's poses as the sensor's: their loops to "
                      "later keyframes may be rejected");
     }
     return state_ = State::kKnown;

@@ -7,9 +7,8 @@
 
 namespace scan_context_loop {
 
-std::vector<std::string> readPoseGraphParameters(const ros::NodeHandle& pnh, PoseGraphConfig* g,
-                                                 KeyframeMapConfig* m, PoseGraphOptions* o,
-                                                 std::vector<std::string>* warnings) {
+std::vector<std::string> readPoseGraphParameters(const ros::NodeHandle& pnh, PoseGraphConfig* g, KeyframeMapConfig* m,
+                                                 PoseGraphOptions* o, std::vector<std::string>* warnings) {
   std::vector<std::string> problems;
   readTable(pnh, poseGraphSettings(), g, &problems, warnings);
   readTable(pnh, keyframeMapSettings(), m, &problems, warnings);
@@ -33,10 +32,9 @@ std::vector<std::string> readPoseGraphParameters(const ros::NodeHandle& pnh, Pos
     o->robots = text;
   }
   readTable(pnh, node_table, o, &problems, warnings);
-  reportUnknownParameters(pnh,
-                          {knownKeyOf(poseGraphSettings()), knownKeyOf(keyframeMapSettings()),
-                           knownKeyOf(poseGraphNodeSettings())},
-                          "config/pose_graph.yaml", &problems);
+  reportUnknownParameters(
+      pnh, {knownKeyOf(poseGraphSettings()), knownKeyOf(keyframeMapSettings()), knownKeyOf(poseGraphNodeSettings())},
+      "config/pose_graph.yaml", &problems);
   o->map_frame = normaliseFrameId(o->map_frame);  // tf2's name: no leading '/'
   for (const auto& p : g->validate()) problems.push_back(p);
   for (const auto& p : m->validate()) problems.push_back(p);

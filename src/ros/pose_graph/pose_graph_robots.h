@@ -28,10 +28,10 @@ struct GraphRobot {
   ros::Publisher path_pub, odometry_path_pub;
 
   // Worker-only.
-  std::vector<ros::Time> stamps;        ///< its keyframes' stamps, increasing
-  std::vector<std::size_t> keyframes;   ///< their graph indices, by stamp
+  std::vector<ros::Time> stamps;                              ///< its keyframes' stamps, increasing
+  std::vector<std::size_t> keyframes;                         ///< their graph indices, by stamp
   std::deque<sensor_msgs::PointCloud2ConstPtr> early_clouds;  ///< clouds that came before their pose
-  std::string odom_frame;               ///< its keyframes' frame (the first keyframe's), "" before it
+  std::string odom_frame;  ///< its keyframes' frame (the first keyframe's), "" before it
 
   /// `name` in this robot's namespace: "<id>/<name>", or `name` for the single robot.
   std::string topic(const std::string& name) const { return id.empty() ? name : id + "/" + name; }

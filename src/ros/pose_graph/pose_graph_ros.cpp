@@ -78,14 +78,15 @@ void PoseGraphRos::subscribeRobots() {
     robot.odom_sub = nh_.subscribe<nav_msgs::Odometry>(
         robot.topic("selected_keyframe_odom"), 1000, [this, r](const nav_msgs::OdometryConstPtr& m) { onOdom(m, r); });
     robot.loop_sub = nh_.subscribe<scan_context_loop::LoopClosure>(
-        robot.topic("loop_closures"), 1000, [this, r](const scan_context_loop::LoopClosureConstPtr& m) { onLoop(m, r); });
+        robot.topic("loop_closures"), 1000,
+        [this, r](const scan_context_loop::LoopClosureConstPtr& m) { onLoop(m, r); });
     if (options_.build_map) {
       robot.cloud_sub = nh_.subscribe<sensor_msgs::PointCloud2>(
           robot.topic("selected_keyframe_cloud"), 1000,
           [this, r](const sensor_msgs::PointCloud2ConstPtr& m) { onCloud(m, r); });
     }
-    ROS_INFO_NAMED(name_, "pose graph on %s + %s%s; %s loops; corrected poses in %s%s%s", robot.odom_sub.getTopic().c_str(),
-                   robot.loop_sub.getTopic().c_str(),
+    ROS_INFO_NAMED(name_, "pose graph on %s + %s%s; %s loops; corrected poses in %s%s%s",
+                   robot.odom_sub.getTopic().c_str(), robot.loop_sub.getTopic().c_str(),
                    options_.build_map ? (", map from " + robot.cloud_sub.getTopic()).c_str() : "",
                    options_.verified_only ? "verified" : "all", options_.map_frame.c_str(),
                    team_ ? (r == 0 ? " (the anchor: robot " : " (robot ") : "",
@@ -139,8 +140,8 @@ void PoseGraphRos::enqueue(Event event) {
     std::lock_guard<std::mutex> lock(queue_mutex_);
     if (queue_.size() >= static_cast<std::size_t>(options_.queue_size)) {
       ++dropped_;
-      ROS_WARN_THROTTLE_NAMED(5.0, name_, "pose graph queue full (%d): dropped %zu messages so far", options_.queue_size,
-                              dropped_.load());
+      ROS_WARN_THROTTLE_NAMED(5.0, name_, "pose graph queue full (%d): dropped %zu messages so far",
+                              options_.queue_size, dropped_.load());
       return;
     }
     queue_.push_back(std::move(event));

@@ -54,7 +54,7 @@ class PoseGraphRos {
     nav_msgs::OdometryConstPtr odom;
     sensor_msgs::PointCloud2ConstPtr cloud;
     scan_context_loop::LoopClosureConstPtr loop;
-    bool publish_map = false;  ///< the publish_map service asked for the map
+    bool publish_map = false;    ///< the publish_map service asked for the map
     std::function<void()> task;  ///< a service's work on the graph (runOnWorker)
   };
 

@@ -80,7 +80,7 @@ bool PoseGraphRos::mapTarget(const std::string& requested, std::string* director
 
 MapFiles PoseGraphRos::snapshotMap() {
   if (solve_pending_) solveAndPublish(true);  // the loops that came are in the map saved
-  std::vector<std::string> ids;  // by chain; none for the single robot (its files keep their names)
+  std::vector<std::string> ids;               // by chain; none for the single robot (its files keep their names)
   for (const GraphRobot& robot : robots_) {
     if (team_) ids.push_back(robot.id);
   }
@@ -124,8 +124,7 @@ bool PoseGraphRos::onSaveMap(scan_context_loop::SaveMap::Request& request,
   }
   if (!response.success) {
     response.message = error;
-    ROS_ERROR_NAMED(name_, "save_map %s: %s (the graph goes on)", request.path.c_str(),
-                    error.c_str());
+    ROS_ERROR_NAMED(name_, "save_map %s: %s (the graph goes on)", request.path.c_str(), error.c_str());
     return true;
   }
   response.files = report.files;

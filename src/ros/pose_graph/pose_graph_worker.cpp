@@ -109,9 +109,10 @@ void PoseGraphRos::addKeyframe(const nav_msgs::Odometry& msg, GraphRobot* robot)
   const char* of = robot->id.empty() ? "" : " of robot ";
   if (!robot->stamps.empty() && stamp <= robot->stamps.back()) {
     ++rejected_;
-    ROS_ERROR_THROTTLE_NAMED(5.0, name_, "keyframe%s%s at %.3f skipped: its stamp is not after the last one (%.3f); the "
-                             "reference graph holds one session", of, robot->id.c_str(), stamp.toSec(),
-                             robot->stamps.back().toSec());
+    ROS_ERROR_THROTTLE_NAMED(5.0, name_,
+                             "keyframe%s%s at %.3f skipped: its stamp is not after the last one (%.3f); the "
+                             "reference graph holds one session",
+                             of, robot->id.c_str(), stamp.toSec(), robot->stamps.back().toSec());
     return;
   }
   const std::string frame = normaliseFrameId(msg.header.frame_id);
@@ -126,8 +127,8 @@ void PoseGraphRos::addKeyframe(const nav_msgs::Odometry& msg, GraphRobot* robot)
   long index = -1;
   if (!poseFromMsg(msg.pose.pose, &pose, &why) || (index = graph_->addKeyframe(pose, robot->chain)) < 0) {
     ++rejected_;
-    ROS_ERROR_THROTTLE_NAMED(5.0, name_, "keyframe%s%s at %.3f skipped: its pose is unusable: %s", of, robot->id.c_str(),
-                             stamp.toSec(), why.c_str());
+    ROS_ERROR_THROTTLE_NAMED(5.0, name_, "keyframe%s%s at %.3f skipped: its pose is unusable: %s", of,
+                             robot->id.c_str(), stamp.toSec(), why.c_str());
     return;
   }
   robot->odom_frame = frame;
@@ -160,7 +161,8 @@ void PoseGraphRos::addCloud(const sensor_msgs::PointCloud2& msg, GraphRobot* rob
   std::string why;
   if (!viewCloud(msg, &view, &why)) {
     ++rejected_;
-    ROS_ERROR_THROTTLE_NAMED(5.0, name_, "cloud at %.3f left out of the map: %s", msg.header.stamp.toSec(), why.c_str());
+    ROS_ERROR_THROTTLE_NAMED(5.0, name_, "cloud at %.3f left out of the map: %s", msg.header.stamp.toSec(),
+                             why.c_str());
     return;
   }
   std::vector<Eigen::Vector3f> points(view.count);
@@ -199,9 +201,10 @@ bool PoseGraphRos::addLoop(const scan_context_loop::LoopClosure& msg, std::size_
       return false;
     }
     ++rejected_;
-    ROS_WARN_THROTTLE_NAMED(5.0, name_, "loop %u -> %u left out: no keyframe at its stamps %.3f / %.3f (another "
-                            "session, or a keyframe this node skipped)", msg.query_id, msg.match_id,
-                            msg.query_stamp.toSec(), msg.match_stamp.toSec());
+    ROS_WARN_THROTTLE_NAMED(5.0, name_,
+                            "loop %u -> %u left out: no keyframe at its stamps %.3f / %.3f (another "
+                            "session, or a keyframe this node skipped)",
+                            msg.query_id, msg.match_id, msg.query_stamp.toSec(), msg.match_stamp.toSec());
     return true;
   }
   Eigen::Isometry3d relative;

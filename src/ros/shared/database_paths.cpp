@@ -27,7 +27,7 @@ std::string resolved(const std::string& path) {
 
 /// mkdir -p, mode 0755.
 void makeDirectories(const std::string& path) {
-  for (std::size_t slash = path.find('/', 1); ; slash = path.find('/', slash + 1)) {
+  for (std::size_t slash = path.find('/', 1);; slash = path.find('/', slash + 1)) {
     ::mkdir(path.substr(0, slash).c_str(), 0755);
     if (slash == std::string::npos) return;
   }
@@ -53,8 +53,8 @@ std::string rosHome() {
   return ros_home && *ros_home ? ros_home : std::string(home ? home : "") + "/.ros";
 }
 
-bool servicePath(const std::string& directory, const std::string& requested, std::string* path,
-                 std::string* error, const std::string& setting) {
+bool servicePath(const std::string& directory, const std::string& requested, std::string* path, std::string* error,
+                 const std::string& setting) {
   if (requested.empty()) return refuse(error, "no path given");
   for (std::size_t begin = 0; begin <= requested.size();) {
     const std::size_t end = std::min(requested.find('/', begin), requested.size());
@@ -67,8 +67,8 @@ bool servicePath(const std::string& directory, const std::string& requested, std
   makeDirectories(directory);
   const std::string root = resolved(directory);
   if (root.empty()) {
-    return refuse(error, "the map directory " + directory + " (" + setting + ") cannot be used: " +
-                             std::strerror(errno));
+    return refuse(error,
+                  "the map directory " + directory + " (" + setting + ") cannot be used: " + std::strerror(errno));
   }
   const std::string full = requested.front() == '/' ? requested : root + "/" + requested;
   const std::string name = nameOf(full);
@@ -79,8 +79,7 @@ bool servicePath(const std::string& directory, const std::string& requested, std
                              " (saves go inside the map directory " + root + ", " + setting + ")");
   }
   if (parent != root && parent.compare(0, root.size() + 1, root + "/") != 0) {
-    return refuse(error, requested + " is outside the map directory " + root +
-                             " (" + setting + "): refused");
+    return refuse(error, requested + " is outside the map directory " + root + " (" + setting + "): refused");
   }
   const std::string target = (parent == "/" ? "" : parent) + "/" + name;
   struct stat st;
@@ -107,8 +106,7 @@ std::string besidePath(const std::string& path, std::time_t now) {
 
 bool sameFile(const std::string& a, const std::string& b) {
   struct stat sa, sb;
-  return ::stat(a.c_str(), &sa) == 0 && ::stat(b.c_str(), &sb) == 0 && sa.st_dev == sb.st_dev &&
-         sa.st_ino == sb.st_ino;
+  return ::stat(a.c_str(), &sa) == 0 && ::stat(b.c_str(), &sb) == 0 && sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino;
 }
 
 bool fileExists(const std::string& path) {

@@ -25,8 +25,8 @@ std::string rosHome();
 /// created when missing. *path is the resolved path. The same checks serve a directory to write in
 /// (the last component then names it). `setting` is the parameter that names `directory`, for the
 /// messages.
-bool servicePath(const std::string& directory, const std::string& requested, std::string* path,
-                 std::string* error, const std::string& setting = "database_directory");
+bool servicePath(const std::string& directory, const std::string& requested, std::string* path, std::string* error,
+                 const std::string& setting = "database_directory");
 
 /// A path beside `path`, in its directory, that no file has: `<stem>.<now>.<extension>` (`.scdb` when
 /// `path` has no extension), with `-1`, `-2`, ... after the time if that name is taken.

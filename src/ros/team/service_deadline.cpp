@@ -4,11 +4,16 @@ namespace scan_context_loop {
 
 const char* ServiceDeadline::describe(Outcome outcome) {
   switch (outcome) {
-    case Outcome::kAnswered: return "answered";
-    case Outcome::kNoService: return "the service is not there";
-    case Outcome::kFailed: return "the call failed";
-    case Outcome::kTimedOut: return "no answer in time";
-    case Outcome::kStopped: return "the node is stopping";
+    case Outcome::kAnswered:
+      return "answered";
+    case Outcome::kNoService:
+      return "the service is not there";
+    case Outcome::kFailed:
+      return "the call failed";
+    case Outcome::kTimedOut:
+      return "no answer in time";
+    case Outcome::kStopped:
+      return "the node is stopping";
   }
   return "";
 }

@@ -25,7 +25,8 @@ std::size_t bytesOf(const M& message) {
 
 /// The answer to a request of another run than this node's.
 std::string otherRun(std::uint64_t asked, std::uint64_t ours) {
-  return "run " + std::to_string(asked) + " is not this node's (" + std::to_string(ours) + "): it was restarted or reset";
+  return "run " + std::to_string(asked) + " is not this node's (" + std::to_string(ours) +
+         "): it was restarted or reset";
 }
 
 /// Bursts of this many seconds' worth of bytes pass the rate limit at once (a keyframe's registration data
@@ -76,7 +77,8 @@ void TeamExchange::start() {
           }));
   records_srv_ = services.advertiseService(topic_names::kTeamRecords, &TeamExchange::onRecords, this);
   cloud_srv_ = services.advertiseService(topic_names::kTeamCloud, &TeamExchange::onCloud, this);
-  announce_timer_ = team_nh_.createWallTimer(ros::WallDuration(1.0), [this](const ros::WallTimerEvent&) { announce(); });
+  announce_timer_ =
+      team_nh_.createWallTimer(ros::WallDuration(1.0), [this](const ros::WallTimerEvent&) { announce(); });
   spinner_.reset(new ros::AsyncSpinner(1, &queue_));
   spinner_->start();
   ROS_INFO_NAMED(name_, "team: robot %s shares its keyframes on %s (run %llu)", options_.robot_id.c_str(),
@@ -195,8 +197,8 @@ bool TeamExchange::onCloud(scan_context_loop::GetKeyframeCloud::Request& request
       return true;
     }
     if (request.keyframe >= served_.size()) {
-      response.message = "no keyframe " + std::to_string(request.keyframe) + " (" + std::to_string(served_.size()) +
-                         " shared)";
+      response.message =
+          "no keyframe " + std::to_string(request.keyframe) + " (" + std::to_string(served_.size()) + " shared)";
       return true;
     }
     bool complete = true;

@@ -108,12 +108,14 @@ void TeamWorker::requestRecords(const std::string& node, const Run& run, std::ui
   }
   auto records = std::make_shared<std::vector<scan_context_loop::KeyframeRecord>>(std::move(call.response.records));
   // Beyond the queue's capacity: a flood of records must not lose the reply (refused only while stopping).
-  matcher_thread_.post([this, records, run] {
-    for (const auto& record : *records) {
-      if (record.robot == run.first && record.run == run.second) addRecord(record, "");
-    }
-    asking_.erase(run);
-  }, true);
+  matcher_thread_.post(
+      [this, records, run] {
+        for (const auto& record : *records) {
+          if (record.robot == run.first && record.run == run.second) addRecord(record, "");
+        }
+        asking_.erase(run);
+      },
+      true);
 }
 
 void TeamWorker::requestCloud(const std::string& node, const TeamKeyframeId& id) {

@@ -68,7 +68,12 @@ bool validNodeName(const std::string& node) {
 
 TeamWorker::TeamWorker(const std::string& name, const Config& config, const NodeOptions& options,
                        NodeCounters* counters, LoopPublisher* loops)
-    : name_(name), config_(config), options_(options), counters_(counters), loops_(loops), matcher_(config),
+    : name_(name),
+      config_(config),
+      options_(options),
+      counters_(counters),
+      loops_(loops),
+      matcher_(config),
       consistency_(config) {
   std::tie(settings_text_, settings_crc_) = teamSettings(config);
 }
@@ -113,9 +118,10 @@ bool TeamWorker::claim(const std::string& robot, const std::string& node, const 
     why = "the id is bound to node " + bound->second.node + " (published by " + bound->second.publisher + ")";
   }
   ++counters_->team_claims_refused;
-  ROS_WARN_THROTTLE_NAMED(10.0, name_, "team: robot id %s claimed by node %s (published by %s) refused: %s (%zu refused)",
-                          peerText(robot).c_str(), peerText(node).c_str(), peerText(publisher).c_str(),
-                          why.c_str(), counters_->team_claims_refused.load());
+  ROS_WARN_THROTTLE_NAMED(10.0, name_,
+                          "team: robot id %s claimed by node %s (published by %s) refused: %s (%zu refused)",
+                          peerText(robot).c_str(), peerText(node).c_str(), peerText(publisher).c_str(), why.c_str(),
+                          counters_->team_claims_refused.load());
   return false;
 }
 

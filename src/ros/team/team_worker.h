@@ -38,7 +38,7 @@ struct OwnKeyframe {
   std::uint32_t session = 0;
   double path_length = 0.0;  ///< odometry path within its session [m]
   ros::Time stamp;
-  std::string frame;        ///< the odometry frame of its pose
+  std::string frame;  ///< the odometry frame of its pose
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
   pcl::PointCloud<pcl::PointXYZ> described;  ///< its points as described (sensor frame)
 };
@@ -96,8 +96,7 @@ class TeamWorker {
   void publishLoop(const OwnKeyframe& keyframe, const TeamMatch& match);
   void fetch(const TeamKeyframeId& id);
   /// `later`: the node was slow or the request could not be queued; the data may be asked for again.
-  void onCloud(const TeamKeyframeId& id, const std::vector<std::uint8_t>& data, const std::string& failure,
-               bool later);
+  void onCloud(const TeamKeyframeId& id, const std::vector<std::uint8_t>& data, const std::string& failure, bool later);
   // On the client's thread: the service calls; results are posted back to the matcher's thread.
   void requestRecords(const std::string& node, const Run& run, std::uint32_t first, std::uint32_t count);
   void requestCloud(const std::string& node, const TeamKeyframeId& id);
@@ -117,15 +116,15 @@ class TeamWorker {
   // The matcher's thread's alone.
   TeamMatcher matcher_;
   std::vector<Pending> pending_;
-  TeamConsistency consistency_;             // loops wait here for another loop of the same frames
+  TeamConsistency consistency_;  // loops wait here for another loop of the same frames
   std::map<std::size_t, scan_context_loop::LoopClosure> unconfirmed_;  // their messages, by handle
   std::size_t next_handle_ = 0;
-  std::map<std::string, Peer> robots_;      // each robot id's node
-  std::set<Run> refused_;                   // runs whose settings differ (forgotten past kMaxRefused)
-  std::map<Run, ros::WallTime> asking_;     // runs with a records request under way, since when
+  std::map<std::string, Peer> robots_;               // each robot id's node
+  std::set<Run> refused_;                            // runs whose settings differ (forgotten past kMaxRefused)
+  std::map<Run, ros::WallTime> asking_;              // runs with a records request under way, since when
   ros::WallTime last_retry_ = ros::WallTime::now();  // when data set aside (fetchLater) were last released
   static constexpr std::size_t kMaxPending = 32;
-  static constexpr int kMaxRounds = 3;      // matches of one keyframe as data arrive
+  static constexpr int kMaxRounds = 3;  // matches of one keyframe as data arrive
   static constexpr std::uint32_t kRecordsPerRequest = 100;
   static constexpr std::size_t kMaxRobots = 256;    // robot ids bound at most
   static constexpr std::size_t kMaxRefused = 1024;  // runs remembered as refused at most
@@ -135,7 +134,7 @@ class TeamWorker {
   static constexpr double kSlowPeerSeconds = 30.0;
 
   ServiceDeadline deadline_;   // before client_: its calls use it until client_ has stopped
-  TaskThread client_;   // service calls
+  TaskThread client_;          // service calls
   TaskThread matcher_thread_;  // last: its tasks use everything above
 };
 
