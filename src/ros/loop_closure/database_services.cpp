@@ -20,7 +20,7 @@
 
 namespace scan_context_loop {
 
-void LoopClosureRos::advertiseSessionServices() {
+void LoopClosureRos::advertiseDatabaseServices() {
   // Their own queue and thread: a call waits for the worker and a save for its write, and neither holds
   // up the input callbacks in the nodelet's queue meanwhile.
   ros::NodeHandle services(pnh_);

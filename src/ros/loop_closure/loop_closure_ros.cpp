@@ -98,7 +98,7 @@ bool LoopClosureRos::start() {
 
   KeyframeQueue* queue = queue_.get();
   output_->advertise(nh_, [queue] { queue->requestRedraw(); });
-  advertiseSessionServices();
+  advertiseDatabaseServices();
 
   // The live settings: dynamic_reconfigure starts from the parameters just read (its first call
   // changes nothing) and calls back from the spinner thread.

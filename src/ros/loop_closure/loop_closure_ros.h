@@ -106,7 +106,7 @@ class LoopClosureRos {
   void autosave();
   /// Worker (or after it ended): what a save writes now, with the corrected poses (corrected_path) in force.
   DatabaseSnapshot takeSnapshot(bool include_clouds);
-  void advertiseSessionServices();
+  void advertiseDatabaseServices();
   /// dynamic_reconfigure: checks the live settings and hands them to the worker (applied before its
   /// next keyframe); a refused change is logged and the values in force are reported back.
   void onReconfigure(scan_context_loop::LoopClosureConfig& values, std::uint32_t level);
