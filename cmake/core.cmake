@@ -53,59 +53,53 @@ if(CATKIN_ENABLE_TESTING)
   add_library(scan_context_loop_sim_drive STATIC test/common/sim_drive.cpp)
   target_link_libraries(scan_context_loop_sim_drive PUBLIC scan_context_sim)
 
-  catkin_add_gtest(test_core
-    test/test_main.cpp
-    test/core/test_descriptor.cpp
-    test/core/test_alignment.cpp
-    test/core/test_database.cpp
-    test/core/test_database_index.cpp
-    test/core/test_bad_input.cpp
-    test/core/test_real_data.cpp
-    test/core/test_scenes.cpp
-    test/core/test_verification.cpp
-    test/core/test_acceptance_rule.cpp
-    test/core/test_cloud_store.cpp
-    test/core/test_free_space.cpp
-    test/core/test_consistency.cpp
-    test/core/test_loop_tracking.cpp
-    test/core/test_viewpoints.cpp
-    test/core/test_gravity_alignment.cpp
-    test/core/test_keyframes.cpp
-    test/core/test_reconfigure.cpp
-    test/core/test_sessions.cpp
-    test/core/test_relocalization.cpp
-    test/core/test_kitti_io.cpp
-    test/core/test_simulated_places.cpp
-    test/core/test_hard_revisits.cpp
-    test/core/test_odometry_trust.cpp
-    test/core/test_database_file.cpp
-    test/core/test_pose_corrections.cpp
-    test/core/test_file_io.cpp
-    test/core/test_block_arena.cpp
-    test/core/test_chunked_log.cpp
-    test/core/test_team_matcher.cpp
-    test/core/test_task_thread.cpp
-    test/core/test_team_consistency.cpp
-    test/core/test_principal_axes.cpp
-    test/common/file_faults.cpp
-  )
-  # The real-data tests read KITTI scans (eval/kitti_io.h); the simulated-data tests cast scans with the
-  # simulator. file_faults.cpp's link, fsync, ... take precedence over the C library's for the core
-  # library's calls (test/common/file_faults.h); they find the real ones with dlsym.
-  target_link_libraries(test_core scan_context_loop_eval scan_context_sim scan_context_loop_sim_drive
-    ${PCL_IO_LIBRARIES} ${CMAKE_DL_LIBS})
-  target_compile_definitions(test_core PRIVATE SCL_SHARED_DATA="${SCL_SHARED_DATA}")
-  target_include_directories(test_core PRIVATE src/core)  # principal_axes.h, a private header
+  scl_test(test_core SOURCES
+      test/test_main.cpp
+      test/core/test_descriptor.cpp
+      test/core/test_alignment.cpp
+      test/core/test_database.cpp
+      test/core/test_database_index.cpp
+      test/core/test_bad_input.cpp
+      test/core/test_real_data.cpp
+      test/core/test_scenes.cpp
+      test/core/test_verification.cpp
+      test/core/test_acceptance_rule.cpp
+      test/core/test_cloud_store.cpp
+      test/core/test_free_space.cpp
+      test/core/test_consistency.cpp
+      test/core/test_loop_tracking.cpp
+      test/core/test_viewpoints.cpp
+      test/core/test_gravity_alignment.cpp
+      test/core/test_keyframes.cpp
+      test/core/test_reconfigure.cpp
+      test/core/test_sessions.cpp
+      test/core/test_relocalization.cpp
+      test/core/test_kitti_io.cpp
+      test/core/test_simulated_places.cpp
+      test/core/test_hard_revisits.cpp
+      test/core/test_odometry_trust.cpp
+      test/core/test_database_file.cpp
+      test/core/test_pose_corrections.cpp
+      test/core/test_file_io.cpp
+      test/core/test_block_arena.cpp
+      test/core/test_chunked_log.cpp
+      test/core/test_team_matcher.cpp
+      test/core/test_task_thread.cpp
+      test/core/test_team_consistency.cpp
+      test/core/test_principal_axes.cpp
+      test/common/file_faults.cpp
+    # The real-data tests read KITTI scans (eval/kitti_io.h); the simulated-data tests cast scans with the
+    # simulator. file_faults.cpp's link, fsync, ... take precedence over the C library's for the core
+    # library's calls (test/common/file_faults.h); they find the real ones with dlsym.
+    LIBS scan_context_loop_eval scan_context_sim scan_context_loop_sim_drive ${PCL_IO_LIBRARIES} ${CMAKE_DL_LIBS}
+    DEFINES SCL_SHARED_DATA="${SCL_SHARED_DATA}"
+    INCLUDES src/core)  # principal_axes.h, a private header
 
   # Saving off the detector's thread: small and quick, so that ThreadSanitizer runs it too
   # (scripts/dev/sanitize).
-  catkin_add_gtest(test_database_writer
-    test/test_main.cpp
-    test/core/test_database_writer.cpp
-    test/core/test_scenes.cpp
-  )
-  target_link_libraries(test_database_writer scan_context_loop_eval)
-  target_compile_definitions(test_database_writer PRIVATE SCL_SHARED_DATA="${SCL_SHARED_DATA}")
+  scl_test(test_database_writer
+    SOURCES test/test_main.cpp test/core/test_database_writer.cpp test/core/test_scenes.cpp
+    LIBS scan_context_loop_eval DEFINES SCL_SHARED_DATA="${SCL_SHARED_DATA}")
 
   # The same faults preloaded into a node's process (LD_PRELOAD), chosen by the file SCL_FILE_FAULTS names.
   add_library(scl_file_faults SHARED test/common/file_faults.cpp)

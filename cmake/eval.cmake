@@ -25,18 +25,18 @@ if(CATKIN_ENABLE_TESTING)
   target_include_directories(scan_context_loop_eval_sequences PRIVATE ${GTEST_INCLUDE_DIRS})
   target_link_libraries(scan_context_loop_eval_sequences scan_context_loop_eval scan_context_loop_sim_drive)
 
-  catkin_add_gtest(test_eval_metrics test/test_main.cpp test/eval/test_metrics.cpp test/eval/test_trajectory_error.cpp)
-  target_link_libraries(test_eval_metrics scan_context_loop_eval)
+  scl_test(test_eval_metrics SOURCES test/test_main.cpp test/eval/test_metrics.cpp test/eval/test_trajectory_error.cpp
+    LIBS scan_context_loop_eval)
   # A prior map given as a saved database: its own binary, a few seconds.
-  catkin_add_gtest(test_eval_database_prior test/test_main.cpp test/eval/test_database_prior.cpp)
-  target_link_libraries(test_eval_database_prior scan_context_loop_eval_sequences)
+  scl_test(test_eval_database_prior SOURCES test/test_main.cpp test/eval/test_database_prior.cpp
+    LIBS scan_context_loop_eval_sequences)
   # A tiny team of two robots scored offline (--team); the map part with the backend only.
-  catkin_add_gtest(test_eval_team test/test_main.cpp test/eval/test_team_evaluation.cpp)
-  target_link_libraries(test_eval_team scan_context_loop_eval_sequences)
+  scl_test(test_eval_team SOURCES test/test_main.cpp test/eval/test_team_evaluation.cpp
+    LIBS scan_context_loop_eval_sequences)
   if(SCL_WITH_BACKEND)
     # Whole evaluations of simulated drives, with the trajectory correction.
-    catkin_add_gtest(test_eval test/test_main.cpp test/eval/test_evaluation.cpp test/eval/test_relocalization.cpp)
-    target_link_libraries(test_eval scan_context_loop_eval_sequences)
-    target_compile_definitions(test_eval PRIVATE SCL_SHARED_DATA="${SCL_SHARED_DATA}" SCL_PACKAGE_DIR="${SCL_PACKAGE_DIR}")
+    scl_test(test_eval SOURCES test/test_main.cpp test/eval/test_evaluation.cpp test/eval/test_relocalization.cpp
+      LIBS scan_context_loop_eval_sequences
+      DEFINES SCL_SHARED_DATA="${SCL_SHARED_DATA}" SCL_PACKAGE_DIR="${SCL_PACKAGE_DIR}")
   endif()
 endif()

@@ -18,16 +18,13 @@ install(TARGETS scan_context_loop_graph
   LIBRARY DESTINATION ${CATKIN_PACKAGE_LIB_DESTINATION})
 
 if(CATKIN_ENABLE_TESTING)
-  catkin_add_gtest(test_graph test/test_main.cpp test/graph/test_pose_graph.cpp test/graph/test_pose_graph_chains.cpp
-    test/graph/test_keyframe_map.cpp
-    test/graph/test_map_files.cpp
-    test/common/file_faults.cpp
-    test/graph/test_relative_pose_cost.cpp)
   # The map files are read back with PCL's own PCD reader; the factor's Jacobians are checked against
-  # Ceres's automatic ones through the library's private header.
-  target_include_directories(test_graph PRIVATE src/graph ${CERES_INCLUDE_DIRS})
-  # file_faults.cpp stands in for rename() and renameat2() (a save killed part-way), reaching libc's
-  # through dlsym.
-  target_link_libraries(test_graph scan_context_loop_graph scan_context_loop_eval ${PCL_IO_LIBRARIES} ${CERES_LIBRARIES}
-    ${CMAKE_DL_LIBS})
+  # Ceres's automatic ones through the library's private header. file_faults.cpp stands in for rename()
+  # and renameat2() (a save killed part-way), reaching libc's through dlsym.
+  scl_test(test_graph
+    SOURCES test/test_main.cpp test/graph/test_pose_graph.cpp test/graph/test_pose_graph_chains.cpp
+      test/graph/test_keyframe_map.cpp test/graph/test_map_files.cpp test/common/file_faults.cpp
+      test/graph/test_relative_pose_cost.cpp
+    INCLUDES src/graph ${CERES_INCLUDE_DIRS}
+    LIBS scan_context_loop_graph scan_context_loop_eval ${PCL_IO_LIBRARIES} ${CERES_LIBRARIES} ${CMAKE_DL_LIBS})
 endif()
