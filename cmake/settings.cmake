@@ -15,6 +15,10 @@ macro(scl_compile_settings)
   set(CMAKE_CXX_EXTENSIONS OFF)
   add_compile_options(-Wall -Wextra)
   add_definitions(-DEIGEN_HAS_CXX17_OVERALIGN=0)
+  # A program or library is not linked again when only a shared library it links was rebuilt: it loads
+  # that library at run time. A change to one core source then relinks the core library alone, not every
+  # test and tool. (What generates data at build time opts out: CMakeLists.txt.)
+  set(CMAKE_LINK_DEPENDS_NO_SHARED ON)
 endmacro()
 
 # Ceres for the reference pose-graph backend: any of 1.14 (Ubuntu 20.04), 2.0 (22.04), 2.1 (Debian 12)
@@ -42,5 +46,7 @@ endmacro()
 macro(scl_repository_paths)
   get_filename_component(SCL_PACKAGE_XML "${CMAKE_CURRENT_SOURCE_DIR}/package.xml" REALPATH)
   get_filename_component(SCL_PACKAGE_DIR "${SCL_PACKAGE_XML}" DIRECTORY)
-  set(SCL_SHARED_DATA "${SCL_PACKAGE_DIR}/../shared/data")
+  # Without "..": the clones of the repository side by side then compile the same path into the tests, so
+  # a fresh clone's test objects come from ccache too (a define is part of ccache's key).
+  get_filename_component(SCL_SHARED_DATA "${SCL_PACKAGE_DIR}/../shared/data" ABSOLUTE)
 endmacro()

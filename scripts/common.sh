@@ -7,6 +7,10 @@ SCL_ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 SCL_WS="${SCL_WS:-$SCL_ROOT/build/ws}"
 # Debian's ROS tools need Debian's python3, not a pyenv one earlier on PATH.
 export PATH="/usr/bin:/bin:$PATH"
+# No __pycache__ in the repository: the checks' Python (test/common/check_report.py, imported by the
+# install-space check) would otherwise add one under test/, which counts as a change to the build's
+# inputs (scl_build_fresh), and the next scl_build would run catkin_make again for nothing.
+export PYTHONDONTWRITEBYTECODE=1
 
 SCL_PACKAGES=(
   build-essential cmake pkg-config ccache catkin python3-catkin-pkg
@@ -29,11 +33,15 @@ scl_log() { echo "[scan_context_loop] $*" >&2; }
 # when it first configures a build folder). Paths under the repository are hashed relative to it
 # (CCACHE_BASEDIR, CCACHE_NOHASHDIR), so a fresh clone in another folder of a machine that built before
 # reuses its objects. The cache is the user's (~/.cache/ccache unless CCACHE_DIR says otherwise).
+# CMake reads the launcher from the environment only when it configures a build folder for the first
+# time, so the scripts' builds also pass it as SCL_CCACHE_ARGS: a folder configured before keeps using it.
+SCL_CCACHE_ARGS=()
 scl_use_ccache() {
   command -v ccache >/dev/null 2>&1 || return 0
   export CCACHE_BASEDIR="$SCL_ROOT" CCACHE_NOHASHDIR=true
   export CCACHE_MAXSIZE="${CCACHE_MAXSIZE:-10G}"
   export CMAKE_CXX_COMPILER_LAUNCHER=ccache CMAKE_C_COMPILER_LAUNCHER=ccache
+  SCL_CCACHE_ARGS=(-DCMAKE_C_COMPILER_LAUNCHER=ccache -DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
 }
 
 # Installs what is missing, then turns on the compiler cache.
@@ -123,6 +131,18 @@ scl_build_fresh() {
 SCL_CMAKE_ARGS=(-DCMAKE_BUILD_TYPE=Release -DSCL_TEST_INSTALL_SPACE=ON)
 SCL_BUILD_KIND="Release"
 
+# Parallel jobs of the builds (make -j): a job per core. catkin_make's own default adds make's -l (no new
+# job while the load average exceeds the number of cores), which under the build's own two compilers
+# often holds a 2-core machine to one.
+SCL_JOBS="${SCL_JOBS:-$(nproc)}"
+
+# scl_catkin_make ARG...: catkin_make in the workspace with the build's CMake arguments. catkin_make runs
+# CMake again whenever its arguments differ from the previous call's, so a bare `catkin_make install`
+# would configure the workspace anew, and the next build again.
+scl_catkin_make() {
+  (cd "$SCL_WS" && catkin_make "${SCL_CMAKE_ARGS[@]}" "${SCL_CCACHE_ARGS[@]}" -DCATKIN_ENABLE_TESTING=ON "$@")
+}
+
 # scl_build [TARGET...]: builds the targets (default: all) in Release unless nothing they depend on
 # changed since they were last built (scl_build_fresh); SCL_FORCE_BUILD=1 always runs catkin_make.
 scl_build() {
@@ -146,8 +166,7 @@ scl_build() {
   local marker="$SCL_WS/.scl_build_started.$$"
   touch "$marker"
   (
-    cd "$SCL_WS"
-    catkin_make "${SCL_CMAKE_ARGS[@]}" -DCATKIN_ENABLE_TESTING=ON "$@" >"$SCL_WS/build.log" 2>&1 || {
+    scl_catkin_make -j"$SCL_JOBS" "$@" >"$SCL_WS/build.log" 2>&1 || {
       tail -n 60 "$SCL_WS/build.log" >&2
       scl_log "build failed, full log: $SCL_WS/build.log"
       rm -f "$marker"
