@@ -7,6 +7,7 @@ endif()
 find_package(rostest REQUIRED)
 find_package(roslaunch REQUIRED)
 add_library(scan_context_loop_ros_harness STATIC test/ros/harness.cpp test/ros/child_process.cpp)
+target_compile_options(scan_context_loop_ros_harness PRIVATE ${SCL_TEST_COMPILE_OPTIONS})
 target_include_directories(scan_context_loop_ros_harness PUBLIC include src/ros ${catkin_INCLUDE_DIRS} ${GTEST_INCLUDE_DIRS})
 target_link_libraries(scan_context_loop_ros_harness scan_context_loop_core scan_context_loop_sim_drive
   ${catkin_LIBRARIES})

@@ -13,6 +13,11 @@
 #     generated into the build folder.
 include(CMakeParseArguments)
 
+# The tests' own sources are compiled at -O1 (after the build type's -O3, so it wins): their code sets up
+# and checks, the work they test is in the libraries, which keep the build type's flags. On this package's
+# test sources -O1 takes about two thirds of -O3's compile time (and -O0 no less than -O1: it emits more).
+set(SCL_TEST_COMPILE_OPTIONS -O1)
+
 function(scl_test name)
   cmake_parse_arguments(T "" "ROSTEST" "SOURCES;LIBS;NEEDS;DEFINES;INCLUDES" ${ARGN})
   if(T_ROSTEST)
@@ -22,6 +27,7 @@ function(scl_test name)
     catkin_add_gtest(${name} ${T_SOURCES})
     target_link_libraries(${name} ${T_LIBS})
   endif()
+  target_compile_options(${name} PRIVATE ${SCL_TEST_COMPILE_OPTIONS})
   if(T_NEEDS)
     add_dependencies(${name} ${T_NEEDS})
   endif()

@@ -46,9 +46,8 @@ if(SCL_WITH_BACKEND)
     install(TARGETS scan_context_parameters RUNTIME DESTINATION ${CATKIN_PACKAGE_BIN_DESTINATION})
   endif()
   if(CATKIN_ENABLE_TESTING)
-    target_sources(test_eval PRIVATE test/eval/test_parameters_page.cpp)
-    target_link_libraries(test_eval scan_context_loop_parameter_files)
     scl_test(test_parameter_files SOURCES test/test_main.cpp test/tools/test_parameter_files.cpp
+      test/tools/test_readme_settings.cpp
       LIBS scan_context_loop_parameter_files DEFINES SCL_PACKAGE_DIR="${SCL_PACKAGE_DIR}")
   endif()
 endif()

@@ -33,12 +33,14 @@ scl_log() { echo "[scan_context_loop] $*" >&2; }
 # when it first configures a build folder). Paths under the repository are hashed relative to it
 # (CCACHE_BASEDIR, CCACHE_NOHASHDIR), so a fresh clone in another folder of a machine that built before
 # reuses its objects. The cache is the user's (~/.cache/ccache unless CCACHE_DIR says otherwise).
+# Depend mode (CCACHE_DEPEND): on a miss, ccache takes the headers a unit read from the compiler's own
+# dependency file (CMake passes -MD) instead of running the preprocessor first, a tenth of a cold build.
 # CMake reads the launcher from the environment only when it configures a build folder for the first
 # time, so the scripts' builds also pass it as SCL_CCACHE_ARGS: a folder configured before keeps using it.
 SCL_CCACHE_ARGS=()
 scl_use_ccache() {
   command -v ccache >/dev/null 2>&1 || return 0
-  export CCACHE_BASEDIR="$SCL_ROOT" CCACHE_NOHASHDIR=true
+  export CCACHE_BASEDIR="$SCL_ROOT" CCACHE_NOHASHDIR=true CCACHE_DEPEND=true
   export CCACHE_MAXSIZE="${CCACHE_MAXSIZE:-10G}"
   export CMAKE_CXX_COMPILER_LAUNCHER=ccache CMAKE_C_COMPILER_LAUNCHER=ccache
   SCL_CCACHE_ARGS=(-DCMAKE_C_COMPILER_LAUNCHER=ccache -DCMAKE_CXX_COMPILER_LAUNCHER=ccache)

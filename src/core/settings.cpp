@@ -140,7 +140,7 @@ std::vector<Setting<Config>> makeConfigSettings() {
                                  "keyframes less than this path behind are never candidates [m]",
                                  "Odometry path length behind the query."),
               live(doubleSetting<Cfg>(
-                  "gate_odometry_distance", C(gate_odometry_distance), atLeast(0, " (0 disables)"),
+                  "gate_odometry_distance", C(gate_odometry_distance), atLeast(0, " (off when both are 0)"),
                   "odometry gate: fixed allowance [m]",
                   "Candidates farther from the query by odometry than gate_odometry_distance plus "
                   "gate_odometry_drift per metre of odometry path between the two keyframes are "
@@ -149,7 +149,7 @@ std::vector<Setting<Config>> makeConfigSettings() {
                   "shorter path that leaves, and the rate grows to 1.5x the worst drift confirmed "
                   "loops measured, so an odometry that breaks down still gets its loops "
                   "(doc/odometry_checks.md).")),
-              live(doubleSetting<Cfg>("gate_odometry_drift", C(gate_odometry_drift), atLeast(0, " (0 disables)"),
+              live(doubleSetting<Cfg>("gate_odometry_drift", C(gate_odometry_drift), atLeast(0, " (off when both are 0)"),
                                       "odometry gate: allowance per metre of path",
                                       "See gate_odometry_distance [m per m of odometry path].")),
           }),

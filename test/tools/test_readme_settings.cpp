@@ -1,5 +1,5 @@
-// doc/parameters.md is the page the settings tables give now (tools/parameters_page.h), and README's
-// short table of the settings to change first gives the tables' defaults.
+// README's short table of the settings to change first gives the settings tables' defaults (the files
+// written whole from the tables are checked by test_parameter_files).
 #include <cstdlib>
 #include <fstream>
 #include <regex>
@@ -9,22 +9,10 @@
 
 #include <gtest/gtest.h>
 
-#include "parameters_page.h"
 #include "scan_context_loop/core/settings.h"
 
 namespace scan_context_loop {
 namespace {
-
-TEST(ParametersPage, DocParametersIsWrittenFromTheTables) {
-  std::ifstream file(std::string(SCL_PACKAGE_DIR) + "/doc/parameters.md");
-  ASSERT_TRUE(file.good()) << "doc/parameters.md is missing; regenerate with: rosrun scan_context_loop "
-                              "scan_context_parameters > doc/parameters.md";
-  std::ostringstream text;
-  text << file.rdbuf();
-  EXPECT_TRUE(text.str() == parametersPage())
-      << "doc/parameters.md is not the settings tables' page; regenerate with: rosrun scan_context_loop "
-         "scan_context_parameters > doc/parameters.md";
-}
 
 /// The default of `key` in the loop_closure node's tables as text, or "" when no row has that key.
 std::string defaultOf(const std::string& key) {
@@ -42,7 +30,7 @@ bool sameValue(const std::string& a, const std::string& b) {
   return !a.empty() && !b.empty() && *end_a == '\0' && *end_b == '\0' && x == y;
 }
 
-TEST(ParametersPage, ReadmeSettingsTableGivesTheTablesDefaults) {
+TEST(ReadmeSettings, ReadmeSettingsTableGivesTheTablesDefaults) {
   std::ifstream file(std::string(SCL_PACKAGE_DIR) + "/README.md");
   ASSERT_TRUE(file.good());
   // Rows of "## Settings to change first": | keys (each in backticks) | defaults, comma-separated | what |
