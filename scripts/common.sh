@@ -34,7 +34,7 @@ scl_log() { echo "[scan_context_loop] $*" >&2; }
 # (CCACHE_BASEDIR, CCACHE_NOHASHDIR), so a fresh clone in another folder of a machine that built before
 # reuses its objects. The cache is the user's (~/.cache/ccache unless CCACHE_DIR says otherwise).
 # Depend mode (CCACHE_DEPEND): on a miss, ccache takes the headers a unit read from the compiler's own
-# dependency file (CMake passes -MD) instead of running the preprocessor first, a tenth of a cold build.
+# dependency file (CMake passes -MD) instead of a preprocessor pass of its own over every header first.
 # CMake reads the launcher from the environment only when it configures a build folder for the first
 # time, so the scripts' builds also pass it as SCL_CCACHE_ARGS: a folder configured before keeps using it.
 SCL_CCACHE_ARGS=()
