@@ -6,6 +6,7 @@
 #include <functional>
 #include <mutex>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <ros/ros.h>
@@ -13,11 +14,13 @@
 namespace scan_context_loop {
 namespace test {
 
-/// The latest message of a topic.
+/// The latest message of a topic that passes `accept` (every message when none is given). On a topic with
+/// several publishers, `accept` picks one: otherwise another's message may replace it before a wait sees it.
 template <typename M>
 class Latest {
  public:
-  Latest(ros::NodeHandle nh, const std::string& topic) : sub_(nh.subscribe(topic, 2, &Latest::on, this)) {}
+  Latest(ros::NodeHandle nh, const std::string& topic, std::function<bool(const M&)> accept = nullptr)
+      : accept_(std::move(accept)), sub_(nh.subscribe(topic, 100, &Latest::on, this)) {}
   /// Unsubscribes first (waiting for a callback in progress): the message it writes is declared after.
   ~Latest() { sub_.shutdown(); }
   /// The latest message once `ready` holds for it; false after `seconds` (with the latest in `out`).
@@ -45,6 +48,7 @@ class Latest {
 
  private:
   void on(const M& msg) {
+    if (accept_ && !accept_(msg)) return;
     std::lock_guard<std::mutex> lock(mutex_);
     latest_ = msg;
     have_ = true;
@@ -54,6 +58,7 @@ class Latest {
   M latest_;
   bool have_ = false;
   ros::WallTime arrived_;
+  const std::function<bool(const M&)> accept_;
   // Last: subscribed once the data its callback writes exists (a message may come at once).
   ros::Subscriber sub_;
 };
