@@ -6,9 +6,13 @@
 #include <cstring>
 #include <limits>
 #include <utility>
+#include <vector>
+
+#include <signal.h>
 
 #include <gtest/gtest.h>
 
+#include "child_process.h"
 #include "harness.h"
 #include "loop_closure/heap_statistics.h"
 
@@ -174,27 +178,34 @@ std::pair<long, long> settledCounts(const DiagnosticsWatch& diagnostics, double 
 }
 
 TEST(LoopClosureNode, AFullQueueDropsKeyframesCountedAndTheNodeGoesOn) {
-  // bad_input.test also runs /tiny_queue/loop_closure with queue_size 1: a burst overflows it.
+  // A standalone node with a queue of one, each keyframe a candidate of the next (none excluded as
+  // recent, so each registers one). The burst must outrun its worker on any machine, however loaded: the
+  // node is stopped (SIGSTOP) while the burst is sent, so that on SIGCONT the messages waiting in its
+  // sockets arrive back to back.
+  Child node({"scan_context_loop", "loop_closure_node", "__ns:=tiny_queue", "__name:=loop_closure",
+              "_queue_size:=1", "_exclude_recent_frames:=0"});
+  ASSERT_GT(node.pid(), 0);
   ros::NodeHandle nh("tiny_queue");
   Harness harness(nh);
   DiagnosticsWatch diagnostics(ros::NodeHandle(), "tiny_queue/loop_closure");
-  ASSERT_TRUE(harness.waitForNode(30.0));
+  ASSERT_TRUE(harness.waitForNode(60.0));
   const Drive drive = blockDrive(false, 3);
   const std::size_t burst = 120;
   const std::size_t paced = 20;
   ASSERT_GT(drive.truth.size(), burst + paced);
-  // The messages are made first (simulating a scan takes longer than the worker takes to process one),
-  // then sent back to back: they arrive far faster than the worker can take them.
   std::vector<sensor_msgs::PointCloud2> clouds;
   std::vector<nav_msgs::Odometry> poses;
   for (std::size_t k = 0; k < burst; ++k) {
     clouds.push_back(harness.cloud(drive, k));
     poses.push_back(harness.odom(drive, k));
   }
+  ASSERT_EQ(::kill(node.pid(), SIGSTOP), 0);
   for (std::size_t k = 0; k < burst; ++k) {
     harness.cloud_pub.publish(clouds[k]);
     harness.odom_pub.publish(poses[k]);
   }
+  ros::WallDuration(1.0).sleep();  // the publisher's threads write what its queues hold
+  ASSERT_EQ(::kill(node.pid(), SIGCONT), 0);
   const auto [kept, dropped] = settledCounts(diagnostics, 60.0 * slowdown());
   std::printf("burst of %zu: %ld kept, %ld dropped by the queue\n", burst, kept, dropped);
   EXPECT_GT(dropped, 0) << "the burst never filled a queue of one";

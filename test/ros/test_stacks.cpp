@@ -5,15 +5,19 @@
 // corrected path must hold every selected keyframe, in the stack's frame, and lie closer to the truth
 // than the odometry.
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <map>
 #include <mutex>
 #include <string>
+#include <vector>
 
+#include <XmlRpcClient.h>
 #include <XmlRpcValue.h>
 #include <gtest/gtest.h>
 #include <nav_msgs/Path.h>
 #include <ros/master.h>
+#include <ros/network.h>
 #include <tf2_eigen/tf2_eigen.h>
 #include <tf2_ros/buffer.h>
 #include <tf2_ros/transform_listener.h>
@@ -132,24 +136,53 @@ void expectCorrectedPath(ros::NodeHandle nh, const Latest<nav_msgs::Path>& corre
   EXPECT_LT(ratio, max_ratio) << "odometry " << before << " m, corrected " << after << " m";
 }
 
-/// Waits until a node other than this test subscribes to `topic` (as the master lists it); false after
-/// `seconds`. The node publishes its selected keyframes once and unlatched, so a backend in its own process
-/// must be connected before the first one.
+/// The nodes the master lists in `payload` (a getSystemState list of [topic, [node, ...]]) for `topic`.
+std::vector<std::string> nodesOn(XmlRpc::XmlRpcValue& payload, const std::string& topic) {
+  std::vector<std::string> nodes;
+  for (int i = 0; i < payload.size(); ++i) {
+    if (static_cast<std::string>(payload[i][0]) != topic) continue;
+    for (int j = 0; j < payload[i][1].size(); ++j) nodes.push_back(payload[i][1][j]);
+  }
+  return nodes;
+}
+
+/// Whether `publisher` (a node name) has a connection up on `topic` to a node other than `self`: its own
+/// account (the slave API's getBusInfo: [id, destination, direction, transport, topic, connected, ...]).
+bool connectedToAnother(const std::string& publisher, const std::string& topic, const std::string& self) {
+  XmlRpc::XmlRpcValue args, result, payload;
+  args[0] = self;
+  args[1] = publisher;
+  if (!ros::master::execute("lookupNode", args, result, payload, false)) return false;
+  std::string host, path;
+  std::uint32_t port = 0;
+  if (!ros::network::splitURI(static_cast<std::string>(payload), host, port)) return false;
+  XmlRpc::XmlRpcClient client(host.c_str(), static_cast<int>(port), "/");
+  XmlRpc::XmlRpcValue call, reply;
+  call[0] = self;
+  if (!client.execute("getBusInfo", call, reply) || client.isFault() || reply.size() < 3) return false;
+  XmlRpc::XmlRpcValue& links = reply[2];
+  for (int i = 0; i < links.size(); ++i) {
+    if (links[i].size() < 5) continue;
+    const std::string destination = links[i][1], direction = links[i][2], on = links[i][4];
+    if (direction == "o" && on == topic && destination != self) return true;
+  }
+  return false;
+}
+
+/// Waits until a node other than this test is connected to `topic`'s publisher, by the publisher's own
+/// account; false after `seconds`. The node publishes its selected keyframes once and unlatched, so a
+/// backend in its own process must be connected before the first one: the master listing the backend's
+/// subscription is not enough (the connection comes after it, late on a loaded machine).
 bool waitForOtherSubscriber(const ros::NodeHandle& nh, const std::string& topic, double seconds) {
   const std::string resolved = nh.resolveName(topic), self = ros::this_node::getName();
   const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(seconds);
   while (ros::ok() && ros::WallTime::now() < end) {
     XmlRpc::XmlRpcValue args, result, payload;
     args[0] = self;
-    // payload: [publishers, subscribers, services], each a list of [name, [node, ...]].
-    if (ros::master::execute("getSystemState", args, result, payload, false) && payload.size() > 1) {
-      XmlRpc::XmlRpcValue& subscribers = payload[1];
-      for (int i = 0; i < subscribers.size(); ++i) {
-        if (static_cast<std::string>(subscribers[i][0]) != resolved) continue;
-        XmlRpc::XmlRpcValue& nodes = subscribers[i][1];
-        for (int j = 0; j < nodes.size(); ++j) {
-          if (static_cast<std::string>(nodes[j]) != self) return true;
-        }
+    // payload: [publishers, subscribers, services].
+    if (ros::master::execute("getSystemState", args, result, payload, false) && payload.size() > 0) {
+      for (const std::string& publisher : nodesOn(payload[0], resolved)) {
+        if (publisher != self && connectedToAnother(publisher, resolved, self)) return true;
       }
     }
     ros::WallDuration(0.1).sleep();
