@@ -35,6 +35,7 @@ scl_test(test_fuzz_inputs LIBS scan_context_loop_ros ${catkin_LIBRARIES} DEFINES
 set(nodelet scan_context_loop_nodelet)
 scl_test(test_ros_loops ROSTEST test/ros/nodelet_loops.test SOURCES test/ros/test_loops.cpp NEEDS ${nodelet})
 scl_launch_test(test/ros/node_lio.test NEEDS test_ros_loops loop_closure_node ${nodelet})
+scl_launch_test(test/ros/node_lio_unheard.test NEEDS test_ros_loops loop_closure_node ${nodelet})
 scl_launch_test(test/ros/verified_loops.test NEEDS test_ros_loops ${nodelet})
 scl_launch_test(test/ros/consistent_loops.test NEEDS test_ros_loops ${nodelet})
 scl_test(test_ros_bad_input ROSTEST test/ros/bad_input.test SOURCES test/ros/test_bad_input.cpp
@@ -42,7 +43,7 @@ scl_test(test_ros_bad_input ROSTEST test/ros/bad_input.test SOURCES test/ros/tes
 scl_test(test_ros_tf_world ROSTEST test/ros/tf_world.test SOURCES test/ros/test_tf_world.cpp
   NEEDS ${nodelet} loop_closure_node)
 scl_test(test_ros_parameters ROSTEST test/ros/parameters.test SOURCES test/ros/test_parameters.cpp
-  LIBS scan_context_loop_ros ${catkin_LIBRARIES})
+  LIBS scan_context_loop_ros scan_context_loop_ros_harness ${catkin_LIBRARIES} NEEDS loop_closure_node ${nodelet})
 scl_test(test_ros_same_loops ROSTEST test/ros/same_loops.test SOURCES test/ros/test_same_loops.cpp
   LIBS scan_context_loop_ros scan_context_loop_eval NEEDS loop_closure_node ${nodelet})
 scl_test(test_ros_reconfigure ROSTEST test/ros/reconfigure.test SOURCES test/ros/test_reconfigure.cpp NEEDS ${nodelet})

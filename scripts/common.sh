@@ -22,6 +22,8 @@ SCL_PACKAGES=(
   ros-message-generation ros-message-runtime librostest-dev python3-rostest python3-roslaunch
   python3-rosbag librosbag-dev python3-rosmaster rosout libgtest-dev
   python3-numpy python3-matplotlib python3-yaml libyaml-cpp-dev rviz
+  # The command-line tools a user talks to the node with, and the Python messages they load.
+  python3-rosservice python3-rostopic python3-rosnode python3-std-srvs python3-diagnostic-msgs
 )
 # Only the demo needs these (RViz under a virtual display, and a screenshot of it).
 SCL_DEMO_PACKAGES=(xvfb xauth x11-apps imagemagick python3-rospy python3-geometry-msgs python3-visualization-msgs python3-std-msgs python3-tf2-ros python3-nav-msgs)

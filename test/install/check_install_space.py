@@ -5,7 +5,9 @@ only INSTALL/setup.bash is sourced (no devel space, no source tree on any path),
 - `rospack find scan_context_loop` is the install space's share folder, and the simulator, a test-only
   tool, is not installed;
 - loop_closure.launch starts the standalone node, and with manager:=NAME the nodelet in a manager; each
-  advertises its outputs and services and subscribes to its inputs;
+  advertises its outputs and services and subscribes to its inputs; the standalone node answers
+  `rosservice call /loop_closure/reset` and `rostopic echo -n 1 /diagnostics` (their Python message
+  packages are installed);
 - with --backend, pose_graph.launch does the same for the reference backend;
 - the service types (SaveDatabase, LoadDatabase, Relocalize, SaveMap) are installed: their
   definitions (rossrv) and their Python modules (what rosservice call imports);
@@ -37,6 +39,12 @@ POSE_GRAPH = {
     "subscribes": ["/selected_keyframe_odom", "/loop_closures", "/selected_keyframe_cloud"],
     "services": ["publish_map", "save_map"],
 }
+# What a user types at a running loop_closure node (doc/node.md): services whose types come from other
+# packages (std_srvs) and a diagnostics message need those packages' Python modules.
+USER_COMMANDS = [
+    ["rosservice", "call", "/loop_closure/reset"],
+    ["rostopic", "echo", "-n", "1", "/diagnostics"],
+]
 # The service types a user calls the nodes' services with (rosservice call imports their Python modules).
 SERVICE_TYPES = ["SaveDatabase", "LoadDatabase", "Relocalize", "SaveMap"]
 
@@ -110,7 +118,23 @@ def wait_for_interface(master, node, owner, expected, seconds=40):
         time.sleep(0.5)
 
 
-def launch_case(master, log_dir, name, launch, node, expected, extra=(), manager=None):
+def command_errors(master, commands):
+    """Errors of the command-line calls a user makes to a running node (rosservice, rostopic): each must
+    exit 0; a missing Python message package (std_srvs for reset) makes rosservice fail."""
+    errors = []
+    for command in commands:
+        try:
+            done = subprocess.run(command, env=master.env, capture_output=True, text=True, timeout=60)
+        except subprocess.TimeoutExpired:
+            errors.append("%s: no answer in 60 s" % " ".join(command))
+            continue
+        if done.returncode != 0:
+            errors.append("%s: exit %d, %s" % (" ".join(command), done.returncode,
+                                               (done.stdout + done.stderr).strip()[-300:]))
+    return errors
+
+
+def launch_case(master, log_dir, name, launch, node, expected, extra=(), manager=None, commands=()):
     processes = []
     log = open(os.path.join(log_dir, name + ".log"), "w")
     try:
@@ -122,6 +146,8 @@ def launch_case(master, log_dir, name, launch, node, expected, extra=(), manager
                                           env=master.env, stdout=log, stderr=subprocess.STDOUT,
                                           start_new_session=True))
         errors = wait_for_interface(master, node, "/" + manager if manager else node, expected)
+        if not errors:
+            errors += command_errors(master, commands)
         for process in processes:
             if process.poll() is not None:
                 errors.append("%s exited with %d" % (" ".join(process.args[:3]), process.returncode))
@@ -173,7 +199,8 @@ def main():
         master = Master(env)
         try:
             cases.append(("loop_closure_launch_standalone", launch_case(
-                master, log_dir, "loop_closure_standalone", "loop_closure.launch", "/loop_closure", LOOP_CLOSURE)))
+                master, log_dir, "loop_closure_standalone", "loop_closure.launch", "/loop_closure", LOOP_CLOSURE,
+                commands=USER_COMMANDS)))
             cases.append(("loop_closure_launch_nodelet", launch_case(
                 master, log_dir, "loop_closure_nodelet", "loop_closure.launch", "/loop_closure", LOOP_CLOSURE,
                 extra=["manager:=install_check_manager"], manager="install_check_manager")))

@@ -13,7 +13,7 @@
 namespace scan_context_loop {
 namespace test {
 
-Harness::Harness(ros::NodeHandle nh) : nh_(nh) {
+Harness::Harness(ros::NodeHandle nh, bool listen_lio) : nh_(nh) {
   cloud_pub = nh_.advertise<sensor_msgs::PointCloud2>("keyframe_cloud", 50);
   odom_pub = nh_.advertise<nav_msgs::Odometry>("keyframe_odom", 50);
   loop_sub_ = nh_.subscribe<scan_context_loop::LoopClosure>("loop_closures", 1000,
@@ -33,12 +33,14 @@ Harness::Harness(ros::NodeHandle nh) : nh_(nh) {
         largest_marker_message_ = std::max(largest_marker_message_, points);
         ++marker_messages_;
       });
-  lio_sub_ = nh_.subscribe<std_msgs::Float64MultiArray>("lio_loop", 1000,
+  if (listen_lio) {
+    lio_sub_ = nh_.subscribe<std_msgs::Float64MultiArray>("lio_loop", 1000,
                                                         [this](const std_msgs::Float64MultiArray::ConstPtr& m) {
                                                           std::lock_guard<std::mutex> lock(mutex_);
                                                           lio_.push_back(*m);
                                                           lio_arrivals_.push_back(ros::WallTime::now().toSec());
                                                         });
+  }
   pair_sub_ = nh_.subscribe<geometry_msgs::PoseWithCovarianceStamped>(
       "loop_closure_pairs", 2000, [this](const geometry_msgs::PoseWithCovarianceStamped::ConstPtr& m) {
         std::lock_guard<std::mutex> lock(mutex_);

@@ -24,7 +24,8 @@ namespace test {
 
 class Harness {
  public:
-  explicit Harness(ros::NodeHandle nh);
+  /// Subscribes to the node's outputs (lio_loop only when `listen_lio`: LIO-SAM's hook unheard).
+  explicit Harness(ros::NodeHandle nh, bool listen_lio = true);
   /// Unsubscribes first (waiting for a callback in progress), so that no callback runs on the members
   /// below while they are destroyed.
   ~Harness();

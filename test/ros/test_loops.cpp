@@ -7,6 +7,7 @@
 #include <tf2_eigen/tf2_eigen.h>
 
 #include "harness.h"
+#include "topic_watch.h"
 #include "scan_context_loop/core/alignment.h"
 #include "scan_context_loop/core/config.h"
 
@@ -56,7 +57,10 @@ TEST(LoopClosureNode, PublishesTrueRevisitsWithTheirYawAndMarkers) {
   pnh.param("expect_lio", expect_lio, expect_lio);
   pnh.param("expect_support", expect_support, expect_support);
   pnh.param("expect_verified", expect_verified, expect_verified);
-  Harness harness(nh);
+  // lio_unheard: nobody subscribes to LIO-SAM's hook, and the node must say so once.
+  const bool lio_unheard = pnh.param("lio_unheard", false);
+  RosoutWatch rosout(nh);
+  Harness harness(nh, !lio_unheard);
   ASSERT_TRUE(harness.waitForNode(30.0)) << "the loop-closure node never subscribed";
   const Drive drive = blockDrive(true, 7);  // lap 2 drives lap 1 in reverse
   harness.publish(drive, 0, drive.truth.size(), 15.0);
@@ -158,6 +162,13 @@ TEST(LoopClosureNode, PublishesTrueRevisitsWithTheirYawAndMarkers) {
   EXPECT_EQ(keyframes, drive.truth.size());
   EXPECT_LT(harness.largestMarkerMessage(), 2 * drive.truth.size()) << "a marker message carried the whole map";
 
+  const std::string unheard = "nobody subscribes to";
+  const std::size_t unheard_warnings = rosout.count(rosgraph_msgs::Log::WARN, "/loop_closure", unheard);
+  if (lio_unheard) {
+    EXPECT_EQ(unheard_warnings, 1u) << "the hook's missing subscriber, warned once";
+  } else if (expect_lio) {
+    EXPECT_EQ(unheard_warnings, 0u) << "warned of a missing subscriber while the test subscribes";
+  }
   const auto lio = harness.lioLoops();
   if (expect_lio) {
     // LIO-SAM's hook: verified loops only, one per keyframe, at most one a second (lio_sam_min_interval).

@@ -7,6 +7,7 @@
 #include <ros/ros.h>
 #include <sensor_msgs/PointCloud2.h>
 
+#include "child_process.h"
 #include "shared/parameters.h"
 #include "scan_context_loop/core/settings.h"
 
@@ -85,9 +86,27 @@ TEST(Parameters, WrongTypesUnknownKeysAndBadValuesAreNamed) {
     EXPECT_TRUE(mentions(problems, key)) << key << " not reported";
   }
   EXPECT_EQ(problems.size(), 6u);
-  EXPECT_NE(std::find_if(problems.begin(), problems.end(),
-                         [](const std::string& p) { return p.find("unknown parameter") != std::string::npos; }),
-            problems.end());
+  const auto misspelt = std::find_if(problems.begin(), problems.end(), [](const std::string& p) {
+    return p.find("unknown parameter") != std::string::npos;
+  });
+  ASSERT_NE(misspelt, problems.end());
+  EXPECT_NE(misspelt->find("did you mean distance_threshold?"), std::string::npos) << *misspelt;
+}
+
+TEST(Parameters, AnUnknownKeyComesWithItsFix) {
+  const std::vector<std::string> keys = {"distance_threshold", "num_rings", "num_sectors", "max_radius"};
+  EXPECT_EQ(unknownKeyHint("num_ring", keys), "did you mean num_rings?");
+  EXPECT_EQ(unknownKeyHint("Max_Radius", keys), "did you mean max_radius?");  // two edits
+  EXPECT_EQ(unknownKeyHint("laserCloudSurroundResolution", keys), "");          // another program's key: nothing near
+  EXPECT_NE(unknownKeyHint("use_sim_time", keys).find("outside the node tag"), std::string::npos);
+  // In the node's parameters: use_sim_time inside the node tag is refused with where it belongs.
+  ros::NodeHandle pnh("/sim_time_inside");
+  pnh.setParam("use_sim_time", true);
+  Config config;
+  NodeOptions options;
+  const auto problems = readIn("/sim_time_inside", &config, &options);
+  ASSERT_EQ(problems.size(), 1u);
+  EXPECT_NE(problems[0].find("global parameter"), std::string::npos) << problems[0];
 }
 
 /// Sets every key of `table` to its value in `defaults`, with the parameter type the key wants.
@@ -129,6 +148,35 @@ TEST(Parameters, ANodeletWithBadParametersDoesNotStartAndItsManagerLivesOn) {
   ASSERT_GT(good.getNumSubscribers(), 0u) << "the good nodelet never started";
   ros::WallDuration(3.0).sleep();  // both were loaded at once: the bad one has had its chance
   EXPECT_EQ(bad.getNumSubscribers(), 0u) << "a nodelet with bad parameters started";
+  EXPECT_GT(good.getNumSubscribers(), 0u) << "the manager went down";
+}
+
+/// Waits up to `seconds` for `child` to exit by itself; false when it still runs.
+bool exits(test::Child* child, double seconds) {
+  const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(seconds);
+  while (child->running() && ros::WallTime::now() < end) ros::WallDuration(0.1).sleep();
+  return !child->running();
+}
+
+TEST(Parameters, ABadConfigurationEndsTheProcessThatStartsTheNode) {
+  // `nodelet load` of a nodelet with a bad parameter into the running manager: the load fails, so the
+  // loader (the process roslaunch watches) exits with a non-zero status; the manager runs on.
+  test::Child loader({"nodelet", "nodelet", "load", "scan_context_loop/LoopClosureNodelet", "/manager",
+                      "__ns:=loaded_bad", "__name:=loop_closure", "_num_ring:=20"});
+  ASSERT_GT(loader.pid(), 0);
+  ASSERT_TRUE(exits(&loader, 60.0)) << "nodelet load still runs with a bad parameter";
+  EXPECT_FALSE(loader.exitedCleanly()) << loader.how();
+  // A standalone node the same: exit status 1.
+  test::Child node({"scan_context_loop", "loop_closure_node", "__ns:=standalone_bad", "__name:=loop_closure",
+                    "_num_rings:=0"});
+  ASSERT_GT(node.pid(), 0);
+  ASSERT_TRUE(exits(&node, 60.0)) << "a standalone node with a bad parameter still runs";
+  EXPECT_EQ(node.how(), "exit status 1");
+  // The manager and its good nodelet live on.
+  ros::NodeHandle nh;
+  ros::Publisher good = nh.advertise<sensor_msgs::PointCloud2>("/with_defaults/keyframe_cloud", 1);
+  const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(20.0);
+  while (good.getNumSubscribers() == 0 && ros::WallTime::now() < end) ros::WallDuration(0.1).sleep();
   EXPECT_GT(good.getNumSubscribers(), 0u) << "the manager went down";
 }
 

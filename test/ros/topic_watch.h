@@ -1,8 +1,10 @@
-// What a test hears on one topic: the latest message (Latest, for latched state such as a path), or every
-// message in arrival order (Collected).
+// What a test hears on one topic: the latest message (Latest, for latched state such as a path), every
+// message in arrival order (Collected), or the log lines on /rosout (RosoutWatch).
 #pragma once
 
+#include <algorithm>
 #include <cstddef>
+#include <cstdint>
 #include <functional>
 #include <mutex>
 #include <string>
@@ -10,6 +12,7 @@
 #include <vector>
 
 #include <ros/ros.h>
+#include <rosgraph_msgs/Log.h>
 
 namespace scan_context_loop {
 namespace test {
@@ -101,6 +104,41 @@ class Collected {
   std::vector<M> messages_;
   std::size_t count_ = 0;
   // Last, as in Latest.
+  ros::Subscriber sub_;
+};
+
+/// Every /rosout message from the moment it subscribes.
+class RosoutWatch {
+ public:
+  explicit RosoutWatch(ros::NodeHandle nh)
+      : sub_(nh.subscribe<rosgraph_msgs::Log>("/rosout", 1000, [this](const rosgraph_msgs::Log::ConstPtr& m) {
+          std::lock_guard<std::mutex> lock(mutex_);
+          logs_.push_back(*m);
+        })) {}
+  ~RosoutWatch() { sub_.shutdown(); }
+
+  /// The messages of `level` from node `name` that contain `text`.
+  std::size_t count(std::uint8_t level, const std::string& name, const std::string& text) const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return std::count_if(logs_.begin(), logs_.end(), [&](const rosgraph_msgs::Log& m) {
+      return m.level == level && m.name == name && m.msg.find(text) != std::string::npos;
+    });
+  }
+  /// Waits until count() is at least one; false after `seconds`.
+  bool waitFor(std::uint8_t level, const std::string& name, const std::string& text, double seconds) const {
+    const ros::WallTime end = ros::WallTime::now() + ros::WallDuration(seconds);
+    while (ros::ok() && ros::WallTime::now() < end) {
+      if (count(level, name, text) > 0) return true;
+      ros::WallDuration(0.1).sleep();
+    }
+    return false;
+  }
+  std::size_t publishers() const { return sub_.getNumPublishers(); }
+
+ private:
+  mutable std::mutex mutex_;  // guards logs_ (callback vs. test thread)
+  std::vector<rosgraph_msgs::Log> logs_;
+  // Last: subscribed once logs_ exists (a message may come at once).
   ros::Subscriber sub_;
 };
 

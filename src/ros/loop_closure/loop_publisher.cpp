@@ -146,6 +146,16 @@ void LoopPublisher::sendToLioSam(const scan_context_loop::LoopClosure& loop) {
     ++counters_->lio_skipped;
     return;
   }
+  if (!lio_unheard_warned_ && lio_pub_.getNumSubscribers() == 0) {
+    // Once: LIO-SAM subscribes to its hook only with loopClosureEnableFlag true (and under the topic's
+    // name in its namespace), so a loop sent now is lost.
+    lio_unheard_warned_ = true;
+    ROS_WARN_NAMED(name_,
+                   "lio_sam_output: nobody subscribes to %s, so LIO-SAM does not get this loop or the next: set "
+                   "loopClosureEnableFlag: true in LIO-SAM's params.yaml and check that the topic names match "
+                   "(this warning is given once)",
+                   lio_pub_.getTopic().c_str());
+  }
   std_msgs::Float64MultiArray hook;
   hook.data = {loop.query_stamp.toSec(), loop.match_stamp.toSec()};
   lio_pub_.publish(hook);

@@ -57,6 +57,7 @@ class LoopPublisher {
   NodeCounters* counters_;
   MarkerPublisher* markers_;
   ros::Publisher loop_pub_, rejected_pub_, lio_pub_, pair_pub_, array_pub_, relocalization_pub_;
+  bool lio_unheard_warned_ = false;  // lio_loop had no subscriber when a loop was due (warned once)
   MinInterval lio_interval_;  // lio_loop: when the last message went out (ROS time), and its query keyframe
   std::size_t lio_last_query_ = static_cast<std::size_t>(-1);
 };

@@ -1,5 +1,6 @@
 #include "shared/parameters.h"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -63,17 +64,57 @@ std::vector<std::string> readParameters(const ros::NodeHandle& pnh, Config* c, N
   return problems;
 }
 
-void reportUnknownParameters(const ros::NodeHandle& pnh,
-                             const std::vector<std::function<bool(const std::string&)>>& tables,
+namespace {
+
+/// The number of single-character insertions, deletions and substitutions between `a` and `b`.
+std::size_t editDistance(const std::string& a, const std::string& b) {
+  std::vector<std::size_t> row(b.size() + 1);
+  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    std::size_t diagonal = row[0];
+    row[0] = i;
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      const std::size_t above = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      diagonal = above;
+    }
+  }
+  return row[b.size()];
+}
+
+}  // namespace
+
+std::string unknownKeyHint(const std::string& key, const std::vector<std::string>& keys) {
+  if (key == "use_sim_time") {
+    return "use_sim_time is a global parameter (/use_sim_time), not a node's: set it outside the node tag, "
+           "e.g. <param name=\"use_sim_time\" value=\"true\"/> at the top of the launch file";
+  }
+  const std::string* best = nullptr;
+  std::size_t best_distance = std::max<std::size_t>(2, key.size() / 4) + 1;
+  for (const std::string& k : keys) {
+    const std::size_t d = editDistance(key, k);
+    if (d < best_distance) {
+      best_distance = d;
+      best = &k;
+    }
+  }
+  return best ? "did you mean " + *best + "?" : "";
+}
+
+void reportUnknownParameters(const ros::NodeHandle& pnh, const std::vector<KnownKeys>& tables,
                              const std::string& where, std::vector<std::string>* problems) {
+  std::vector<std::string> keys;
+  for (const auto& table : tables) keys.insert(keys.end(), table.keys.begin(), table.keys.end());
   const auto known = [&](const std::string& key) {
     for (const auto& table : tables) {
-      if (table(key)) return true;
+      if (table.accepts(key)) return true;
     }
     return false;
   };
   for (const auto& key : unknownPrivateParameters(pnh, known)) {
-    problems->push_back(key + ": unknown parameter (see " + where + " for the keys)");
+    const std::string hint = unknownKeyHint(key, keys);
+    problems->push_back(key + ": unknown parameter (" + (hint.empty() ? "" : hint + "; ") + "see " + where +
+                        " for the keys)");
   }
 }
 

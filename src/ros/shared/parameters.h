@@ -53,17 +53,30 @@ void readTable(const ros::NodeHandle& pnh, const std::vector<Setting<T>>& table,
   }
 }
 
-/// Accepts the keys of a table and their deprecated names, for reportUnknownParameters.
+/// The keys a table accepts (its deprecated names too) and its current keys, to suggest one.
+struct KnownKeys {
+  std::function<bool(const std::string&)> accepts;
+  std::vector<std::string> keys;
+};
+
+/// A table's KnownKeys, for reportUnknownParameters.
 template <typename T>
-std::function<bool(const std::string&)> knownKeyOf(const std::vector<Setting<T>>& table) {
-  return [&table](const std::string& key) { return findSetting(table, key) != nullptr; };
+KnownKeys knownKeyOf(const std::vector<Setting<T>>& table) {
+  KnownKeys known{[&table](const std::string& key) { return findSetting(table, key) != nullptr; }, {}};
+  for (const auto& s : table) known.keys.push_back(s.key);
+  return known;
 }
 
-/// Adds "key: unknown parameter (see `where` for the keys)" to `problems` for every private parameter
-/// that none of `tables` knows (a misspelling).
-void reportUnknownParameters(const ros::NodeHandle& pnh,
-                             const std::vector<std::function<bool(const std::string&)>>& tables,
+/// Adds "key: unknown parameter (...)" to `problems` for every private parameter that none of `tables`
+/// knows, with the fix: the nearest key when one is a likely misspelling (unknownKeyHint), otherwise
+/// where the keys are listed (`where`).
+void reportUnknownParameters(const ros::NodeHandle& pnh, const std::vector<KnownKeys>& tables,
                              const std::string& where, std::vector<std::string>* problems);
+
+/// What to do about unknown key `key`: "did you mean K?" for the key of `keys` a few edits away (at most
+/// 2, or a quarter of its length), a note for the global parameters users put inside a node tag
+/// (use_sim_time), or "" when nothing is near.
+std::string unknownKeyHint(const std::string& key, const std::vector<std::string>& keys);
 
 /// The private parameters (keys under pnh's namespace) that `known` does not accept: misspellings, or
 /// settings of another version.

@@ -16,7 +16,7 @@ inline int runNodeletStandalone(int argc, char** argv, const std::string& node_n
   nodelet::M_string remappings(ros::names::getRemappings());
   nodelet::V_string arguments(argv + 1, argv + argc);
   if (!loader.load(ros::this_node::getName(), nodelet_class, remappings, arguments)) {
-    ROS_FATAL("cannot load %s", nodelet_class.c_str());
+    ROS_FATAL("%s not started (the lines above say why)", nodelet_class.c_str());
     return 1;
   }
   ros::spin();
