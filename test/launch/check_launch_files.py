@@ -13,6 +13,8 @@ own loader, without starting anything, and checks what they would start:
 - the stacks' settings: gravity_alignment auto everywhere (it measures a world frame that is not gravity
   aligned, A-LOAM's, FAST-LIO's and LeGO-LOAM's, and corrects a y-up one), a 30 s exclusion for
   LIO-SAM; every key of config/stacks/ is a key of config/default.yaml;
+- pose_graph.launch loads config/pose_graph.yaml, then `overrides`, then its arguments (and
+  loop_closure.launch's pose_graph_overrides reaches it); every launch argument a user sets has a doc;
 - config/loop_closure.rviz subscribes only to relative topics and is framed on the fixed frame's origin;
 - the backend switch: no backend by default; with pose_graph:=true one pose_graph beside the node (the
   standalone node, or loaded into the node's manager, in its namespace) on the node's selected keyframes
@@ -28,6 +30,7 @@ Writes a JUnit file (--xunit) with one test case per check; exits 1 when one fai
 """
 import argparse
 import contextlib
+import glob
 import os
 import sys
 import tempfile
@@ -220,8 +223,9 @@ def check_backend(config, node, stack, errors, loops="loop_closures", map_params
     expected.update(map_params or {})
     check_settings(config, backend_ns, expected, errors)
     for key in ("map_save", "map_directory"):
-        if key not in expected and backend_ns + key in config.params:
-            errors.append("%s%s is set without %s:=DIR" % (backend_ns, key, key))
+        param = config.params.get(backend_ns + key)
+        if key not in expected and param is not None and param.value != "":
+            errors.append("%s%s is %r without %s:=DIR" % (backend_ns, key, param.value, key))
 
 
 def case_backend(package, stack, path):
@@ -246,6 +250,50 @@ def case_backend(package, stack, path):
         backend_ns = "/pose_graph/"
         check_settings(config, backend_ns, {"map_frame": "world", "publish_tf": not BACKEND[stack]["publish_tf"]},
                        errors)
+    return errors
+
+
+def case_backend_settings(package):
+    """pose_graph.launch loads config/pose_graph.yaml, then `overrides`, then sets its arguments (roslaunch
+    puts a node's <param> over its <rosparam>); loop_closure.launch passes pose_graph_overrides on."""
+    with tempfile.NamedTemporaryFile("w", suffix=".yaml", delete=False) as f:
+        f.write("map_voxel: 0.25\nmap_max_range: 80.0\nmap_frame: world\n")
+        overrides = f.name
+    errors = []
+    try:
+        path = os.path.join(package, "launch", "pose_graph.launch")
+        config = load(path, [])
+        if isinstance(config, str):
+            return [config]
+        with open(os.path.join(package, "config", "pose_graph.yaml")) as f:
+            defaults = yaml.safe_load(f)
+        check_settings(config, "/pose_graph/", defaults, errors)
+        for args, frame in ((["overrides:=" + overrides, "map_frame:=odom"], "odom"),
+                            (["manager:=mgr", "overrides:=" + overrides], "map")):
+            config = load(path, args)
+            if isinstance(config, str):
+                return errors + [config]
+            check_settings(config, "/pose_graph/", {"map_voxel": 0.25, "map_max_range": 80.0, "map_frame": frame,
+                                                    "publish_tf": True}, errors)
+        config = load(os.path.join(package, "launch", "loop_closure.launch"),
+                      ["pose_graph:=true", "pose_graph_overrides:=" + overrides])
+        if isinstance(config, str):
+            return errors + [config]
+        check_settings(config, "/pose_graph/", {"map_voxel": 0.25, "map_max_range": 80.0}, errors)
+    finally:
+        os.unlink(overrides)
+    return errors
+
+
+def case_arguments_documented(package):
+    """Every argument a user can set (a default, or neither default nor value) says what it does:
+    roslaunch --ros-args prints that text."""
+    import xml.etree.ElementTree as ET
+    errors = []
+    for path in sorted(glob.glob(os.path.join(package, "launch", "*.launch"))):
+        for arg in ET.parse(path).getroot().findall("arg"):
+            if "value" not in arg.attrib and not arg.attrib.get("doc", "").strip():
+                errors.append("%s: argument %s has no doc" % (os.path.basename(path), arg.attrib.get("name")))
     return errors
 
 
@@ -405,6 +453,8 @@ def main():
     cases.append(("stack_gravity_alignment_and_lio_sam_exclusion", case_stack_settings(package)))
     cases.append(("stack_settings_use_known_keys", case_stack_keys(package)))
     cases.append(("rviz_config_relative_topics_origin_view", case_rviz_config(package)))
+    cases.append(("backend_config_arguments_then_overrides", case_backend_settings(package)))
+    cases.append(("every_launch_argument_documented", case_arguments_documented(package)))
     return report("launch_files", cases, args.xunit)
 
 
