@@ -17,6 +17,11 @@ endif()
 catkin_run_tests_target(launch files launch_files.xml
   COMMAND "${PYTHON_EXECUTABLE} ${PROJECT_SOURCE_DIR}/test/launch/check_launch_files.py --package ${PROJECT_SOURCE_DIR} --xunit ${CATKIN_TEST_RESULTS_DIR}/${PROJECT_NAME}/launch_files.xml")
 
+# What the scripts install on Debian's ROS (apt) and on a ros.org Noetic (rosdep from package.xml, apt only
+# outside ROS), printed by a dry run.
+catkin_run_tests_target(package install_commands install_commands.xml
+  COMMAND "${PYTHON_EXECUTABLE} ${PROJECT_SOURCE_DIR}/test/package/check_install_commands.py --xunit ${CATKIN_TEST_RESULTS_DIR}/${PROJECT_NAME}/install_commands.xml")
+
 # Every relative link and anchor of README.md and doc/*.md resolves.
 catkin_run_tests_target(package doc_links doc_links.xml
   COMMAND "${PYTHON_EXECUTABLE} ${PROJECT_SOURCE_DIR}/test/package/check_doc_links.py --package ${PROJECT_SOURCE_DIR} --xunit ${CATKIN_TEST_RESULTS_DIR}/${PROJECT_NAME}/doc_links.xml")

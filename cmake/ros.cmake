@@ -29,6 +29,7 @@ add_library(scan_context_loop_ros
   src/ros/loop_closure/marker_publisher.cpp
   src/ros/loop_closure/node_diagnostics.cpp
   src/ros/shared/database_paths.cpp
+  src/ros/shared/data_clock.cpp
   src/ros/loop_closure/database_services.cpp
   src/ros/loop_closure/database_saving.cpp
   src/ros/loop_closure/loop_closure_ros.cpp

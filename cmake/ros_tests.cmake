@@ -21,7 +21,7 @@ scl_test(test_ros_units LIBS scan_context_loop_ros ${catkin_LIBRARIES}
   SOURCES test/ros/test_live_settings.cpp test/ros/test_pose_input.cpp test/ros/test_cloud_input.cpp
     test/ros/test_frame_ids.cpp test/ros/test_sensor_extrinsic.cpp test/ros/test_exception_barrier.cpp
     test/ros/test_heap_statistics.cpp test/ros/test_stored_keyframe.cpp test/ros/test_keyframe_worker.cpp
-    test/ros/test_corrected_poses.cpp)
+    test/ros/test_corrected_poses.cpp test/ros/test_data_clock.cpp)
 scl_test(test_ros_markers SOURCES test/test_main.cpp test/ros/test_markers.cpp LIBS scan_context_loop_ros)
 scl_test(test_ros_database_paths SOURCES test/test_main.cpp test/ros/test_database_paths.cpp LIBS scan_context_loop_ros)
 scl_test(test_ros_team_base SOURCES test/test_main.cpp test/ros/test_team_base.cpp LIBS scan_context_loop_ros)
@@ -109,7 +109,7 @@ function(scl_test_binary name)
 endfunction()
 
 scl_test_binary(test_ros_stacks test/ros/test_stacks.cpp)
-foreach(stack aloam lego_loam lio_sam fast_lio)
+foreach(stack aloam lego_loam lio_sam fast_lio sc_aloam hdl_graph_slam)
   set(SCL_BAG_REMOVE ${bags}/${stack}/velodyne)
   scl_bag(${stack} ${bags}/${stack}.bag ${bags}/${stack} --block --stack ${stack} --sensor vlp16 --voxel 0.2
     --threads 2 --mount-pitch 6)
@@ -117,6 +117,16 @@ foreach(stack aloam lego_loam lio_sam fast_lio)
   scl_launch_test(${PROJECT_BINARY_DIR}/test/ros/${stack}.test
     NEEDS scan_context_loop_${stack}_bag test_ros_stacks ${node_deps})
 endforeach()
+# scripts/demo --bag on each stack's bag (scripts/demo_bag, the part after the build, which runs the
+# backend), and a wrong --stack.
+if(SCL_WITH_BACKEND)
+  catkin_run_tests_target(tools demo_bag demo_bag.xml
+    COMMAND "${PYTHON_EXECUTABLE} ${PROJECT_SOURCE_DIR}/test/tools/check_demo_bag.py --bags ${bags} --xunit ${CATKIN_TEST_RESULTS_DIR}/${PROJECT_NAME}/demo_bag.xml")
+endif()
+# SC-A-LOAM's sensor-frame clouds labelled with the world's frame, read as A-LOAM's: refused, with the fix.
+scl_bag_test(stack_trap stack_trap.test bag ${bags}/sc_aloam.bag)
+scl_launch_test(${PROJECT_BINARY_DIR}/test/ros/stack_trap.test
+  NEEDS scan_context_loop_sc_aloam_bag test_ros_stacks ${node_deps})
 # One bag played again and again (rosbag play -l): each pass a session that closes loops into the first.
 scl_bag_test(fast_lio_replayed stack_bag.test stack fast_lio bag ${bags}/fast_lio.bag replay true)
 scl_launch_test(${PROJECT_BINARY_DIR}/test/ros/fast_lio_replayed.test

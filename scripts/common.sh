@@ -12,21 +12,43 @@ export PATH="/usr/bin:/bin:$PATH"
 # inputs (scl_build_fresh), and the next scl_build would run catkin_make again for nothing.
 export PYTHONDONTWRITEBYTECODE=1
 
-SCL_PACKAGES=(
-  build-essential cmake pkg-config ccache catkin python3-catkin-pkg
+# What the build and the tests need outside ROS (the same names on Debian 12 and Ubuntu 20.04).
+SCL_TOOL_PACKAGES=(
+  build-essential cmake pkg-config ccache libpcl-dev libflann-dev libeigen3-dev liblz4-dev libceres-dev
+  libgtest-dev python3-numpy python3-matplotlib python3-yaml libyaml-cpp-dev
+)
+# ROS 1 as Debian packages it (Debian 12's own ROS): the tools, the libraries, RViz, and the command-line
+# tools a user talks to the node with, with the Python messages they load.
+SCL_DEBIAN_ROS_PACKAGES=(
+  catkin python3-catkin-pkg
   ros-base-dev libnodeletlib-dev libnodelet-dev libnodeletlib-tools rosbash
-  libpcl-conversions-dev libpcl-dev libflann-dev libeigen3-dev liblz4-dev libceres-dev
+  libpcl-conversions-dev
   libtf2-ros-dev libtf2-eigen-dev libvisualization-msgs-dev libnav-msgs-dev libgeometry-msgs-dev
   libstd-msgs-dev libsensor-msgs-dev libdiagnostic-updater-dev
   libdynamic-reconfigure-config-init-mutex-dev python3-dynamic-reconfigure libstd-srvs-dev
   ros-message-generation ros-message-runtime librostest-dev python3-rostest python3-roslaunch
-  python3-rosbag librosbag-dev python3-rosmaster rosout libgtest-dev
-  python3-numpy python3-matplotlib python3-yaml libyaml-cpp-dev rviz
-  # The command-line tools a user talks to the node with, and the Python messages they load.
+  python3-rosbag librosbag-dev python3-rosmaster rosout rviz
   python3-rosservice python3-rostopic python3-rosnode python3-std-srvs python3-diagnostic-msgs
+  python3-rospy python3-geometry-msgs python3-visualization-msgs python3-std-msgs python3-tf2-ros
+  python3-nav-msgs python3-sensor-msgs
 )
+SCL_PACKAGES=("${SCL_TOOL_PACKAGES[@]}" "${SCL_DEBIAN_ROS_PACKAGES[@]}")
 # Only the demo needs these (RViz under a virtual display, and a screenshot of it).
-SCL_DEMO_PACKAGES=(xvfb xauth x11-apps imagemagick python3-rospy python3-geometry-msgs python3-visualization-msgs python3-std-msgs python3-tf2-ros python3-nav-msgs)
+SCL_DEMO_PACKAGES=(xvfb xauth x11-apps imagemagick)
+
+# A ros.org ROS 1 (packages.ros.org's Noetic in /opt/ros/noetic, or SCL_ROS_ROOT): ROS is taken from
+# there, the package's ROS dependencies are installed through rosdep from package.xml (ros-noetic-*
+# packages), and only what lies outside ROS by its Ubuntu name. Debian's ROS packages would put a second
+# ROS beside it, whose Python catkin packages conflict with ros.org's. SCL_DRY_RUN=1 prints the install
+# commands instead of running them.
+SCL_ROS_ROOT="${SCL_ROS_ROOT:-/opt/ros/noetic}"
+scl_ros_org() { [ -f "$SCL_ROS_ROOT/setup.bash" ]; }
+if scl_ros_org; then
+  set +u
+  # shellcheck disable=SC1091
+  source "$SCL_ROS_ROOT/setup.bash"
+  set -u
+fi
 
 scl_log() { echo "[scan_context_loop] $*" >&2; }
 
@@ -54,22 +76,72 @@ scl_install_deps() {
   scl_use_ccache
 }
 
-scl_install_missing() {
-  local missing=()
+# scl_run CMD...: runs it (as root: sudo when needed), or with SCL_DRY_RUN=1 prints it.
+scl_run() {
+  if [ "${SCL_DRY_RUN:-0}" = 1 ]; then
+    echo "would run: $*"
+    return 0
+  fi
+  if [ "$(id -u)" -ne 0 ] && [ "$1" != rosdep ]; then set -- sudo "$@"; fi
+  "$@"
+}
+
+# The packages of the list that dpkg does not have installed.
+scl_missing_packages() {
   local pkg installed
   # One dpkg-query for all of them (one call per package took seconds).
-  installed=$'\n'"$(dpkg-query -W -f='${Package} ${Status}\n' "${SCL_PACKAGES[@]}" "$@" 2>/dev/null || true)"$'\n'
-  for pkg in "${SCL_PACKAGES[@]}" "$@"; do
-    if [[ "$installed" != *$'\n'"$pkg install ok installed"$'\n'* ]]; then
-      missing+=("$pkg")
-    fi
+  installed=$'\n'"$(dpkg-query -W -f='${Package} ${Status}\n' "$@" 2>/dev/null || true)"$'\n'
+  for pkg in "$@"; do
+    [[ "$installed" == *$'\n'"$pkg install ok installed"$'\n'* ]] || echo "$pkg"
   done
-  [ ${#missing[@]} -eq 0 ] && return 0
-  scl_log "installing ${#missing[@]} Debian packages: ${missing[*]}"
-  local sudo=""
-  if [ "$(id -u)" -ne 0 ]; then sudo="sudo"; fi
-  $sudo apt-get update -qq
-  DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+}
+
+scl_apt_install() {
+  [ $# -eq 0 ] && return 0
+  scl_log "installing $# packages: $*"
+  scl_run apt-get update -qq
+  if [ "${SCL_DRY_RUN:-0}" = 1 ]; then
+    scl_run apt-get install -y -qq --no-install-recommends "$@"
+  else
+    scl_run env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends "$@" >/dev/null
+  fi
+}
+
+scl_install_missing() {
+  if scl_ros_org; then
+    scl_install_ros_org "$@"
+    return
+  fi
+  local missing=()
+  mapfile -t missing < <(scl_missing_packages "${SCL_PACKAGES[@]}" "$@")
+  scl_apt_install "${missing[@]}"
+}
+
+# On a ros.org ROS: the tools outside ROS by name (the Debian ROS names asked for are left to rosdep's
+# ros-noetic-* packages), then rosdep for package.xml's keys unless `rosdep check` finds them all. The
+# demo's RViz is a conditional key (SCAN_CONTEXT_LOOP_DEMO=1). package.xml is read from a copy: rosdep
+# would also find the workspaces' links to it under build/ and refuse the package twice.
+scl_install_ros_org() {
+  local wanted=() pkg missing=()
+  for pkg in "${SCL_TOOL_PACKAGES[@]}" "$@"; do
+    [[ " ${SCL_DEBIAN_ROS_PACKAGES[*]} " == *" $pkg "* ]] || wanted+=("$pkg")
+  done
+  command -v rosdep >/dev/null 2>&1 || wanted+=(python3-rosdep)
+  mapfile -t missing < <(scl_missing_packages "${wanted[@]}")
+  scl_apt_install "${missing[@]}"
+  if [ ! -d /etc/ros/rosdep/sources.list.d ]; then
+    scl_run rosdep init
+  fi
+  [ -d "$HOME/.ros/rosdep/sources.cache" ] || scl_run rosdep update --rosdistro noetic
+  local manifest
+  manifest="$(mktemp -d)"
+  cp "$SCL_ROOT/package.xml" "$manifest/"
+  export SCAN_CONTEXT_LOOP_DEMO=1 ROS_DISTRO="${ROS_DISTRO:-noetic}"
+  if [ "${SCL_DRY_RUN:-0}" = 1 ] || ! rosdep check --from-paths "$manifest" --ignore-src -q >/dev/null 2>&1; then
+    scl_log "installing package.xml's dependencies through rosdep ($SCL_ROS_ROOT)"
+    scl_run rosdep install --from-paths "$manifest" --ignore-src --rosdistro "$ROS_DISTRO" -y
+  fi
+  rm -rf "$manifest"
 }
 
 # The repository is one catkin package (package.xml at its root). A workspace's src/scan_context_loop is

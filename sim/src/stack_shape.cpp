@@ -45,7 +45,18 @@ std::vector<StackShape> makeShapes() {
   // Its world frame is the first IMU frame (the gravity alignment is left out), not gravity-aligned.
   StackShape fast_lio = shape("fast_lio", "/cloud_registered_body", "/Odometry", "body", "camera_init", "body", false);
   fast_lio.world_at_first_scan = true;
-  return {aloam, lego, lio_sam, fast_lio};
+  // SC-A-LOAM: A-LOAM's laserMapping, which also publishes each scan in the sensor frame on
+  // /velodyne_cloud_registered_local, still labelled /camera_init (the world's name on sensor-frame points).
+  StackShape sc_aloam = shape("sc_aloam", "/velodyne_cloud_registered_local", "/aft_mapped_to_init", "/camera_init",
+                              "/camera_init", "/aft_mapped", false);
+  sc_aloam.odom_tf = true;
+  sc_aloam.world_at_first_scan = true;
+  // hdl_graph_slam: prefiltering's /filtered_points in base_link (the LiDAR's frame here) and
+  // scan_matching_odometry's /odom (odom -> base_link, also on /tf), its world the first scan's frame.
+  StackShape hdl = shape("hdl_graph_slam", "/filtered_points", "/odom", "base_link", "odom", "base_link", false);
+  hdl.odom_tf = true;
+  hdl.world_at_first_scan = true;
+  return {aloam, lego, lio_sam, fast_lio, sc_aloam, hdl};
 }
 
 }  // namespace

@@ -12,14 +12,24 @@ namespace sim {
 namespace {
 
 TEST(StackShape, EveryStackByNameWithItsTopicsAndFrames) {
-  ASSERT_EQ(stackShapes().size(), 4u);
+  ASSERT_EQ(stackShapes().size(), 6u);
   for (const StackShape& s : stackShapes()) {
     ASSERT_EQ(findStackShape(s.name), &s);
     EXPECT_NE(stackNames().find(s.name), std::string::npos);
     EXPECT_DOUBLE_EQ(s.rate_hz, 10.0);
-    // Registered clouds are in the odometry frame; sensor-frame clouds are not.
-    EXPECT_EQ(s.registered, s.cloud_frame == s.odom_frame) << s.name;
+    // Registered clouds are in the odometry frame; sensor-frame clouds are not, except SC-A-LOAM's local
+    // clouds, which carry the world's name.
+    if (s.name != "sc_aloam") {
+      EXPECT_EQ(s.registered, s.cloud_frame == s.odom_frame) << s.name;
+    }
   }
+  const StackShape& sc = *findStackShape("sc_aloam");
+  EXPECT_FALSE(sc.registered);
+  EXPECT_EQ(sc.cloud_frame, sc.odom_frame);
+  EXPECT_EQ(sc.cloud_topic, "/velodyne_cloud_registered_local");
+  const StackShape& hdl = *findStackShape("hdl_graph_slam");
+  EXPECT_EQ(hdl.cloud_topic, "/filtered_points");
+  EXPECT_EQ(hdl.child_frame, hdl.cloud_frame);
   EXPECT_EQ(findStackShape("loam"), nullptr);
   const StackShape* lego = findStackShape("lego_loam");
   ASSERT_NE(lego, nullptr);

@@ -301,8 +301,9 @@ std::vector<Setting<NodeOptions>> makeNodeSettings() {
                                "Also the frame of the markers."),
               doubleSetting<O>("tf_timeout", N(tf_timeout), atLeast(0),
                                "tf mode: how long to wait for a transform [s]"),
-              stringSetting<O>("sensor_frame", N(sensor_frame), {}, "tf mode: the sensor's frame (empty: the cloud's)",
-                               "Set it for registered clouds in tf mode."),
+              stringSetting<O>("sensor_frame", N(sensor_frame), {}, "the sensor's frame (empty: the cloud's)",
+                               "Set it for registered clouds in tf mode, and for sensor-frame points labelled "
+                               "with another frame (SC-A-LOAM's local clouds: the odometry's child frame)."),
               boolSetting<O>(
                   "sensor_extrinsic_from_tf", N(sensor_extrinsic_from_tf),
                   "odometry of another frame: extrinsic child <- sensor from tf",

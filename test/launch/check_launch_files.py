@@ -9,13 +9,16 @@ own loader, without starting anything, and checks what they would start:
   the remaps carry the given topics, /use_sim_time is true, and RViz runs in the node's namespace with
   the stack's fixed frame, config/loop_closure.rviz and the node's topics;
 - inside an enclosing <group ns>: the settings follow the node there;
-- the order of the layers: a sensor preset over the stack's settings, `overrides` over everything;
+- the order of the layers: the stack's settings over a sensor preset, `overrides` over everything;
 - the stacks' settings: gravity_alignment auto everywhere (it measures a world frame that is not gravity
   aligned, A-LOAM's, FAST-LIO's and LeGO-LOAM's, and corrects a y-up one), a 30 s exclusion for
   LIO-SAM; every key of config/stacks/ is a key of config/default.yaml;
 - pose_graph.launch loads config/pose_graph.yaml, then `overrides`, then its arguments (and
   loop_closure.launch's pose_graph_overrides reaches it); every launch argument a user sets has a doc;
-- config/loop_closure.rviz subscribes only to relative topics and is framed on the fixed frame's origin;
+- config/loop_closure.rviz and config/pose_graph.rviz subscribe only to relative topics and are framed on
+  the fixed frame's origin; pose_graph.rviz shows the backend's map, paths and loops; rviz:=true with
+  pose_graph:=true starts RViz with it in the frame where the backend's output is whole (map; LIO-SAM's
+  odom);
 - the backend switch: no backend by default; with pose_graph:=true one pose_graph beside the node (the
   standalone node, or loaded into the node's manager, in its namespace) on the node's selected keyframes
   and loops, with the stack's frames (map_frame, publish_tf: A-LOAM and FAST-LIO send map -> camera_init,
@@ -57,6 +60,12 @@ STACKS = {
                               "cloud_in_world_frame": True}),
     "fast_lio": dict(cloud="/cloud_registered_body", odom="/Odometry", lio="lio_loop", frame="camera_init",
                      settings={"gravity_alignment": "auto", "cloud_in_world_frame": False}),
+    # Sensor-frame points labelled /camera_init: their real frame named, never taken as registered.
+    "sc_aloam": dict(cloud="/velodyne_cloud_registered_local", odom="/aft_mapped_to_init", lio="lio_loop",
+                     frame="camera_init", settings={"gravity_alignment": "auto", "cloud_in_world_frame": False,
+                                                    "sensor_frame": "aft_mapped"}),
+    "hdl_graph_slam": dict(cloud="/filtered_points", odom="/odom", lio="lio_loop", frame="odom",
+                           settings={"gravity_alignment": "auto", "cloud_in_world_frame": False}),
 }
 # The backend each launch file sets up with pose_graph:=true: the frame of its corrected poses and whether
 # it sends the tf map_frame -> odometry frame.
@@ -66,7 +75,14 @@ BACKEND = {
     "lego_loam": dict(map_frame="camera_init", publish_tf=False),
     "lio_sam": dict(map_frame="odom", publish_tf=False),
     "fast_lio": dict(map_frame="map", publish_tf=True),
+    "sc_aloam": dict(map_frame="map", publish_tf=True),
+    "hdl_graph_slam": dict(map_frame="odom", publish_tf=False),  # it sends map -> odom itself
 }
+# RViz's fixed frame with the backend: where its output is whole (LeGO-LOAM: run.launch's map above camera_init).
+BACKEND_RVIZ_FRAME = {"loop_closure": "map", "aloam": "map", "lego_loam": "map", "lio_sam": "odom", "fast_lio": "map",
+                      "sc_aloam": "map", "hdl_graph_slam": "odom"}
+# What RViz must show with the backend (config/pose_graph.rviz), beside the node's own displays.
+BACKEND_DISPLAYS = {"map_cloud", "corrected_path", "odometry_path", "graph_markers", "loop_markers", "keyframe_cloud"}
 # The non-default arguments, and the remaps they must give (node's name -> the topic it is remapped to).
 CUSTOM_ARGS = ["name:=other", "manager:=mgr", "cloud_topic:=/my/cloud", "odom_topic:=my_odom",
                "loops_topic:=my_loops", "markers_topic:=my_markers", "lio_topic:=my_lio",
@@ -344,7 +360,8 @@ def case_in_group(package, stack, path):
 
 
 def case_layers(package, stack, path):
-    """A sensor preset over the stack's settings, `overrides` over everything."""
+    """The stack's settings over a sensor preset (FAST-LIO + Livox: FAST-LIO's 1 m keyframes, the Avia's
+    accumulation), `overrides` over everything."""
     with tempfile.NamedTemporaryFile("w", suffix=".yaml", delete=False) as f:
         f.write("accumulate_seconds: 7.5\nexclude_recent_frames: 31\n")
         overrides = f.name
@@ -355,9 +372,15 @@ def case_layers(package, stack, path):
     if isinstance(config, str):
         return [config]
     errors = []
-    settings = dict(expected_settings(package, stack))
-    settings.update({"keyframe_min_distance": 2.0, "accumulate_distance": 10.0,  # the preset's
-                     "accumulate_seconds": 7.5, "exclude_recent_frames": 31})  # the overrides'
+    with open(os.path.join(package, "config", "sensors", "livox_avia.yaml")) as f:
+        settings = yaml.safe_load(f)  # the preset's ...
+    settings.update(expected_settings(package, stack))  # ... under the stack's
+    settings.update({"accumulate_seconds": 7.5, "exclude_recent_frames": 31})  # the overrides' last
+    if stack == "fast_lio" and settings.get("keyframe_min_distance") != 1.0:
+        errors.append("FAST-LIO with the Avia preset: keyframe_min_distance %r, not FAST-LIO's 1.0"
+                      % settings.get("keyframe_min_distance"))
+    if stack == "loop_closure" and settings.get("keyframe_min_distance") != 2.0:
+        errors.append("no stack: keyframe_min_distance %r, not the preset's 2.0" % settings.get("keyframe_min_distance"))
     check_settings(config, "/loop_closure/", settings, errors)
     return errors
 
@@ -367,7 +390,9 @@ def case_stack_settings(package):
     errors = []
     expected = {"aloam": {"gravity_alignment": "auto"}, "fast_lio": {"gravity_alignment": "auto"},
                 "lego_loam": {"gravity_alignment": "auto"},
-                "lio_sam": {"gravity_alignment": "auto", "exclude_recent_seconds": 30.0}}
+                "lio_sam": {"gravity_alignment": "auto", "exclude_recent_seconds": 30.0},
+                "sc_aloam": {"gravity_alignment": "auto", "sensor_frame": "aft_mapped"},
+                "hdl_graph_slam": {"gravity_alignment": "auto"}}
     for stack, settings in sorted(expected.items()):
         config = load(os.path.join(package, "launch", stack + ".launch"))
         if isinstance(config, str):
@@ -409,18 +434,48 @@ def topics_of(tree, found):
 
 
 def case_rviz_config(package):
-    with open(os.path.join(package, "config", "loop_closure.rviz")) as f:
-        tree = yaml.safe_load(f)
-    topics = topics_of(tree, [])
-    errors = ["%s: %s is absolute: RViz would not follow the node's namespace" % (k, v)
-              for k, v in topics if v.startswith("/")]
-    if not topics:
-        errors.append("no display subscribes to a topic")
-    view = tree["Visualization Manager"]["Views"]["Current"]
-    centre = [view.get("X", 0), view.get("Y", 0)] if "X" in view else list(
-        (view.get("Focal Point") or {}).get(k, 0) for k in ("X", "Y"))
-    if any(abs(float(c)) > 1e-6 for c in centre):
-        errors.append("the view is centred on %s, not on the fixed frame's origin" % centre)
+    errors = []
+    for name in ("loop_closure.rviz", "pose_graph.rviz"):
+        with open(os.path.join(package, "config", name)) as f:
+            tree = yaml.safe_load(f)
+        topics = topics_of(tree, [])
+        errors += ["%s: %s: %s is absolute: RViz would not follow the node's namespace" % (name, k, v)
+                   for k, v in topics if v.startswith("/")]
+        if not topics:
+            errors.append("%s: no display subscribes to a topic" % name)
+        if name == "pose_graph.rviz":
+            missing = BACKEND_DISPLAYS - {v for _, v in topics}
+            if missing:
+                errors.append("%s shows nothing of %s" % (name, ", ".join(sorted(missing))))
+        view = tree["Visualization Manager"]["Views"]["Current"]
+        centre = [view.get("X", 0), view.get("Y", 0)] if "X" in view else list(
+            (view.get("Focal Point") or {}).get(k, 0) for k in ("X", "Y"))
+        if any(abs(float(c)) > 1e-6 for c in centre):
+            errors.append("%s: the view is centred on %s, not on the fixed frame's origin" % (name, centre))
+    return errors
+
+
+def case_rviz_with_backend(package, stack, path):
+    """rviz:=true pose_graph:=true: config/pose_graph.rviz (the corrected map and paths too) in the frame
+    where the backend's output is whole; an explicit rviz_config and rviz_fixed_frame still win."""
+    errors = []
+    for args, display, frame in (
+            (["rviz:=true", "pose_graph:=true"], os.path.join(package, "config", "pose_graph.rviz"),
+             BACKEND_RVIZ_FRAME[stack]),
+            (["rviz:=true", "pose_graph:=true", "rviz_config:=/tmp/mine.rviz", "rviz_fixed_frame:=base"],
+             "/tmp/mine.rviz", "base")):
+        config = load(path, args)
+        if isinstance(config, str):
+            return errors + [config]
+        rviz = [n for n in config.nodes if n.package == "rviz"]
+        if len(rviz) != 1:
+            errors.append("%s: %d RViz nodes, not one" % (" ".join(args), len(rviz)))
+            continue
+        shown = option(rviz[0].args, "-d")
+        if shown is None or os.path.realpath(shown) != os.path.realpath(display):
+            errors.append("%s: RViz's config is %r, not %s" % (" ".join(args), shown, display))
+        if option(rviz[0].args, "-f") != frame:
+            errors.append("%s: RViz's fixed frame is %r, not %r" % (" ".join(args), option(rviz[0].args, "-f"), frame))
     return errors
 
 
@@ -448,8 +503,9 @@ def main():
         cases.append(("%s_defaults" % stack, case_defaults(package, stack, path)))
         cases.append(("%s_renamed_in_namespace_with_manager_rviz_sim_time" % stack, case_renamed(package, stack, path)))
         cases.append(("%s_in_enclosing_group" % stack, case_in_group(package, stack, path)))
-        cases.append(("%s_preset_over_stack_overrides_last" % stack, case_layers(package, stack, path)))
+        cases.append(("%s_stack_over_preset_overrides_last" % stack, case_layers(package, stack, path)))
         cases.append(("%s_backend_switch_frames_manager_map_save" % stack, case_backend(package, stack, path)))
+        cases.append(("%s_rviz_with_backend" % stack, case_rviz_with_backend(package, stack, path)))
     cases.append(("stack_gravity_alignment_and_lio_sam_exclusion", case_stack_settings(package)))
     cases.append(("stack_settings_use_known_keys", case_stack_keys(package)))
     cases.append(("rviz_config_relative_topics_origin_view", case_rviz_config(package)))

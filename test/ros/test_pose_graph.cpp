@@ -119,6 +119,7 @@ TEST_F(PoseGraphNode, CorrectsTheDriftPublishesTheTfAndTheMapAndHoldsOffAFalseLo
 
   const std::size_t n = drive_->truth.size();
   harness.publish(*drive_, 0, n, 10.0);
+  const ros::WallTime drive_end = ros::WallTime::now();
   harness.settle(3.0, 60.0);
   std::size_t loops = 0;  // the verified ones: only they enter the graph (verified_only)
   for (const auto& loop : harness.loops()) loops += loop.verified ? 1 : 0;
@@ -154,6 +155,14 @@ TEST_F(PoseGraphNode, CorrectsTheDriftPublishesTheTfAndTheMapAndHoldsOffAFalseLo
   const Eigen::Isometry3d correction = tf2::transformToEigen(tf);
   EXPECT_LT((correction.translation() - expected.translation()).norm(), 1e-3);
   EXPECT_LT(Eigen::AngleAxisd(correction.rotation().transpose() * expected.rotation()).angle(), 1e-4);
+  // It carries the data's time, not the clock's: the drive's stamps (from 1000 s) are far from the wall
+  // clock, as in a replay without --clock, and a tf user (RViz) looks the transform up at the data's stamps.
+  const ros::Time newest = harness.base + ros::Duration(drive_->times[n - 1]);
+  const double since_drive = (ros::WallTime::now() - drive_end).toSec();
+  EXPECT_GE(tf.header.stamp, newest) << tf.header.stamp;
+  EXPECT_LE((tf.header.stamp - newest).toSec(), since_drive + 1.0) << tf.header.stamp << " vs data at " << newest;
+  EXPECT_TRUE(tf_buffer.canTransform("map", "odom", tf.header.stamp - ros::Duration(0.01), ros::Duration(2.0)))
+      << "the tf is not found between its two newest stamps";
 
   // Every loop the node verified is drawn between the corrected poses.
   visualization_msgs::MarkerArray shown;

@@ -1,5 +1,6 @@
 // The sensor extrinsic from tf, looked up without waiting: held while tf has none, then the fallback
-// after the wait, and found from transforms sent tf1's way (frame ids with a leading '/').
+// after the wait, and found from transforms sent tf1's way (frame ids with a leading '/'); a transform
+// that moves after it was found is no extrinsic and is refused.
 #include <gtest/gtest.h>
 #include <tf2/buffer_core.h>
 #include <tf2_eigen/tf2_eigen.h>
@@ -52,6 +53,46 @@ TEST(SensorExtrinsic, FallbackAfterTheWaitThenFoundLater) {
   EXPECT_EQ(extrinsic.resolve("camera", "base_link", 15.5), State::kFallback);
   EXPECT_EQ(extrinsic.resolve("camera", "base_link", 16.0), State::kKnown);
   EXPECT_FALSE(extrinsic.pose().isApprox(Eigen::Isometry3d::Identity()));
+}
+
+/// A-LOAM's /camera_init -> /aft_mapped at `stamp`: the vehicle's pose, `x` metres along.
+geometry_msgs::TransformStamped vehiclePose(double stamp, double x) {
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  pose.translation().x() = x;
+  geometry_msgs::TransformStamped t = tf2::eigenToTransform(pose);
+  t.header.stamp = ros::Time(stamp);
+  t.header.frame_id = "/camera_init";
+  t.child_frame_id = "/aft_mapped";
+  return t;
+}
+
+TEST(SensorExtrinsic, ATransformThatMovesIsRefusedForGood) {
+  tf2::BufferCore tf;
+  SensorExtrinsic extrinsic(tf, "test", 5.0, 1.0);
+  ros::Time::init();  // the error's log reads the time
+  // Clouds labelled camera_init taken as the sensor's: aft_mapped <- camera_init is the pose, inverted.
+  ASSERT_TRUE(tf.setTransform(vehiclePose(1.6e9, 0.0), "aloam"));
+  EXPECT_EQ(extrinsic.resolve("aft_mapped", "camera_init", 10.0), State::kKnown);
+  // Read again only after the recheck interval; unchanged, it stays.
+  ASSERT_TRUE(tf.setTransform(vehiclePose(1.6e9 + 0.1, SensorExtrinsic::kMovedMeters * 0.5), "aloam"));
+  EXPECT_EQ(extrinsic.resolve("aft_mapped", "camera_init", 11.0), State::kKnown);
+  ASSERT_TRUE(tf.setTransform(vehiclePose(1.6e9 + 0.2, 0.5), "aloam"));
+  EXPECT_EQ(extrinsic.resolve("aft_mapped", "camera_init", 11.5), State::kKnown);
+  EXPECT_EQ(extrinsic.resolve("aft_mapped", "camera_init", 12.0), State::kMoving);
+  // For good, even if it stood still again.
+  ASSERT_TRUE(tf.setTransform(vehiclePose(1.6e9 + 0.3, 0.0), "aloam"));
+  EXPECT_EQ(extrinsic.resolve("aft_mapped", "camera_init", 20.0), State::kMoving);
+}
+
+TEST(SensorExtrinsic, AFixedOneResentStaysKnown) {
+  tf2::BufferCore tf;
+  SensorExtrinsic extrinsic(tf, "test", 5.0, 1.0);
+  ASSERT_TRUE(tf.setTransform(cameraToBaseLink(1.6e9), "tf1"));
+  EXPECT_EQ(extrinsic.resolve("camera", "base_link", 0.0), State::kKnown);
+  for (int i = 1; i <= 5; ++i) {
+    ASSERT_TRUE(tf.setTransform(cameraToBaseLink(1.6e9 + i), "tf1"));
+    EXPECT_EQ(extrinsic.resolve("camera", "base_link", 1.0 * i), State::kKnown);
+  }
 }
 
 }  // namespace

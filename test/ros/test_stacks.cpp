@@ -252,6 +252,21 @@ TEST(Stacks, TrueVerifiedLoopsFromTheStacksBag) {
   }
 }
 
+// SC-A-LOAM's local clouds (sensor-frame points labelled camera_init, the odometry's world frame) read the
+// way A-LOAM's registered ones would be with cloud_in_world_frame false: the transform the node would take
+// as the extrinsic is the vehicle's moving pose. Every keyframe is refused, and the error names the fix.
+TEST(Stacks, SensorPointsUnderTheWorldsNameAreRefusedWithTheFix) {
+  ros::NodeHandle nh;
+  RosoutWatch rosout(nh);
+  Collected<nav_msgs::Odometry> selected(nh, "selected_keyframe_odom");
+  GroundTruth truth(nh, *sim::findStackShape("sc_aloam"));
+  ASSERT_TRUE(truth.waitUntilPlayed(30.0, 2.0, 90.0)) << "the bag was not played";
+  ros::WallDuration(2.0).sleep();
+  EXPECT_TRUE(rosout.waitFor(rosgraph_msgs::Log::ERROR, "/loop_closure", "set sensor_frame: aft_mapped", 10.0))
+      << "no error names the fix";
+  EXPECT_TRUE(selected.messages().empty()) << selected.messages().size() << " keyframes taken with a moving extrinsic";
+}
+
 }  // namespace
 }  // namespace test
 }  // namespace scan_context_loop

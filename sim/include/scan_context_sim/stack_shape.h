@@ -13,13 +13,15 @@ namespace scan_context_loop {
 namespace sim {
 
 struct StackShape {
-  std::string name;  ///< "aloam", "lego_loam", "lio_sam", "fast_lio"; empty: the default shape
+  std::string name;  ///< "aloam", "lego_loam", "lio_sam", "fast_lio", "sc_aloam", "hdl_graph_slam"; empty: the default
   std::string cloud_topic = "keyframe_cloud";
   std::string odom_topic = "keyframe_odom";  ///< nav_msgs/Odometry, the same stamps as the clouds
   std::string cloud_frame = "velodyne";      ///< the clouds' frame_id
   std::string odom_frame = "odom";           ///< the odometry's frame_id
   std::string child_frame = "velodyne";      ///< the odometry's child_frame_id
-  bool registered = false;  ///< clouds registered in odom_frame with the odometry's pose, else in cloud_frame
+  /// Clouds registered in odom_frame with the odometry's pose, else the sensor's points labelled cloud_frame
+  /// (SC-A-LOAM's local clouds: labelled odom_frame although they are not registered).
+  bool registered = false;
   /// Odometry in camera axes (y up), with the fixed extrinsic extrinsic_parent -> extrinsic_child.
   bool camera_axes = false;
   /// The camera-axes extrinsic's frames as the stack's launch file writes them (child_frame and
@@ -46,11 +48,11 @@ struct FixedTransform {
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
 };
 
-/// A-LOAM, LeGO-LOAM, LIO-SAM and FAST-LIO, in that order.
+/// A-LOAM, LeGO-LOAM, LIO-SAM, FAST-LIO, SC-A-LOAM and hdl_graph_slam, in that order.
 const std::vector<StackShape>& stackShapes();
 /// The stack's shape by name; nullptr when there is none.
 const StackShape* findStackShape(const std::string& name);
-/// "aloam | lego_loam | lio_sam | fast_lio".
+/// "aloam | lego_loam | lio_sam | fast_lio | sc_aloam | hdl_graph_slam".
 std::string stackNames();
 
 /// A topic in a robot's namespace: "/<robot>/<topic>" (the topic's own leading '/' dropped); the topic as

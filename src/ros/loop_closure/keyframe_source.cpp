@@ -33,7 +33,26 @@ void KeyframeSource::useTf(const tf2_ros::Buffer& tf) {
   }
 }
 
+bool KeyframeSource::worldLabelledAsSensor(const QueuedKeyframe& keyframe) const {
+  return extrinsic_ && !config_.cloud_in_world_frame && options_.sensor_frame.empty() &&
+         !keyframe.child_frame.empty() && keyframe.cloud_frame == keyframe.pose_frame &&
+         keyframe.cloud_frame != keyframe.child_frame;
+}
+
 void KeyframeSource::offer(QueuedKeyframe keyframe, std::vector<PosedKeyframe>* ready) {
+  if (worldLabelledAsSensor(keyframe)) {
+    ++counters_->rejected;
+    ROS_ERROR_THROTTLE_NAMED(
+        10.0, name_,
+        "keyframe at %.3f refused: its cloud is labelled %s, the odometry's own world frame, and "
+        "cloud_in_world_frame is false, so the extrinsic %s <- %s would be the vehicle's moving pose. Points "
+        "registered in %s (A-LOAM's /velodyne_cloud_registered): set cloud_in_world_frame: true. Sensor-frame "
+        "points under the world's name (SC-A-LOAM's /velodyne_cloud_registered_local): set sensor_frame: %s "
+        "(launch/sc_aloam.launch does)",
+        keyframe.cloud->header.stamp.toSec(), keyframe.cloud_frame.c_str(), keyframe.child_frame.c_str(),
+        keyframe.cloud_frame.c_str(), keyframe.cloud_frame.c_str(), keyframe.child_frame.c_str());
+    return;
+  }
   if (held_.empty() && resolveExtrinsic(keyframe) != SensorExtrinsic::State::kWaiting) {
     pose(std::move(keyframe), ready);
     return;
@@ -97,8 +116,17 @@ bool KeyframeSource::lookUpPose(QueuedKeyframe* keyframe) {
 
 void KeyframeSource::pose(QueuedKeyframe keyframe, std::vector<PosedKeyframe>* ready) {
   if (!keyframe.has_pose && !lookUpPose(&keyframe)) return;
+  const SensorExtrinsic::State extrinsic = resolveExtrinsic(keyframe);
+  if (extrinsic == SensorExtrinsic::State::kMoving) {
+    ++counters_->rejected;
+    ROS_ERROR_THROTTLE_NAMED(10.0, name_,
+                             "keyframe at %.3f refused: the tf between the odometry's child frame and the clouds' "
+                             "frame %s moves, so it is no extrinsic (the error above says what to set)",
+                             keyframe.cloud->header.stamp.toSec(), sensorFrame(keyframe).c_str());
+    return;
+  }
   // Turns the pose into the sensor's with the extrinsic from tf (child <- sensor), once it is known.
-  if (resolveExtrinsic(keyframe) == SensorExtrinsic::State::kKnown && extrinsic_) {
+  if (extrinsic == SensorExtrinsic::State::kKnown && extrinsic_) {
     keyframe.pose = keyframe.pose * extrinsic_->pose();
   }
   if (!keyframe.pose.matrix().allFinite()) {

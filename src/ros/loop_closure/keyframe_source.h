@@ -56,7 +56,11 @@ class KeyframeSource {
   const std::string& sensorFrame(const QueuedKeyframe& keyframe) const;
   /// tf mode: T_fixed_frame<-sensor at the cloud's stamp; false (counted, logged) when tf has none.
   bool lookUpPose(QueuedKeyframe* keyframe);
-  /// The pose (looked up, the extrinsic applied), appended to `ready` when it is usable.
+  /// A cloud labelled with the odometry's world frame, taken as in the sensor frame (cloud_in_world_frame
+  /// false, no sensor_frame): the "extrinsic" would be the moving pose itself. Such keyframes are refused.
+  bool worldLabelledAsSensor(const QueuedKeyframe& keyframe) const;
+  /// The pose (looked up, the extrinsic applied), appended to `ready` when it is usable; refused once the
+  /// extrinsic turned out to move.
   void pose(QueuedKeyframe keyframe, std::vector<PosedKeyframe>* ready);
 
   std::string name_;

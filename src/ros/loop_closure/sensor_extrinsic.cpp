@@ -1,5 +1,6 @@
 #include "loop_closure/sensor_extrinsic.h"
 
+#include <cmath>
 #include <utility>
 
 #include <ros/console.h>
@@ -31,7 +32,30 @@ bool SensorExtrinsic::lookUp(const std::string& child, const std::string& sensor
 }
 
 SensorExtrinsic::State SensorExtrinsic::resolve(const std::string& child, const std::string& sensor, double now) {
-  if (state_ == State::kKnown) return state_;
+  if (state_ == State::kMoving) return state_;
+  if (state_ == State::kKnown) {
+    if (!from_tf_ || now < next_check_) return state_;
+    next_check_ = now + recheck_seconds_;
+    const Eigen::Isometry3d found = pose_;
+    std::string why;
+    if (lookUp(child, sensor, &why)) {
+      const Eigen::Isometry3d change = found.inverse() * pose_;
+      const double meters = change.translation().norm();
+      const double radians = Eigen::AngleAxisd(change.linear()).angle();
+      if (meters > kMovedMeters || radians > kMovedRadians) {
+        ROS_ERROR_NAMED(name_,
+                        "the tf %s <- %s moved by %.3f m and %.2f deg since it was read as the extrinsic: it is "
+                        "not one (the clouds' frame %s moves with the vehicle). Keyframes are refused from now on. "
+                        "Name the frame the points are really in with sensor_frame (SC-A-LOAM's "
+                        "/velodyne_cloud_registered_local: the odometry's child frame), or set "
+                        "cloud_in_world_frame: true if they are registered in the world",
+                        child.c_str(), sensor.c_str(), meters, radians * 180.0 / M_PI, sensor.c_str());
+        state_ = State::kMoving;
+      }
+    }
+    pose_ = found;
+    return state_;
+  }
   if (sensor.empty() || sensor == child) {
     pose_ = Eigen::Isometry3d::Identity();  // the odometry is the sensor's own
     return state_ = State::kKnown;
@@ -47,6 +71,8 @@ SensorExtrinsic::State SensorExtrinsic::resolve(const std::string& child, const 
                    "(%.4f, %.4f, %.4f, %.4f); odometry of %s is moved to the sensor %s",
                    child.c_str(), sensor.c_str(), now - waiting_since_, t.x(), t.y(), t.z(), q.x(), q.y(), q.z(), q.w(),
                    child.c_str(), sensor.c_str());
+    from_tf_ = true;
+    next_check_ = now + recheck_seconds_;
     if (state_ == State::kFallback) {
       ROS_WARN_NAMED(name_,
                      "the keyframes before it took the odometry's poses as the sensor's: their loops to "

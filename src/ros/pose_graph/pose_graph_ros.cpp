@@ -96,7 +96,13 @@ void PoseGraphRos::subscribeRobots() {
 
 // ---- callbacks: queue and return ----------------------------------------------------------------
 
+void PoseGraphRos::observeStamp(const ros::Time& stamp) {
+  std::lock_guard<std::mutex> lock(data_clock_mutex_);
+  data_clock_.observe(stamp, ros::Time::now());
+}
+
 void PoseGraphRos::onOdom(const nav_msgs::OdometryConstPtr& msg, std::size_t robot) {
+  observeStamp(msg->header.stamp);
   Event event;
   event.robot = robot;
   event.odom = msg;
@@ -104,6 +110,7 @@ void PoseGraphRos::onOdom(const nav_msgs::OdometryConstPtr& msg, std::size_t rob
 }
 
 void PoseGraphRos::onCloud(const sensor_msgs::PointCloud2ConstPtr& msg, std::size_t robot) {
+  observeStamp(msg->header.stamp);
   Event event;
   event.robot = robot;
   event.cloud = msg;
@@ -158,12 +165,18 @@ void PoseGraphRos::onTfTimer(const ros::TimerEvent&) {
       transforms.back().child_frame_id = frame.odom_frame;
     }
   }
-  const ros::Time now = ros::Time::now();
+  if (transforms.empty()) return;
+  // Stamped with the data's time (shared/data_clock.h); not again at a stamp already sent (a paused replay).
+  ros::Time stamp;
+  {
+    std::lock_guard<std::mutex> lock(data_clock_mutex_);
+    if (!data_clock_.next(ros::Time::now(), &stamp)) return;
+  }
   for (auto& tf : transforms) {
     tf.header.frame_id = options_.map_frame;
-    tf.header.stamp = now;
+    tf.header.stamp = stamp;
   }
-  if (!transforms.empty()) tf_broadcaster_->sendTransform(transforms);
+  tf_broadcaster_->sendTransform(transforms);
 }
 
 void PoseGraphRos::diagnose(diagnostic_updater::DiagnosticStatusWrapper& status) {

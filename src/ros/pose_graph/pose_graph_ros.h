@@ -32,6 +32,7 @@
 #include "scan_context_loop/graph/pose_graph.h"
 #include "pose_graph/pose_graph_parameters.h"
 #include "pose_graph/pose_graph_robots.h"
+#include "shared/data_clock.h"
 
 namespace scan_context_loop {
 
@@ -133,6 +134,13 @@ class PoseGraphRos {
   };
   std::mutex correction_mutex_;
   std::vector<TfFrame> tf_frames_;
+
+  // data_clock_mutex_ guards data_clock_ (the callbacks observe each input's stamp, the tf timer reads
+  // it): the tf is stamped with the data's time, so a replay without --clock can still look it up.
+  std::mutex data_clock_mutex_;
+  DataClock data_clock_;
+  /// Notes an input's stamp in data_clock_ (callback threads).
+  void observeStamp(const ros::Time& stamp);
 
   // Counters read by diagnostics; written by callbacks and the worker.
   std::atomic<std::size_t> keyframes_{0}, loops_used_{0}, loops_skipped_{0}, loops_waiting_{0}, rejected_{0},
