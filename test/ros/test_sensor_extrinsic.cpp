@@ -12,15 +12,21 @@ namespace {
 
 using State = SensorExtrinsic::State;
 
+/// T_parent<-child = `pose` at `stamp`, frame ids as given.
+geometry_msgs::TransformStamped stamped(const Eigen::Isometry3d& pose, double stamp, const char* parent,
+                                       const char* child) {
+  geometry_msgs::TransformStamped t = tf2::eigenToTransform(pose);
+  t.header.stamp = ros::Time(stamp);
+  t.header.frame_id = parent;
+  t.child_frame_id = child;
+  return t;
+}
+
 /// LeGO-LOAM's run.launch: "/camera" -> "/base_link", camera axes (x_camera = y_lidar, y = z, z = x).
 geometry_msgs::TransformStamped cameraToBaseLink(double stamp) {
   Eigen::Isometry3d axes = Eigen::Isometry3d::Identity();
   axes.linear() << 0, 1, 0, 0, 0, 1, 1, 0, 0;
-  geometry_msgs::TransformStamped t = tf2::eigenToTransform(axes);
-  t.header.stamp = ros::Time(stamp);
-  t.header.frame_id = "/camera";
-  t.child_frame_id = "/base_link";
-  return t;
+  return stamped(axes, stamp, "/camera", "/base_link");
 }
 
 TEST(SensorExtrinsic, OneFrameNeedsNone) {
@@ -57,13 +63,7 @@ TEST(SensorExtrinsic, FallbackAfterTheWaitThenFoundLater) {
 
 /// A-LOAM's /camera_init -> /aft_mapped at `stamp`: the vehicle's pose, `x` metres along.
 geometry_msgs::TransformStamped vehiclePose(double stamp, double x) {
-  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
-  pose.translation().x() = x;
-  geometry_msgs::TransformStamped t = tf2::eigenToTransform(pose);
-  t.header.stamp = ros::Time(stamp);
-  t.header.frame_id = "/camera_init";
-  t.child_frame_id = "/aft_mapped";
-  return t;
+  return stamped(Eigen::Isometry3d(Eigen::Translation3d(x, 0.0, 0.0)), stamp, "/camera_init", "/aft_mapped");
 }
 
 TEST(SensorExtrinsic, ATransformThatMovesIsRefusedForGood) {
