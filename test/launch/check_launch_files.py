@@ -303,13 +303,18 @@ def case_backend_settings(package):
 
 def case_arguments_documented(package):
     """Every argument a user can set (a default, or neither default nor value) says what it does:
-    roslaunch --ros-args prints that text."""
+    roslaunch --ros-args prints that text; one with an empty default says what empty means."""
     import xml.etree.ElementTree as ET
     errors = []
     for path in sorted(glob.glob(os.path.join(package, "launch", "*.launch"))):
         for arg in ET.parse(path).getroot().findall("arg"):
             if "value" not in arg.attrib and not arg.attrib.get("doc", "").strip():
                 errors.append("%s: argument %s has no doc" % (os.path.basename(path), arg.attrib.get("name")))
+            # roslaunch --ros-args lists an argument whose default is empty under "Required Arguments": its
+            # doc must say what leaving it empty does.
+            elif arg.attrib.get("default") == "" and "empty" not in arg.attrib.get("doc", ""):
+                errors.append("%s: argument %s (default empty) does not say what empty means"
+                              % (os.path.basename(path), arg.attrib.get("name")))
     return errors
 
 
