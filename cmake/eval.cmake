@@ -9,7 +9,7 @@ target_include_directories(scan_context_loop_eval PUBLIC include ${YAML_CPP_INCL
 target_link_libraries(scan_context_loop_eval PUBLIC scan_context_loop_core yaml-cpp)
 if(SCL_WITH_BACKEND)
   target_sources(scan_context_loop_eval PRIVATE src/eval/trajectory_correction.cpp src/eval/trajectory_correction_map.cpp
-    src/eval/team_map.cpp)
+    src/eval/correction_graph.cpp src/eval/graph_study.cpp src/eval/team_map.cpp)
   target_link_libraries(scan_context_loop_eval PUBLIC scan_context_loop_graph)
 else()
   target_sources(scan_context_loop_eval PRIVATE src/eval/trajectory_correction_unavailable.cpp src/eval/team_map_unavailable.cpp)

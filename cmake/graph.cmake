@@ -24,7 +24,8 @@ if(CATKIN_ENABLE_TESTING)
   scl_test(test_graph
     SOURCES test/test_main.cpp test/graph/test_pose_graph.cpp test/graph/test_pose_graph_chains.cpp
       test/graph/test_keyframe_map.cpp test/graph/test_map_files.cpp test/common/file_faults.cpp
-      test/graph/test_relative_pose_cost.cpp
+      test/graph/test_relative_pose_cost.cpp test/graph/test_graph_study.cpp test/graph/test_graph_weights.cpp
     INCLUDES src/graph ${CERES_INCLUDE_DIRS}
-    LIBS scan_context_loop_graph scan_context_loop_eval ${PCL_IO_LIBRARIES} ${CERES_LIBRARIES} ${CMAKE_DL_LIBS})
+    LIBS scan_context_loop_graph scan_context_loop_eval scan_context_sim ${PCL_IO_LIBRARIES} ${CERES_LIBRARIES} ${CMAKE_DL_LIBS}
+    DEFINES SCL_SHARED_DATA="${SCL_SHARED_DATA}")
 endif()

@@ -127,21 +127,23 @@ def trajectory_table(rows):
     """Per sequence, the odometry's and the corrected path's absolute trajectory error (trajectory_error.json)."""
     out = ["| sequence | odometry | keyframes | odometry: ATE RMSE / max [m] | corrected with the verified loops: "
            "ATE RMSE / max [m] | loops | corrected / odometry RMSE | plain Scan Context: ATE RMSE / max [m] "
-           "(loops, false) | with one false loop added: ATE RMSE / max [m] |", "|---|---|---|---|---|---|---|---|---|"]
+           "(loops, false) | with one false loop added: ATE RMSE / max [m] | oracle loops: ATE RMSE / max [m] "
+           "(revisits) |", "|---|---|---|---|---|---|---|---|---|---|"]
     for r in rows:
         t = r["ate"]
         if not t or not t.get("computed"):
-            out.append("| %s | not computed%s | | | | | | | |" % (r["name"], ": " + t["note"] if t and t.get("note") else ""))
+            out.append("| %s | not computed%s | | | | | | | | |" % (r["name"], ": " + t["note"] if t and t.get("note") else ""))
             continue
         odometry = "the truth" if t.get("odometry_source") == "truth" else "its own (drifting)"
         loops = "%d" % t["loops"]
         if t.get("prior_loops"):
             loops += " (%d into the prior)" % t["prior_loops"]
         share = t["corrected"]["rmse_m"] / t["odometry"]["rmse_m"] if t["odometry"]["rmse_m"] > 0 else None
-        out.append("| %s | %s | %d | %s | **%s** | %s | %s | %s (%d, %d) | %s |" % (
+        out.append("| %s | %s | %d | %s | **%s** | %s | %s | %s (%d, %d) | %s | %s (%s) |" % (
             r["name"], odometry, t["keyframes"], error_pair(t, "odometry"), error_pair(t, "corrected"), loops,
             "n/a" if share is None else "%.0f%%" % (100 * share), error_pair(t, "plain_scan_context"),
-            t.get("plain_loops", 0), t.get("plain_false_loops", 0), error_pair(t, "with_one_false_loop")))
+            t.get("plain_loops", 0), t.get("plain_false_loops", 0), error_pair(t, "with_one_false_loop"),
+            error_pair(t, "oracle"), t.get("oracle_loops", "n/a")))
     return out
 
 
@@ -281,7 +283,10 @@ def main():
             "to the truth) of the odometry's keyframe poses and of the path the reference pose graph corrects with "
             "the verified loops (`trajectory_error.json`; [pose graph](pose_graph.md)), beside plain Scan "
             "Context's loops (each best candidate under the threshold, the yaw prior only) and the verified loops "
-            "with one false loop 40-100 m long added as sure as a verified one.", ""] + trajectory_table(rows) + [
+            "with one false loop 40-100 m long added as sure as a verified one, and the oracle: every revisit "
+            "(an earlier keyframe within the revisit radius, the nearest) at its true relative pose with a verified "
+            "loop's covariance at its floors, what the graph makes of every loop there is to find "
+            "([what limits the corrected trajectory](pose_graph.md#what-limits-the-corrected-trajectory)).", ""] + trajectory_table(rows) + [
             "", "## Cost per keyframe", "",
             "The CPU time (user + system, every thread) of the evaluator process while it goes through the "
             "sequence, divided by its keyframes: reading each scan (from the page cache: the baseline reads a "

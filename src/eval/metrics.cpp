@@ -9,11 +9,22 @@ namespace scan_context_loop {
 namespace eval {
 
 bool isRevisit(const std::vector<Eigen::Vector3d>& positions, std::size_t query, std::size_t eligible, double radius) {
+  return nearestRevisit(positions, query, eligible, radius) >= 0;
+}
+
+long nearestRevisit(const std::vector<Eigen::Vector3d>& positions, std::size_t query, std::size_t eligible,
+                    double radius) {
   const std::size_t end = std::min(eligible, query);
+  long nearest = -1;
+  double best = radius;
   for (std::size_t i = 0; i < end; ++i) {
-    if ((positions[i] - positions[query]).norm() < radius) return true;
+    const double gap = (positions[i] - positions[query]).norm();
+    if (gap < best) {
+      best = gap;
+      nearest = static_cast<long>(i);
+    }
   }
-  return false;
+  return nearest;
 }
 
 double percentile(std::vector<double> values, double fraction) {

@@ -165,7 +165,8 @@ Detection SequenceScorer::step(const Sequence& s, std::size_t k, pcl::PointCloud
 
   QueryOutcome o;
   o.query = s.frames[k];
-  o.revisit = isRevisit(positions_, d.index, d.query.eligible, radius_);
+  o.revisit_index = nearestRevisit(positions_, d.index, d.query.eligible, radius_);
+  o.revisit = o.revisit_index >= 0;
   if (const Candidate* best = d.query.best()) {
     const Keyframe& m = keyframes_[best->index];
     o.match = m.frame();

@@ -5,77 +5,15 @@
 #include <algorithm>
 #include <map>
 
+#include "correction_graph.h"
 #include "scan_context_loop/core/keyframes.h"
 #include "scan_context_loop/core/verification.h"
+#include "scan_context_loop/eval/graph_study.h"
 
 namespace scan_context_loop {
 namespace eval {
 
 namespace {
-
-/// A pose graph of the prior map's keyframes, each held at its stored pose (nodes 0 .. P-1, its database
-/// indices), and the sequence's odometry keyframe poses as a chain (node P + k for sequence keyframe k).
-class CorrectionGraph {
- public:
-  CorrectionGraph(const Sequence& s, const Evaluation& e, const PoseGraphConfig& config)
-      : graph(config), e_(e), prior_count_(e.prior_keyframes.frames.size()) {
-    for (const auto& pose : e.prior_keyframes.odometry) ok_ &= graph.addFixedKeyframe(pose) >= 0;
-    for (const auto& pose : s.odometry) ok_ &= graph.addKeyframe(pose) >= 0;
-  }
-
-  /// Every pose went in (a pose that is not finite, or no rotation, does not).
-  bool ok() const { return ok_; }
-  std::size_t priorCount() const { return prior_count_; }
-  std::size_t nodeOfKeyframe(std::size_t k) const { return prior_count_ + k; }
-  /// The node of a database index, or -1.
-  long nodeOfIndex(std::size_t index) const {
-    if (index < prior_count_) return static_cast<long>(index);
-    const long k = index < e_.keyframe_of.size() ? e_.keyframe_of[index] : -1;
-    return k < 0 ? -1 : static_cast<long>(nodeOfKeyframe(k));
-  }
-  bool inPrior(std::size_t node) const { return node < prior_count_; }
-
-  /// Adds the loops the detector reported (the verified ones when verification is on); counts those
-  /// into the prior in `prior_loops` when given.
-  std::size_t addReportedLoops(const Config& config, std::size_t* prior_loops = nullptr) {
-    std::size_t added = 0;
-    for (const Loop& loop : e_.loops) {
-      if (e_.verification && !loop.verified) continue;
-      const long q = nodeOfIndex(loop.query), m = nodeOfIndex(loop.match);
-      if (q < 0 || m < 0) continue;
-      if (!graph.addLoop(q, m, loop.relative(), loopCovariance(loop, config))) continue;
-      ++added;
-      if (prior_loops != nullptr && (inPrior(q) || inPrior(m))) ++*prior_loops;
-    }
-    return added;
-  }
-
-  /// The sequence's keyframes' corrected poses.
-  std::vector<Eigen::Isometry3d> sequencePoses() const {
-    std::vector<Eigen::Isometry3d> all = graph.poses();
-    return std::vector<Eigen::Isometry3d>(all.begin() + static_cast<long>(prior_count_), all.end());
-  }
-
-  /// The graph's factors among the sequence's keyframes, numbered as sequence keyframes (those that
-  /// touch a prior keyframe are left out): the graph --save-map writes.
-  std::vector<PoseGraphFactor> sequenceFactors() const {
-    std::vector<PoseGraphFactor> factors;
-    for (PoseGraphFactor f : graph.factors()) {
-      if (inPrior(f.a) || inPrior(f.b)) continue;
-      f.a -= prior_count_;
-      f.b -= prior_count_;
-      factors.push_back(f);
-    }
-    return factors;
-  }
-
-  PoseGraph graph;
-
- private:
-  const Evaluation& e_;
-  std::size_t prior_count_;
-  bool ok_ = true;
-};
 
 /// Where each frame number is among `frames` (a sequence's keyframes), -1 for none.
 std::vector<long> indexOfFrame(const std::vector<int>& frames) {
@@ -122,11 +60,14 @@ TrajectoryCorrection correctTrajectory(const Sequence& s, const Evaluation& e, c
     c.note = "a keyframe pose is not finite or its rotation is not one";
     return c;
   }
-  c.loops = corrected.addReportedLoops(config, &c.prior_loops);
+  c.loops = corrected.addReportedLoops(config, LoopPose::kMeasured, LoopCovariance::kReported, 1.0, &c.prior_loops);
   corrected.graph.optimize();
   c.corrected_poses = corrected.sequencePoses();
   c.corrected_factors = corrected.sequenceFactors();
   c.corrected = absoluteTrajectoryError(c.corrected_poses, s.truth);
+  const std::vector<bool> revisited = revisitedKeyframes(s, e);
+  c.corrected_revisited = partError(c.corrected_poses, s.truth, c.corrected.alignment, revisited, true);
+  c.corrected_rest = partError(c.corrected_poses, s.truth, c.corrected.alignment, revisited, false);
   for (std::size_t i = 0; i < corrected.priorCount(); ++i) {
     const double moved = (corrected.graph.pose(i).translation() - e.prior_keyframes.odometry[i].translation()).norm();
     c.prior_moved = std::max(c.prior_moved, moved);
@@ -155,24 +96,21 @@ TrajectoryCorrection correctTrajectory(const Sequence& s, const Evaluation& e, c
   // the first earlier keyframe 40-100 m away from it.
   CorrectionGraph with_false(s, e, graph_config);
   with_false.addReportedLoops(config);
-  const std::size_t q = s.truth.size() * 3 / 4;
-  long m = -1;
-  for (std::size_t k = 0; k < q && m < 0; ++k) {
-    const double gap = (s.truth[k].translation() - s.truth[q].translation()).norm();
-    if (gap >= 40.0 && gap <= 100.0) m = static_cast<long>(k);
-  }
-  if (m >= 0) {
-    Eigen::Matrix<double, 6, 1> floor;
-    floor << config.verification.min_translation_variance, config.verification.min_translation_variance,
-        config.verification.min_translation_variance, config.verification.min_rotation_variance,
-        config.verification.min_rotation_variance, config.verification.min_rotation_variance;
-    if (with_false.graph.addLoop(with_false.nodeOfKeyframe(q), with_false.nodeOfKeyframe(m),
-                                 Eigen::Isometry3d::Identity(), floor.asDiagonal())) {
-      c.false_loop_gap = (s.truth[m].translation() - s.truth[q].translation()).norm();
-    }
-  }
+  c.false_loop_gap = with_false.addFalseLoop(floorCovariance(config));
   with_false.graph.optimize();
   c.with_false_loop = absoluteTrajectoryError(with_false.sequencePoses(), s.truth);
+
+  // What the loops could do: the same pairs at their true relative poses (the loops' own error), and
+  // every revisit at its true relative pose with a verified loop's covariance at its floors (the pairs
+  // the detector missed as well): the oracle.
+  CorrectionGraph reported_true(s, e, graph_config);
+  reported_true.addReportedLoops(config, LoopPose::kTrue);
+  reported_true.graph.optimize();
+  c.reported_true = absoluteTrajectoryError(reported_true.sequencePoses(), s.truth);
+  CorrectionGraph oracle(s, e, graph_config);
+  c.oracle_loops = oracle.addOracleLoops(floorCovariance(config));
+  oracle.graph.optimize();
+  c.oracle = absoluteTrajectoryError(oracle.sequencePoses(), s.truth);
   c.computed = true;
   return c;
 }

@@ -54,7 +54,14 @@ bool writeTrajectoryErrorJson(const std::string& path, const TrajectoryCorrectio
   writeError(out, "plain_scan_context", c.plain);
   out << ",\n  \"plain_loops\": " << c.plain_loops << ",\n  \"plain_false_loops\": " << c.plain_false_loops << ",\n";
   writeError(out, "with_one_false_loop", c.with_false_loop);
-  out << ",\n  \"false_loop_gap_m\": " << c.false_loop_gap << "\n}\n";
+  out << ",\n  \"false_loop_gap_m\": " << c.false_loop_gap << ",\n";
+  out << "  \"corrected_by_part\": {\"revisited\": {\"rmse_m\": " << c.corrected_revisited.rmse
+      << ", \"keyframes\": " << c.corrected_revisited.keyframes << "}, \"rest\": {\"rmse_m\": " << c.corrected_rest.rmse
+      << ", \"keyframes\": " << c.corrected_rest.keyframes << "}},\n";
+  writeError(out, "reported_loops_true_poses", c.reported_true);
+  out << ",\n";
+  writeError(out, "oracle", c.oracle);
+  out << ",\n  \"oracle_loops\": " << c.oracle_loops << "\n}\n";
   return out.good();
 }
 
@@ -73,11 +80,13 @@ std::string trajectoryErrorLine(const TrajectoryCorrection& c) {
   const int digits = c.own_odometry ? 2 : 3;
   std::snprintf(line, sizeof(line),
                 "trajectory error (ATE RMSE / max): odometry%s %.*f / %.*f m; corrected with the %s %.*f / %.*f m; "
-                "plain Scan Context (%zu loops, %zu false) %.*f / %.*f m; with one false loop added %.*f / %.*f m",
+                "plain Scan Context (%zu loops, %zu false) %.*f / %.*f m; with one false loop added %.*f / %.*f m; "
+                "the same loops at their true poses %.*f / %.*f m; oracle (%zu revisits, true poses) %.*f / %.*f m",
                 c.own_odometry ? "" : " (the truth: no odometry of its own)", digits, c.odometry.rmse, digits,
                 c.odometry.max, loops.c_str(), digits, c.corrected.rmse, digits, c.corrected.max, c.plain_loops,
                 c.plain_false_loops, digits, c.plain.rmse, digits, c.plain.max, digits, c.with_false_loop.rmse, digits,
-                c.with_false_loop.max);
+                c.with_false_loop.max, digits, c.reported_true.rmse, digits, c.reported_true.max, c.oracle_loops, digits,
+                c.oracle.rmse, digits, c.oracle.max);
   std::string text = line;
   if (c.in_prior) {
     std::snprintf(line, sizeof(line), "; the prior's stored poses %.2f / %.2f m off its truth, moved %.3f m",

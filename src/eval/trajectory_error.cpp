@@ -45,6 +45,19 @@ TrajectoryError absoluteTrajectoryError(const std::vector<Eigen::Isometry3d>& es
   return errorOf(from, to, alignment);
 }
 
+PartError partError(const std::vector<Eigen::Isometry3d>& estimate, const std::vector<Eigen::Isometry3d>& truth,
+                    const Eigen::Isometry3d& alignment, const std::vector<bool>& flags, bool part) {
+  PartError p;
+  double sum = 0.0;
+  for (std::size_t i = 0; i < estimate.size() && i < truth.size() && i < flags.size(); ++i) {
+    if (flags[i] != part) continue;
+    sum += (alignment * estimate[i].translation() - truth[i].translation()).squaredNorm();
+    ++p.keyframes;
+  }
+  p.rmse = p.keyframes > 0 ? std::sqrt(sum / static_cast<double>(p.keyframes)) : 0.0;
+  return p;
+}
+
 TrajectoryError positionError(const std::vector<Eigen::Isometry3d>& estimate,
                               const std::vector<Eigen::Isometry3d>& truth) {
   if (estimate.size() != truth.size() || estimate.empty()) return TrajectoryError();

@@ -39,7 +39,9 @@ std::vector<std::string> PoseGraphConfig::validate() const { return checkSetting
 Matrix6d odometryCovariance(const Eigen::Isometry3d& step, const PoseGraphConfig& config) {
   const double length = step.translation().norm();
   const double t = config.odometry_translation_floor + config.odometry_translation_per_metre * length;
-  const double r = config.odometry_rotation_floor + config.odometry_rotation_per_metre * length;
+  const double turned = Eigen::AngleAxisd(step.linear()).angle();
+  const double r = config.odometry_rotation_floor + config.odometry_rotation_per_metre * length +
+                   config.odometry_rotation_per_radian * turned;
   Eigen::Matrix<double, 6, 1> diagonal;
   diagonal << t * t, t * t, t * t, r * r, r * r, r * r;
   return diagonal.asDiagonal();

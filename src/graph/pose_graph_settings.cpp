@@ -35,9 +35,15 @@ std::vector<Setting<PoseGraphConfig>> makePoseGraphSettings() {
                                     "growth of the translation standard deviation per metre of the step [m/m]"),
                   doubleSetting<PG>("odometry_rotation_floor", G(odometry_rotation_floor), positive(),
                                     "odometry noise per step: rotation standard deviation floor [rad]",
-                                    "0.0005 rad are 0.03 deg."),
+                                    "0.0005 rad are 0.03 deg; the standard deviation is this plus "
+                                    "odometry_rotation_per_metre times the step length plus "
+                                    "odometry_rotation_per_radian times the step's rotation angle."),
                   doubleSetting<PG>("odometry_rotation_per_metre", G(odometry_rotation_per_metre), atLeast(0),
                                     "growth of the rotation standard deviation per metre of the step [rad/m]"),
+                  doubleSetting<PG>("odometry_rotation_per_radian", G(odometry_rotation_per_radian), atLeast(0),
+                                    "growth of the rotation standard deviation per radian the step turns [rad/rad]",
+                                    "For an odometry whose heading errs in its turns more than with the metres "
+                                    "driven (0: not at all)."),
                   doubleSetting<PG>("loop_robust_scale", G(loop_robust_scale), atLeast(0, " (0: none)"),
                                     "Cauchy loss scale on a loop's whitened residual (0: plain least squares)"),
                   intSetting<PG>("max_iterations", G(max_iterations), atLeast(1), "solver iterations per solve"),

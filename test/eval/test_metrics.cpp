@@ -91,6 +91,10 @@ TEST(GroundTruth, RevisitNeedsAnEligibleKeyframeWithinTheRadius) {
   EXPECT_FALSE(isRevisit(p, 3, 3, 2.0));  // radius too small
   EXPECT_TRUE(isRevisit(p, 4, 4, 5.0));
   EXPECT_FALSE(isRevisit(p, 0, 0, 5.0));
+  // The partner is the nearest eligible keyframe: keyframe 3 (1.5 m), not keyframe 1 (4.5 m).
+  EXPECT_EQ(nearestRevisit(p, 4, 4, 5.0), 3);
+  EXPECT_EQ(nearestRevisit(p, 4, 3, 5.0), 1);
+  EXPECT_EQ(nearestRevisit(p, 3, 1, 5.0), -1);
   EXPECT_DOUBLE_EQ(percentile({5, 1, 3, 2, 4}, 0.5), 3.0);
   EXPECT_DOUBLE_EQ(percentile({5, 1, 3, 2, 4}, 1.0), 5.0);
 }

@@ -6,6 +6,7 @@
 #include "scan_context_loop/eval/config_file.h"
 #include "scan_context_loop/eval/prior_map.h"
 #include "scan_context_loop/eval/evaluation.h"
+#include "scan_context_loop/eval/graph_study.h"
 #include "scan_context_loop/eval/trajectory_correction.h"
 #include "cli.h"
 #include "evaluate_team.h"
@@ -19,7 +20,7 @@ int main(int argc, char** argv) {
   eval::SequenceOptions options;
   double radius = 5.0;
   std::vector<std::string> overrides;
-  std::string config_file, prior_path, prior_truth, save_database, save_map;
+  std::string config_file, prior_path, prior_truth, save_database, save_map, graph_study;
   bool save_clouds = false, team = false;
   scl::cli::Parser cli(
       "scan_context_evaluate",
@@ -79,7 +80,14 @@ int main(int argc, char** argv) {
               "keyframe scans at the corrected poses, voxel-filtered), corrected_tum.txt, odometry_tum.txt, "
               "corrected_kitti.txt, times.txt, pose_graph.g2o (doc/pose_graph.md); without odom_poses.txt "
               "(or with --truth-odometry) the truth is the odometry the loops correct, as in the correction",
-              &save_map);
+              &save_map)
+      .option("--graph-study", "FILE",
+              "also solve the pose graph of the trajectory correction once per line of FILE (a name, then KEY=VALUE "
+              "words: loops=reported|reported_true|oracle|none, covariance=reported|floor, covariance_scale=X, "
+              "false_loop=0|1 and the pose graph's keys) and write OUT_DIR/graph_study.csv: each one's trajectory "
+              "error after a rigid and a similarity alignment and without one, on the revisited keyframes and on "
+              "the rest (doc/pose_graph.md#what-limits-the-corrected-trajectory)",
+              &graph_study);
   if (const int status = cli.parse(argc, argv); status >= 0) return status;
   if (save_clouds && save_database.empty()) return cli.fail("--save-clouds goes with --save-database FILE");
   if (team && (!prior_path.empty() || !prior_truth.empty() || !save_database.empty() || !save_map.empty())) {
@@ -102,6 +110,13 @@ int main(int argc, char** argv) {
     for (const auto& p : problems)
       std::fprintf(stderr, "scan_context_evaluate: invalid configuration: %s\n", p.c_str());
     if (!(radius > 0.0)) std::fprintf(stderr, "scan_context_evaluate: --revisit-radius must be positive\n");
+    return 2;
+  }
+
+  std::vector<eval::GraphVariant> graph_variants;
+  if (!graph_study.empty() && (team || !eval::readGraphVariants(graph_study, &graph_variants, &error))) {
+    std::fprintf(stderr, "scan_context_evaluate: --graph-study: %s\n",
+                 team ? "goes without --team" : error.c_str());
     return 2;
   }
 
@@ -145,6 +160,12 @@ int main(int argc, char** argv) {
   if (!eval::writeTrajectoryErrorJson(out_dir + "/trajectory_error.json", correction, &error) ||
       (correction.computed &&
        !eval::writeCorrectedTrajectoryCsv(out_dir + "/trajectory_corrected.csv", sequence, correction, &error))) {
+    std::fprintf(stderr, "scan_context_evaluate: %s\n", error.c_str());
+    return 1;
+  }
+  if (!graph_study.empty() &&
+      !eval::writeGraphStudyCsv(out_dir + "/graph_study.csv",
+                                eval::runGraphStudy(sequence, result, config, graph_variants), &error)) {
     std::fprintf(stderr, "scan_context_evaluate: %s\n", error.c_str());
     return 1;
   }

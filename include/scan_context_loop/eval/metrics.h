@@ -16,6 +16,7 @@ struct QueryOutcome {
   double distance = 1.0;        ///< the best candidate's descriptor distance (even above the threshold)
   double yaw = 0.0;             ///< estimated yaw prior [rad]
   bool revisit = false;         ///< an eligible earlier keyframe lies within the revisit radius
+  long revisit_index = -1;      ///< database index of the nearest such keyframe (nearestRevisit), -1: none
   bool correct = false;         ///< the best candidate lies within the revisit radius
   double match_gap = -1.0;      ///< true distance between query and match [m], -1 without a match
   double true_yaw = 0.0;        ///< yaw of the match in the query frame from the true poses [rad]
@@ -57,6 +58,10 @@ VerifiedMetrics computeVerifiedMetrics(const std::vector<QueryOutcome>& outcomes
 /// `eligible` keyframes (a prefix, as the database reports for this query) are the ones outside the
 /// exclusion windows. A query is a true revisit when one of them lies within `radius` of it.
 bool isRevisit(const std::vector<Eigen::Vector3d>& positions, std::size_t query, std::size_t eligible, double radius);
+/// The revisit's true partner: the eligible keyframe nearest the query within `radius`, -1 when the
+/// query is no revisit (isRevisit is this >= 0). The oracle's loops (trajectory_correction.h) join the two.
+long nearestRevisit(const std::vector<Eigen::Vector3d>& positions, std::size_t query, std::size_t eligible,
+                    double radius);
 
 struct PrPoint {
   double threshold, precision, recall;

@@ -48,18 +48,29 @@ struct TrajectoryCorrection {
   /// place, with a verified loop's covariance at its floors): what the robust loss holds off.
   TrajectoryError with_false_loop;
   double false_loop_gap = -1.0;  ///< the false loop's true length [m]; -1 when no pair was that far apart
+  /// Where the corrected error lies, with its alignment: on the revisited keyframes (revisits and their
+  /// nearest earlier keyframes, graph_study.h) and on the rest, which only the odometry holds.
+  PartError corrected_revisited, corrected_rest;
+  /// The reported loops' pairs and covariances at their true relative poses: what the loops' own
+  /// registration error costs (corrected minus this).
+  TrajectoryError reported_true;
+  /// The oracle: every revisit (as the scoring defines it: an eligible keyframe within the revisit
+  /// radius, the nearest) at its true relative pose, with a verified loop's covariance at its floors:
+  /// what the graph makes of every loop there is to find, exact. Against reported_true: the pairs missed.
+  TrajectoryError oracle;
+  std::size_t oracle_loops = 0;
   std::vector<Eigen::Isometry3d> corrected_poses;  ///< per sequence keyframe, from the reported loops
   std::vector<PoseGraphFactor> corrected_factors;  ///< that graph's factors (odometry and loops)
 };
 
-/// Builds and solves the three graphs: the sequence's odometry chain (the truth when it has no odometry
+/// Builds and solves the graphs: the sequence's odometry chain (the truth when it has no odometry
 /// of its own) and, in a prior map, the prior's keyframes fixed at their stored poses, with the loops
-/// (the plain ones and the false one likewise). computed = false, the reason in `note`, with fewer than 3
+/// (the plain ones, the false one, the true-pose and the oracle ones likewise). computed = false, the reason in `note`, with fewer than 3
 /// keyframes or in a build without the backend.
 TrajectoryCorrection correctTrajectory(const Sequence& sequence, const Evaluation& evaluation, const Config& config,
                                        const PoseGraphConfig& graph_config = PoseGraphConfig());
 
-/// trajectory_error.json: the four trajectory errors (RMSE, mean, max) and the loop counts, what the
+/// trajectory_error.json: the trajectory errors (RMSE, mean, max) and the loop counts, what the
 /// odometry was, the prior map's part and the note; or computed false and the note.
 bool writeTrajectoryErrorJson(const std::string& path, const TrajectoryCorrection& correction, std::string* error);
 /// The summary line scan_context_evaluate prints: the odometry's and the corrected ATE (RMSE / max) and

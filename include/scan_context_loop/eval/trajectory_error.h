@@ -17,6 +17,17 @@ struct TrajectoryError {
   Eigen::Isometry3d alignment = Eigen::Isometry3d::Identity();  ///< truth frame <- estimate frame
 };
 
+/// The RMSE over some of the keyframes, with an alignment found on all of them.
+struct PartError {
+  double rmse = 0.0;
+  std::size_t keyframes = 0;
+};
+
+/// The error of `estimate` after `alignment` (a TrajectoryError's, found on every pose) over the poses
+/// whose flag equals `part`: where the error lies, e.g. on the revisited part of a drive or the rest.
+PartError partError(const std::vector<Eigen::Isometry3d>& estimate, const std::vector<Eigen::Isometry3d>& truth,
+                    const Eigen::Isometry3d& alignment, const std::vector<bool>& flags, bool part);
+
 /// The error of `estimate` against `truth`, pose by pose (same length, at least 3; positions only).
 /// Returns poses = 0 when the lengths differ or there are too few.
 TrajectoryError absoluteTrajectoryError(const std::vector<Eigen::Isometry3d>& estimate,

@@ -38,13 +38,19 @@ using Matrix6d = Eigen::Matrix<double, 6, 6>;
 
 struct PoseGraphConfig {
   /// Odometry noise per step: standard deviation = floor + per_metre x step length (the step's
-  /// translation). Translation in metres, rotation in radians. The defaults (1 cm + 1% of the step;
-  /// 0.0005 rad + 0.0002 rad per metre, i.e. 0.03 deg + 0.011 deg/m) describe a LiDAR odometry that
-  /// drifts about 1% of distance, mostly in translation (doc/defaults.md says how they were chosen).
+  /// translation) + per_radian x the step's rotation angle (rotation only). Translation in metres,
+  /// rotation in radians. The defaults (1 cm + 1% of the step; 0.0005 rad + 0.0002 rad per metre, i.e.
+  /// 0.03 deg + 0.011 deg/m; nothing per radian) describe a LiDAR odometry that drifts about 1% of
+  /// distance, mostly in translation (doc/defaults.md says how they were chosen; doc/pose_graph.md#what-limits-the-corrected-trajectory
+  /// why no other weights did better over many drifts).
   double odometry_translation_floor = 0.01;
   double odometry_translation_per_metre = 0.01;
   double odometry_rotation_floor = 0.0005;
   double odometry_rotation_per_metre = 0.0002;
+  /// Growth of the rotation's standard deviation per radian the step turns [rad/rad]: for an odometry
+  /// whose heading error comes from its turns (a gyro's or a scan matcher's scale error on the angle)
+  /// more than from the metres driven. 0 by default.
+  double odometry_rotation_per_radian = 0.0;
   /// Robust loss on loop factors: Cauchy with this scale on the whitened residual's norm [-] (0: none,
   /// plain least squares). A loop whose residual is many standard deviations off loses its pull.
   double loop_robust_scale = 1.0;
