@@ -255,6 +255,25 @@ scl_build() {
   rm -f "$marker"
 }
 
+# The demos' processes (scripts/demo, scripts/demo_bag): each started in the background goes into SCL_PIDS,
+# and all are stopped when the script exits (scl_private_master sets that up).
+SCL_PIDS=()
+scl_kill_pids() {
+  local pid
+  for pid in "${SCL_PIDS[@]}"; do kill "$pid" 2>/dev/null || true; done
+  wait 2>/dev/null || true
+}
+
+# scl_private_master LOG: a ROS master of the script's own on a random port (ROS_MASTER_URI exported, so
+# nothing else running is disturbed), its output in LOG; returns once it answers.
+scl_private_master() {
+  export ROS_MASTER_URI="http://localhost:$((11400 + RANDOM % 500))"
+  trap scl_kill_pids EXIT
+  roscore -p "${ROS_MASTER_URI##*:}" >"$1" 2>&1 &
+  SCL_PIDS+=($!)
+  for _ in $(seq 50); do rosnode list >/dev/null 2>&1 && break; sleep 0.2; done
+}
+
 # Sources the workspace so rosrun/roslaunch/rostest find the package.
 scl_source_ws() {
   set +u
