@@ -12,12 +12,14 @@
 #include "scan_context_sim/platform_tilt.h"
 #include "scan_context_sim/sensor.h"
 #include "scan_context_sim/trajectory.h"
+#include "../../test/common/planar.h"
 
 namespace scan_context_loop {
 namespace sim {
 namespace {
 
-constexpr double kDeg = M_PI / 180.0;
+using test::kDeg;
+using test::headingGap;
 
 double quantile(std::vector<double> v, double q) {
   std::sort(v.begin(), v.end());
@@ -152,8 +154,6 @@ TEST(Tilt, TheScanIsCastFromTheTiltedSensor) {
   const Eigen::Vector3d level = groundNormal(scan(world, hdl, sensorPose(world, path[100], hdl.mount_height), 0.0, 1));
   EXPECT_LT(std::acos(std::min(1.0, level.z())) / kDeg, 0.3);
 }
-
-double headingGap(double a, double b) { return std::fabs(std::remainder(a - b, 2.0 * M_PI)); }
 
 /// Turns of the drive [deg, signed]: the largest heading change between 25 m before and 25 m after a
 /// point, for each stretch where it exceeds 30 degrees (gently curved streets stay below that).

@@ -8,10 +8,13 @@
 #include "scan_context_sim/sensor.h"
 #include "scan_context_sim/trajectory.h"
 #include "scan_context_sim/world.h"
+#include "../../test/common/planar.h"
 
 namespace scan_context_loop {
 namespace sim {
 namespace {
+
+using test::yawOf;
 
 /// The procedural drive (2.1 km) at 10 m/s, and the world built along it with dynamic parked cars.
 struct FirstDrive {
@@ -35,8 +38,6 @@ bool sameShape(const Primitive& a, const Primitive& b) {
 bool present(const Primitive& p, double t) { return t >= p.present_from && t < p.present_to; }
 
 bool always(const Primitive& p) { return p.present_from < -1e299 && p.present_to > 1e299; }
-
-double yawOf(const Eigen::Isometry3d& t) { return std::atan2(t(1, 0), t(0, 0)); }
 
 /// The procedural drive (corners rounded, 8 m radius) at 10 m/s.
 std::vector<double> timesAt10(const std::vector<PathPoint>& path) {

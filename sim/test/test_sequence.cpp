@@ -12,7 +12,7 @@ namespace scan_context_loop {
 namespace sim {
 namespace {
 
-std::string temp(const std::string& name) { return testing::TempDir() + "/scl_sim_" + name; }
+std::string sequenceTemp(const std::string& name) { return testing::TempDir() + "/scl_sim_" + name; }
 
 std::string bytesOf(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
@@ -47,7 +47,7 @@ SmallDrive smallDrive(std::uint32_t seed) {
 
 TEST(Sequence, WrittenFilesReadBackWithKittiIo) {
   const SmallDrive d = smallDrive(1);
-  const std::string dir = temp("written");
+  const std::string dir = sequenceTemp("written");
   std::string error;
   const double mean_points = writeSequence(dir, d.world, d.sensor, d.data, 0.0, 1, 2, &error);
   ASSERT_GT(mean_points, 1000.0) << error;
@@ -87,20 +87,20 @@ TEST(Sequence, WrittenFilesReadBackWithKittiIo) {
 TEST(Sequence, SameSeedSameFilesWhateverTheThreadsOtherSeedOtherWorld) {
   std::string error;
   const SmallDrive a = smallDrive(5);
-  ASSERT_GT(writeSequence(temp("seed5_1"), a.world, a.sensor, a.data, 0.0, 5, 1, &error), 0.0) << error;
+  ASSERT_GT(writeSequence(sequenceTemp("seed5_1"), a.world, a.sensor, a.data, 0.0, 5, 1, &error), 0.0) << error;
   const SmallDrive again = smallDrive(5);
-  ASSERT_GT(writeSequence(temp("seed5_3"), again.world, again.sensor, again.data, 0.0, 5, 3, &error), 0.0) << error;
+  ASSERT_GT(writeSequence(sequenceTemp("seed5_3"), again.world, again.sensor, again.data, 0.0, 5, 3, &error), 0.0) << error;
   const SmallDrive b = smallDrive(6);
-  ASSERT_GT(writeSequence(temp("seed6"), b.world, b.sensor, b.data, 0.0, 6, 2, &error), 0.0) << error;
+  ASSERT_GT(writeSequence(sequenceTemp("seed6"), b.world, b.sensor, b.data, 0.0, 6, 2, &error), 0.0) << error;
   int same_as_other_seed = 0;
   for (std::size_t k = 0; k < a.data.truth.size(); ++k) {
     const std::string scan = "/velodyne/" + std::string(6 - std::to_string(k).size(), '0') + std::to_string(k) + ".bin";
-    ASSERT_EQ(bytesOf(temp("seed5_1") + scan), bytesOf(temp("seed5_3") + scan)) << k;
-    same_as_other_seed += bytesOf(temp("seed5_1") + scan) == bytesOf(temp("seed6") + scan);
+    ASSERT_EQ(bytesOf(sequenceTemp("seed5_1") + scan), bytesOf(sequenceTemp("seed5_3") + scan)) << k;
+    same_as_other_seed += bytesOf(sequenceTemp("seed5_1") + scan) == bytesOf(sequenceTemp("seed6") + scan);
   }
   EXPECT_EQ(same_as_other_seed, 0);
-  EXPECT_EQ(bytesOf(temp("seed5_1") + "/odom_poses.txt"), bytesOf(temp("seed5_3") + "/odom_poses.txt"));
-  EXPECT_NE(bytesOf(temp("seed5_1") + "/odom_poses.txt"), bytesOf(temp("seed6") + "/odom_poses.txt"));
+  EXPECT_EQ(bytesOf(sequenceTemp("seed5_1") + "/odom_poses.txt"), bytesOf(sequenceTemp("seed5_3") + "/odom_poses.txt"));
+  EXPECT_NE(bytesOf(sequenceTemp("seed5_1") + "/odom_poses.txt"), bytesOf(sequenceTemp("seed6") + "/odom_poses.txt"));
 }
 
 }  // namespace

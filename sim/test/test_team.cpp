@@ -15,7 +15,7 @@ namespace scan_context_loop {
 namespace sim {
 namespace {
 
-std::string temp(const std::string& name) { return testing::TempDir() + "/scl_sim_team_" + name; }
+std::string teamTemp(const std::string& name) { return testing::TempDir() + "/scl_sim_team_" + name; }
 
 /// Two straight drives along x: `a` over [0, 100] heading east, `b` over [50, 150] at `lateral` (y),
 /// heading east or (reverse) west.
@@ -160,7 +160,7 @@ TEST(Team, TeamFileRoundTripsAndRejectsBadLines) {
   team[1].start_seconds = 60.25;
   team[1].world_from_start =
       Eigen::Translation3d(211.75, -5.25, 1.9) * Eigen::AngleAxisd(2.1, Eigen::Vector3d(0.01, -0.02, 1.0).normalized());
-  const std::string path = temp("team.txt");
+  const std::string path = teamTemp("team.txt");
   std::string error;
   ASSERT_TRUE(writeTeamFile(path, team, &error)) << error;
   std::vector<TeamMember> read;
@@ -194,7 +194,7 @@ TEST(Team, EachRobotsSequenceComposesWithItsStartToTheWorldTruth) {
   sensor.columns = 60;  // a coarse scan: this checks frames and clocks, not the clouds
   std::vector<TeamMember> members;
   std::vector<Eigen::Isometry3d> drift_at_end;
-  const std::string out = temp("sequence");
+  const std::string out = teamTemp("sequence");
   std::string error;
   for (std::size_t r = 0; r < drives.size(); ++r) {
     DriftOptions drift;

@@ -5,12 +5,14 @@
 
 #include "scan_context_loop/eval/kitti_io.h"
 #include "scan_context_sim/trajectory.h"
+#include "../../test/common/planar.h"
 
 namespace scan_context_loop {
 namespace sim {
 namespace {
 
-double headingGap(double a, double b) { return std::fabs(std::remainder(a - b, 2.0 * M_PI)); }
+using test::headingGap;
+using test::yawOf;
 
 double pathLength(const std::vector<PathPoint>& path, std::size_t from, std::size_t to) {
   double length = 0.0;
@@ -118,8 +120,6 @@ std::vector<Eigen::Isometry3d> drive(double length, double step, double turn_deg
   }
   return poses;
 }
-
-double yawOf(const Eigen::Isometry3d& pose) { return std::atan2(pose.linear()(1, 0), pose.linear()(0, 0)); }
 
 /// Mean over seeds of the final translation and heading errors [m, deg].
 std::pair<double, double> meanDrift(const std::vector<Eigen::Isometry3d>& truth, DriftOptions drift) {

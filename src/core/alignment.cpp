@@ -5,6 +5,9 @@
 #include <limits>
 
 #include <Eigen/Core>
+
+#include "fast_math.h"
+
 #if defined(__SSE2__)
 #include <emmintrin.h>
 #endif
@@ -12,8 +15,6 @@
 namespace scan_context_loop {
 
 namespace {
-
-constexpr double kTwoPi = 6.28318530717958647692;
 
 inline int wrapIndex(int i, int n) {
   i %= n;

@@ -17,7 +17,6 @@ namespace scan_context_loop {
 
 namespace {
 
-constexpr float kTwoPi = 6.28318530717958647692f;
 
 /// A value for an error message, in %g form.
 std::string number(double v) {
@@ -127,7 +126,7 @@ std::vector<HeightGrid> makeHeightGrids(const PointView& points, const Config& c
                         static_cast<float>(config.min_range * config.min_range),
                         max_r * max_r,
                         static_cast<float>(rings) / max_r,
-                        static_cast<float>(sectors) / kTwoPi,
+                        static_cast<float>(sectors) / kTwoPiF,
                         static_cast<float>(config.lidar_height),
                         rotation.isIdentity() ? nullptr : turn.data(),
                         viewpoints.data(),

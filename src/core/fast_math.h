@@ -5,12 +5,14 @@
 
 namespace scan_context_loop {
 
+constexpr double kTwoPi = 6.28318530717958647692;
+constexpr float kTwoPiF = static_cast<float>(kTwoPi);
+constexpr float kPiF = static_cast<float>(kTwoPi / 2.0);
+
 /// atan2(y, x) mapped to [0, 2 pi), max error about 1e-5 rad (a minimax polynomial for atan on [0, 1]),
 /// far below a sector (0.1 rad at 60 sectors). Written with selects, not branches: the quadrant of
 /// consecutive points is unpredictable, and the binning loop vectorises only without branches.
 inline float azimuth(float x, float y) {
-  constexpr float kTwoPi = 6.28318530717958647692f;
-  constexpr float kPi = 3.14159265358979323846f;
   constexpr float kHalfPi = 1.57079632679489661923f;
   const float ax = std::fabs(x);
   const float ay = std::fabs(y);
@@ -23,8 +25,8 @@ inline float azimuth(float x, float y) {
       t * (0.99997726f +
            t2 * (-0.33262347f + t2 * (0.19354346f + t2 * (-0.11643287f + t2 * (0.05265332f + t2 * -0.01172120f)))));
   a = steep ? kHalfPi - a : a;
-  a = x < 0.0f ? kPi - a : a;
-  a = y < 0.0f ? kTwoPi - a : a;
+  a = x < 0.0f ? kPiF - a : a;
+  a = y < 0.0f ? kTwoPiF - a : a;
   return a;
 }
 

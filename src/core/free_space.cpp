@@ -11,8 +11,6 @@ namespace scan_context_loop {
 
 namespace {
 
-constexpr float kTwoPi = 6.28318530717958647692f;
-constexpr float kPi = 3.14159265358979323846f;
 
 /// Horizontal range: voxel means are metres, so the plain root neither overflows nor underflows (the
 /// library's hypotf, which guards against both, took 0.6% of the evaluator's samples).
@@ -21,7 +19,7 @@ inline float horizontal(const Eigen::Vector3f& p) { return std::sqrt(p.x() * p.x
 /// atan2(y, x) in [-pi, pi) from the branch-free approximation (within 1e-5 rad; a bin is 8.7e-3 rad).
 inline float direction(float y, float x) {
   const float a = azimuth(x, y);
-  return a >= kPi ? a - kTwoPi : a;
+  return a >= kPiF ? a - kTwoPiF : a;
 }
 
 /// FreeSpace::counts with the horizontal range known.
@@ -37,7 +35,7 @@ constexpr float kCheckedRange = 25.0f;
 
 int binOf(float azimuth, const FreeSpace& f) {
   const int n = static_cast<int>(f.nearest.size());
-  int b = static_cast<int>(std::floor((azimuth + kTwoPi * 0.5f) / f.bin));
+  int b = static_cast<int>(std::floor((azimuth + kTwoPiF * 0.5f) / f.bin));
   b %= n;
   return b < 0 ? b + n : b;
 }
@@ -65,7 +63,7 @@ bool FreeSpace::counts(const Eigen::Vector3f& p) const { return inBand(*this, p,
 FreeSpace freeSpace(const VoxelCloud& cloud, int bins) {
   FreeSpace f;
   f.max_range = cloud.max_range;
-  f.bin = kTwoPi / bins;
+  f.bin = kTwoPiF / bins;
   f.nearest.assign(bins, cloud.max_range);
   // tan(1 deg) = 0.0175: a degree above its lowest returns, so that the band is one the sensor sees.
   f.min_slope = std::max(f.min_slope, lowestSlope(cloud) + 0.0175f);
@@ -77,8 +75,8 @@ FreeSpace freeSpace(const VoxelCloud& cloud, int bins) {
     // A voxel blocks the directions its metre of structure spans at that range.
     const float half = direction(0.6f * cloud.resolution, r);
     const float a = direction(p.y(), p.x());
-    const int first = static_cast<int>(std::floor((a - half + kTwoPi * 0.5f) / f.bin));
-    const int last = static_cast<int>(std::floor((a + half + kTwoPi * 0.5f) / f.bin));
+    const int first = static_cast<int>(std::floor((a - half + kTwoPiF * 0.5f) / f.bin));
+    const int last = static_cast<int>(std::floor((a + half + kTwoPiF * 0.5f) / f.bin));
     for (int b = first; b <= last; ++b) {
       const int k = ((b % bins) + bins) % bins;
       f.nearest[k] = std::min(f.nearest[k], r);

@@ -10,7 +10,7 @@ namespace eval {
 
 namespace {
 
-void writeError(std::ostream& out, const char* name, const TrajectoryError& e) {
+void writeErrorWithPoses(std::ostream& out, const char* name, const TrajectoryError& e) {
   out << "\"" << name << "\": {\"poses\": " << e.poses << ", \"rmse_m\": " << e.rmse << ", \"mean_m\": " << e.mean
       << ", \"max_m\": " << e.max << "}";
 }
@@ -73,9 +73,9 @@ bool writeTeamJson(const std::string& path, const TeamSequence& team, const Team
       << "  \"map\": {\"computed\": " << (map.computed ? "true" : "false") << ", \"note\": \"" << map.note << "\"";
   if (map.computed) {
     out << ", \"loops_refused\": " << map.loops_rejected << ", ";
-    writeError(out, "corrected", map.corrected);
+    writeErrorWithPoses(out, "corrected", map.corrected);
     out << ", ";
-    writeError(out, "odometry", map.odometry);
+    writeErrorWithPoses(out, "odometry", map.odometry);
   }
   out << "},\n  \"robots\": [";
   for (std::size_t r = 0; r < team.robots.size(); ++r) {
@@ -92,9 +92,9 @@ bool writeTeamJson(const std::string& path, const TeamSequence& team, const Team
       out << ", \"joined\": " << (m.joined ? "true" : "false") << ", \"frame_error_m\": " << m.frame_translation_error
           << ", \"frame_error_deg\": " << m.frame_rotation_error << ", \"own_loops\": " << m.own_loops
           << ", \"team_loops\": " << m.team_loops << ", ";
-      writeError(out, "corrected", m.corrected);
+      writeErrorWithPoses(out, "corrected", m.corrected);
       out << ", ";
-      writeError(out, "odometry", m.odometry);
+      writeErrorWithPoses(out, "odometry", m.odometry);
     }
     out << "}";
   }

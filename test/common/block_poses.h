@@ -6,11 +6,19 @@
 
 #include <Eigen/Geometry>
 
+#include "planar.h"
+
 namespace scan_context_loop {
 namespace test {
 
-inline Eigen::Isometry3d planar(double x, double y, double yaw) {
-  return Eigen::Translation3d(x, y, 0.0) * Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ());
+/// Keyframes a lap of the block: a keyframe every 2 m.
+constexpr std::size_t kPerLap = 180;
+
+/// The covariance of a verified loop (10 cm, 0.5 deg standard deviations).
+inline Eigen::Matrix<double, 6, 6> verifiedCovariance() {
+  Eigen::Matrix<double, 6, 1> d;
+  d << 0.01, 0.01, 0.01, 7.6e-5, 7.6e-5, 7.6e-5;
+  return d.asDiagonal();
 }
 
 /// Keyframe k of a 120 m x 60 m block's perimeter, counter-clockwise, `in` metres inside the outer lane,

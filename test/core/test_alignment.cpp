@@ -6,14 +6,15 @@
 #include "scan_context_loop/core/pcl_adapters.h"
 #include "scan_context_loop/core/alignment.h"
 #include "test_scenes.h"
+#include "../common/planar.h"
 
 namespace scan_context_loop {
 namespace {
 
+using test::kDeg;
+
 using test::rotateTranslate;
 using test::streetScene;
-
-constexpr double kDeg = M_PI / 180.0;
 
 double angleError(double a, double b) { return std::fabs(wrapAngle(a - b)); }
 

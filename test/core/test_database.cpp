@@ -23,7 +23,7 @@ std::vector<float> randomKey(std::mt19937* rng, int dims) {
   return key;
 }
 
-KeyframeInfo at(double stamp, double x = 0.0) {
+KeyframeInfo stampedAtX(double stamp, double x = 0.0) {
   KeyframeInfo info;
   info.stamp = stamp;
   info.pose = Eigen::Isometry3d(Eigen::Translation3d(x, 0.0, 0.0));
@@ -51,7 +51,7 @@ TEST(Database, ExcludesTheMostRecentFramesAndSeesEachOneTheMomentItLeaves) {
   Database db(config);
   const Descriptor d = test::descriptorWithKey(std::vector<float>(20, 0.5f), config);
   for (int n = 0; n < 12; ++n) {
-    const QueryResult r = db.query(d, at(n));
+    const QueryResult r = db.query(d, stampedAtX(n));
     // Query n (before being added) may see keyframes 0 .. n - 4, every one of them.
     const std::size_t expected = n > 3 ? n - 3 : 0;
     EXPECT_EQ(r.eligible, expected) << "query " << n;
@@ -59,7 +59,7 @@ TEST(Database, ExcludesTheMostRecentFramesAndSeesEachOneTheMomentItLeaves) {
     if (expected > 0) {
       EXPECT_EQ(*candidateSet(r).rbegin(), expected - 1);
     }
-    ASSERT_TRUE(db.add(at(n), d));
+    ASSERT_TRUE(db.add(stampedAtX(n), d));
   }
 }
 
@@ -67,13 +67,13 @@ TEST(Database, ExcludesByTimeGap) {
   const Config config = windows(0, 2.5, 0.0);
   Database db(config);
   const Descriptor d = test::descriptorWithKey(std::vector<float>(20, 0.5f), config);
-  for (int n = 0; n < 10; ++n) ASSERT_TRUE(db.add(at(0.5 * n), d));  // stamps 0 .. 4.5 s
+  for (int n = 0; n < 10; ++n) ASSERT_TRUE(db.add(stampedAtX(0.5 * n), d));  // stamps 0 .. 4.5 s
   // A query at 5.0 s may see stamps <= 2.5 s: keyframes 0..5.
-  const QueryResult r = db.query(d, at(5.0));
+  const QueryResult r = db.query(d, stampedAtX(5.0));
   EXPECT_EQ(r.eligible, 6u);
   EXPECT_EQ(candidateSet(r), (std::set<std::size_t>{0, 1, 2, 3, 4, 5}));
   // An earlier query-only call must not see more, although the tree already holds more.
-  EXPECT_EQ(candidateSet(db.query(d, at(4.0))), (std::set<std::size_t>{0, 1, 2, 3}));
+  EXPECT_EQ(candidateSet(db.query(d, stampedAtX(4.0))), (std::set<std::size_t>{0, 1, 2, 3}));
 }
 
 TEST(Database, ExcludesByTravelledDistance) {
@@ -82,11 +82,11 @@ TEST(Database, ExcludesByTravelledDistance) {
   const Descriptor d = test::descriptorWithKey(std::vector<float>(20, 0.5f), config);
   // Drive 3 m per keyframe, then turn back: path length keeps growing while the position returns.
   const double xs[] = {0, 3, 6, 9, 12, 9, 6, 3};
-  for (int n = 0; n < 8; ++n) ASSERT_TRUE(db.add(at(n, xs[n]), d));
+  for (int n = 0; n < 8; ++n) ASSERT_TRUE(db.add(stampedAtX(n, xs[n]), d));
   EXPECT_NEAR(db.keyframe(7).path_length, 21.0, 1e-9);
   // Query back at x = 0 with path 24: keyframes with path <= 14 (0..4, at 0..12 m) are eligible,
   // although keyframe 7 is only 3 m away in space.
-  const QueryResult r = db.query(d, at(8, 0.0));
+  const QueryResult r = db.query(d, stampedAtX(8, 0.0));
   EXPECT_EQ(candidateSet(r), (std::set<std::size_t>{0, 1, 2, 3, 4}));
   // A keyframe without a pose does not advance the path.
   KeyframeInfo no_pose;
@@ -116,7 +116,7 @@ TEST(Database, KdTreeReturnsTheBruteForceNearestRingKeys) {
       std::sort(brute.begin(), brute.end());
       std::set<std::size_t> expected;
       for (std::size_t i = 0; i < std::min<std::size_t>(10, brute.size()); ++i) expected.insert(brute[i].second);
-      const QueryResult r = db.query(test::descriptorWithKey(query_key, config), at(n));
+      const QueryResult r = db.query(test::descriptorWithKey(query_key, config), stampedAtX(n));
       EXPECT_EQ(candidateSet(r), expected) << "database size " << n;
       for (const auto& c : r.candidates) {
         const auto it = std::find_if(brute.begin(), brute.end(), [&](const auto& b) { return b.second == c.index; });
@@ -124,7 +124,7 @@ TEST(Database, KdTreeReturnsTheBruteForceNearestRingKeys) {
       }
     }
     keys.push_back(randomKey(&rng, config.num_rings));
-    ASSERT_TRUE(db.add(at(n), test::descriptorWithKey(keys.back(), config)));
+    ASSERT_TRUE(db.add(stampedAtX(n), test::descriptorWithKey(keys.back(), config)));
   }
   EXPECT_EQ(db.size(), 3000u);
 }
@@ -158,7 +158,7 @@ TEST(Database, ApproximateSearchAboveTheLimitFindsWhatTheExactOneFinds) {
   const auto keys = revisitedKeys(300, 40, exact_config.num_rings, &rng);
   for (std::size_t i = 0; i < keys.size(); ++i) {
     for (Database* db : {&exact, &approximate, &again}) {
-      ASSERT_TRUE(db->add(at(static_cast<double>(i)), test::descriptorWithKey(keys[i], exact_config)));
+      ASSERT_TRUE(db->add(stampedAtX(static_cast<double>(i)), test::descriptorWithKey(keys[i], exact_config)));
     }
   }
   std::normal_distribution<float> noise(0.0f, 0.02f);
@@ -167,7 +167,7 @@ TEST(Database, ApproximateSearchAboveTheLimitFindsWhatTheExactOneFinds) {
     // A new visit of place q: its key as the database holds it plus fresh noise.
     std::vector<float> key = keys[static_cast<std::size_t>(q)];
     for (float& value : key) value += noise(rng);
-    const KeyframeInfo info = at(static_cast<double>(keys.size() + q));
+    const KeyframeInfo info = stampedAtX(static_cast<double>(keys.size() + q));
     const QueryResult e = exact.query(test::descriptorWithKey(key, exact_config), info);
     const QueryResult a = approximate.query(test::descriptorWithKey(key, exact_config), info);
     const QueryResult b = again.query(test::descriptorWithKey(key, exact_config), info);
@@ -203,9 +203,9 @@ TEST(Database, OdometryGateDropsFarCandidates) {
   for (double gate : {0.0, 50.0}) {
     config.gate_odometry_distance = gate;
     Database db(config);
-    ASSERT_TRUE(db.add(at(0, 0.0), d));    // 0 m
-    ASSERT_TRUE(db.add(at(1, 100.0), d));  // 100 m
-    const QueryResult r = db.query(d, at(2, 10.0));
+    ASSERT_TRUE(db.add(stampedAtX(0, 0.0), d));    // 0 m
+    ASSERT_TRUE(db.add(stampedAtX(1, 100.0), d));  // 100 m
+    const QueryResult r = db.query(d, stampedAtX(2, 10.0));
     if (gate == 0.0) {
       EXPECT_EQ(candidateSet(r), (std::set<std::size_t>{0, 1}));
     } else {
@@ -224,11 +224,11 @@ TEST(Database, OdometryGateAllowsForDriftAlongThePathBetween) {
   for (double drift : {0.5, 1.1}) {
     config.gate_odometry_drift = drift;
     Database db(config);
-    ASSERT_TRUE(db.add(at(0, 0.0), d));    // path 0 m
-    ASSERT_TRUE(db.add(at(1, 100.0), d));  // path 100 m
+    ASSERT_TRUE(db.add(stampedAtX(0, 0.0), d));    // path 0 m
+    ASSERT_TRUE(db.add(stampedAtX(1, 100.0), d));  // path 100 m
     // The query at 10 m has driven 190 m: keyframe 0 is 10 m away after 190 m of path (allowance
     // 95 m at 0.5), keyframe 1 is 90 m away after 90 m (allowance 45 m at 0.5, 99 m at 1.1).
-    const QueryResult r = db.query(d, at(2, 10.0));
+    const QueryResult r = db.query(d, stampedAtX(2, 10.0));
     if (drift < 1.0) {
       EXPECT_EQ(candidateSet(r), (std::set<std::size_t>{0}));
     } else {
@@ -241,19 +241,19 @@ TEST(Database, RejectsBadKeyframesAndKeepsItsContents) {
   Config config;
   Database db(config);
   const Descriptor d = test::descriptorWithKey(std::vector<float>(20, 0.5f), config);
-  ASSERT_TRUE(db.add(at(10.0), d));
+  ASSERT_TRUE(db.add(stampedAtX(10.0), d));
   std::string error;
-  EXPECT_FALSE(db.add(at(9.0), d, &error));
+  EXPECT_FALSE(db.add(stampedAtX(9.0), d, &error));
   EXPECT_NE(error.find("earlier"), std::string::npos) << error;
-  EXPECT_FALSE(db.add(at(NAN), d, &error));
-  KeyframeInfo bad_pose = at(11.0);
+  EXPECT_FALSE(db.add(stampedAtX(NAN), d, &error));
+  KeyframeInfo bad_pose = stampedAtX(11.0);
   bad_pose.pose->translation().x() = NAN;
   EXPECT_FALSE(db.add(bad_pose, d, &error));
   Config other = config;
   other.num_sectors = 30;
-  EXPECT_FALSE(db.add(at(11.0), test::descriptorWithKey(std::vector<float>(20, 0.5f), other), &error));
+  EXPECT_FALSE(db.add(stampedAtX(11.0), test::descriptorWithKey(std::vector<float>(20, 0.5f), other), &error));
   EXPECT_EQ(db.size(), 1u);
-  EXPECT_TRUE(db.add(at(10.0), d)) << "equal stamps are allowed";
+  EXPECT_TRUE(db.add(stampedAtX(10.0), d)) << "equal stamps are allowed";
   EXPECT_EQ(db.size(), 2u);
 }
 
@@ -261,19 +261,19 @@ TEST(Database, RefusesAPoseWhoseRotationIsNotARotation) {
   Config config;
   Database db(config);
   const Descriptor d = test::descriptorWithKey(std::vector<float>(20, 0.5f), config);
-  ASSERT_TRUE(db.add(at(1.0), d));
+  ASSERT_TRUE(db.add(stampedAtX(1.0), d));
   const Eigen::Matrix3d yaw = Eigen::AngleAxisd(0.4, Eigen::Vector3d::UnitZ()).toRotationMatrix();
   // An unnormalised quaternion's matrix, an all-zero quaternion's, a mirror: none is a rotation.
   for (const Eigen::Matrix3d& linear : {Eigen::Matrix3d(1.1 * yaw), Eigen::Matrix3d(Eigen::Matrix3d::Zero()),
                                         Eigen::Matrix3d(yaw * Eigen::Vector3d(1.0, 1.0, -1.0).asDiagonal())}) {
-    KeyframeInfo bad = at(2.0, 1.0);
+    KeyframeInfo bad = stampedAtX(2.0, 1.0);
     bad.pose->linear() = linear;
     std::string error;
     EXPECT_FALSE(db.add(bad, d, &error)) << linear;
     EXPECT_NE(error.find("not a rotation"), std::string::npos) << error;
   }
   EXPECT_EQ(db.size(), 1u);
-  KeyframeInfo rounded = at(2.0, 1.0);  // a rotation as a text file with 7 digits carries it
+  KeyframeInfo rounded = stampedAtX(2.0, 1.0);  // a rotation as a text file with 7 digits carries it
   rounded.pose->linear() = yaw + Eigen::Matrix3d::Constant(1e-7);
   std::string error;
   EXPECT_TRUE(db.add(rounded, d, &error)) << error;
@@ -284,19 +284,19 @@ TEST(Database, NeverIndexesANonFiniteDescriptor) {
   config.exclude_recent_frames = 0;
   Database db(config);
   const std::vector<float> key(20, 0.5f);
-  ASSERT_TRUE(db.add(at(1.0), test::descriptorWithKey(key, config)));
+  ASSERT_TRUE(db.add(stampedAtX(1.0), test::descriptorWithKey(key, config)));
   std::vector<float> overflowed = key;
   overflowed[3] = std::numeric_limits<float>::infinity();
   std::string error;
-  EXPECT_FALSE(db.add(at(2.0), test::descriptorWithKey(overflowed, config), &error));
+  EXPECT_FALSE(db.add(stampedAtX(2.0), test::descriptorWithKey(overflowed, config), &error));
   EXPECT_NE(error.find("not finite"), std::string::npos) << error;
   Descriptor nan_sector = test::descriptorWithKey(key, config);
   nan_sector.sector_key[7] = NAN;
-  EXPECT_FALSE(db.add(at(2.0), nan_sector, &error));
+  EXPECT_FALSE(db.add(stampedAtX(2.0), nan_sector, &error));
   EXPECT_EQ(db.size(), 1u);
   // Nor is one a query: it finds nothing, and a good query still finds keyframe 0.
-  EXPECT_TRUE(db.query(test::descriptorWithKey(overflowed, config), at(3.0)).candidates.empty());
-  const QueryResult good = db.query(test::descriptorWithKey(key, config), at(3.0));
+  EXPECT_TRUE(db.query(test::descriptorWithKey(overflowed, config), stampedAtX(3.0)).candidates.empty());
+  const QueryResult good = db.query(test::descriptorWithKey(key, config), stampedAtX(3.0));
   ASSERT_FALSE(good.candidates.empty());
   EXPECT_EQ(good.best()->index, 0u);
 }
@@ -306,13 +306,13 @@ TEST(Database, EmptyDescriptorNeverMatchesAndMemoryStaysInBudget) {
   config.exclude_recent_frames = 0;
   LoopDetector detector(config);
   const auto scene = test::streetScene(9);
-  ASSERT_TRUE(detector.process(viewOf(scene), at(0)).accepted);
-  const Detection empty = detector.process(viewOf(pcl::PointCloud<pcl::PointXYZ>()), at(1));
+  ASSERT_TRUE(detector.process(viewOf(scene), stampedAtX(0)).accepted);
+  const Detection empty = detector.process(viewOf(pcl::PointCloud<pcl::PointXYZ>()), stampedAtX(1));
   EXPECT_TRUE(empty.accepted);
   EXPECT_FALSE(empty.query.matched);
   EXPECT_TRUE(empty.query.candidates.empty());
   // The same scene again matches keyframe 0, never the empty keyframe 1.
-  const Detection again = detector.process(viewOf(scene), at(2));
+  const Detection again = detector.process(viewOf(scene), stampedAtX(2));
   ASSERT_TRUE(again.query.matched);
   EXPECT_EQ(again.query.best()->index, 0u);
   EXPECT_NEAR(again.query.best()->alignment.distance, 0.0, 2e-3);  // 0 up to the int8 rounding
@@ -339,8 +339,8 @@ void expectHeapPerKeyframeAsStated(const Config& config) {
     before = heapInUse();
     std::string error;
     for (std::size_t i = 0; i < kKeyframes; ++i) {
-      ASSERT_TRUE(db.add(at(static_cast<double>(i), 2.0 * i), Descriptor(scenes[i % scenes.size()]), &error)) << error;
-      if (i % 2000 == 1999) db.query(scenes[0], at(static_cast<double>(i) + 0.5, 2.0 * i));  // the tree is built
+      ASSERT_TRUE(db.add(stampedAtX(static_cast<double>(i), 2.0 * i), Descriptor(scenes[i % scenes.size()]), &error)) << error;
+      if (i % 2000 == 1999) db.query(scenes[0], stampedAtX(static_cast<double>(i) + 0.5, 2.0 * i));  // the tree is built
     }
     after = heapInUse();
     const double measured = static_cast<double>(after - before) / kKeyframes;

@@ -113,7 +113,7 @@ std::vector<std::uint8_t> voxelBytes(const std::vector<Eigen::Vector3f>& means) 
   return raw;
 }
 
-KeyframeInfo at(double stamp, double x, std::int64_t tag = -1) {
+KeyframeInfo taggedAt(double stamp, double x, std::int64_t tag = -1) {
   KeyframeInfo info;
   info.stamp = stamp;
   info.tag = tag;
@@ -134,11 +134,11 @@ Config descriptorConfig() {
 /// Two sessions of streets: 12 places 10 m apart, then (stamps from 0 again) 6 more, one without a pose.
 void drive(LoopDetector* detector) {
   for (int i = 0; i < 12; ++i) {
-    ASSERT_TRUE(detector->process(viewOf(test::streetScene(300 + i)), at(100.0 + i, 10.0 * i, i)).accepted);
+    ASSERT_TRUE(detector->process(viewOf(test::streetScene(300 + i)), taggedAt(100.0 + i, 10.0 * i, i)).accepted);
   }
   detector->startSession();
   for (int i = 0; i < 6; ++i) {
-    KeyframeInfo info = at(1.0 + i, 5.0 * i, 100 + i);
+    KeyframeInfo info = taggedAt(1.0 + i, 5.0 * i, 100 + i);
     if (i == 2) info.pose.reset();
     ASSERT_TRUE(detector->process(viewOf(test::streetScene(400 + i)), info).accepted);
   }
@@ -155,7 +155,7 @@ Config verifiedConfig() {
 
 void verifiedDrive(LoopDetector* detector) {
   for (int i = 0; i < 4; ++i) {
-    ASSERT_TRUE(detector->process(viewOf(test::streetScene(21 + i)), at(1.0 + i, 30.0 * i)).accepted);
+    ASSERT_TRUE(detector->process(viewOf(test::streetScene(21 + i)), taggedAt(1.0 + i, 30.0 * i)).accepted);
   }
 }
 
@@ -246,8 +246,8 @@ TEST(DatabaseFile, ALoadedDatabaseHoldsTheSameKeyframesAndAnswersEveryQueryExact
   double stamp = 0.0;
   for (const auto& cloud : queries()) {
     stamp += 1.0;
-    const Detection x = original.process(viewOf(cloud), at(stamp, 0.0));
-    const Detection y = loaded.process(viewOf(cloud), at(stamp, 0.0));
+    const Detection x = original.process(viewOf(cloud), taggedAt(stamp, 0.0));
+    const Detection y = loaded.process(viewOf(cloud), taggedAt(stamp, 0.0));
     SCOPED_TRACE(stamp);
     expectSameDetection(x, y);
     EXPECT_EQ(x.query.eligible, saved) << "all saved keyframes are candidates, the new ones are recent";
@@ -293,7 +293,7 @@ TEST(DatabaseFile, LoadedSessionsFollowTheRunningOnesAndANewSessionBegins) {
 
   LoopDetector running(descriptorConfig());
   for (int i = 0; i < 3; ++i)
-    ASSERT_TRUE(running.process(viewOf(test::streetScene(500 + i)), at(50.0 + i, i)).accepted);
+    ASSERT_TRUE(running.process(viewOf(test::streetScene(500 + i)), taggedAt(50.0 + i, i)).accepted);
   ASSERT_TRUE(loadDatabase(dir.file("db.scl"), &running, &error)) << error;
   const Database& db = running.database();
   ASSERT_EQ(db.size(), 3 + saved.database().size());
@@ -304,7 +304,7 @@ TEST(DatabaseFile, LoadedSessionsFollowTheRunningOnesAndANewSessionBegins) {
   EXPECT_EQ(db.sessionStart(), db.size());
   // The new session may restart its stamps, and every keyframe before it is a candidate, including the
   // three running ones the recent-keyframe window hid until now.
-  const Detection next = running.process(viewOf(test::streetScene(303)), at(0.0, 0.0));
+  const Detection next = running.process(viewOf(test::streetScene(303)), taggedAt(0.0, 0.0));
   ASSERT_TRUE(next.accepted) << next.error;
   EXPECT_EQ(next.query.eligible, db.size() - 1);
   ASSERT_TRUE(next.query.best());
@@ -344,7 +344,7 @@ TEST(DatabaseFile, WithCloudsTheLoadedKeyframesVerifyTheSameLoop) {
 
   // The drive comes back to street 21 in a new session.
   original.startSession();
-  const KeyframeInfo back = at(0.5, 0.0);
+  const KeyframeInfo back = taggedAt(0.5, 0.0);
   const auto cloud = test::rotateTranslate(test::streetScene(21), 0.2, 1.0);
   const Detection x = original.process(viewOf(cloud), back);
   const Detection y = loaded.process(viewOf(cloud), back);
@@ -449,10 +449,10 @@ TEST(DatabaseFile, APipelineForgetsItsOdometryOnLoad) {
   Config c = descriptorConfig();
   c.keyframe_min_distance = 5.0;
   KeyframePipeline pipeline(c);
-  ASSERT_TRUE(pipeline.process(viewOf(test::streetScene(1)), at(1.0, 0.0)).accepted);
-  EXPECT_FALSE(pipeline.process(viewOf(test::streetScene(1)), at(2.0, 0.0)).selected) << "has not moved";
+  ASSERT_TRUE(pipeline.process(viewOf(test::streetScene(1)), taggedAt(1.0, 0.0)).accepted);
+  EXPECT_FALSE(pipeline.process(viewOf(test::streetScene(1)), taggedAt(2.0, 0.0)).selected) << "has not moved";
   ASSERT_TRUE(loadDatabase(dir.file("db.scl"), &pipeline, &error)) << error;
-  const Detection d = pipeline.process(viewOf(test::streetScene(1)), at(3.0, 0.0));
+  const Detection d = pipeline.process(viewOf(test::streetScene(1)), taggedAt(3.0, 0.0));
   EXPECT_TRUE(d.selected) << "the first keyframe of the new session";
   EXPECT_TRUE(d.accepted) << d.error;
   EXPECT_EQ(pipeline.detector().database().keyframe(d.index).session, 3u);
@@ -480,7 +480,7 @@ class DamagedFile : public ::testing::Test {
   /// made the same way).
   static std::unique_ptr<LoopDetector> running() {
     auto detector = std::make_unique<LoopDetector>(verifiedConfig());
-    for (int i = 0; i < 3; ++i) detector->process(viewOf(test::streetScene(21 + i)), at(1.0 + i, 30.0 * i));
+    for (int i = 0; i < 3; ++i) detector->process(viewOf(test::streetScene(21 + i)), taggedAt(1.0 + i, 30.0 * i));
     return detector;
   }
 
@@ -497,8 +497,8 @@ class DamagedFile : public ::testing::Test {
     EXPECT_EQ(tried->cloudStore().stored(), 3u);
     // Street 21 again, turned a little (within what the odometry rotation check allows).
     const auto query = test::rotateTranslate(test::streetScene(21), 0.05, 0.5);
-    const Detection a = tried->process(viewOf(query), at(10.0, 0.0));
-    const Detection b = twin->process(viewOf(query), at(10.0, 0.0));
+    const Detection a = tried->process(viewOf(query), taggedAt(10.0, 0.0));
+    const Detection b = twin->process(viewOf(query), taggedAt(10.0, 0.0));
     EXPECT_TRUE(a.verified) << "the running keyframes are still found";
     expectSameDetection(a, b);
   }
@@ -581,8 +581,8 @@ TEST_F(DamagedFile, AVersion1FileLoadsItsFloatColumnsQuantised) {
   }
   // The loaded keyframes answer a query as the version-2 file's do.
   const auto query = test::rotateTranslate(test::streetScene(21), 0.05, 0.5);
-  const Detection a = v1->process(viewOf(query), at(10.0, 0.0));
-  const Detection b = v2->process(viewOf(query), at(10.0, 0.0));
+  const Detection a = v1->process(viewOf(query), taggedAt(10.0, 0.0));
+  const Detection b = v2->process(viewOf(query), taggedAt(10.0, 0.0));
   ASSERT_EQ(a.query.matched, b.query.matched);
   if (a.query.matched) {
     EXPECT_EQ(a.query.best()->index, b.query.best()->index);

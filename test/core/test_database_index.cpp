@@ -27,7 +27,7 @@ std::vector<std::vector<float>> randomKeys(std::size_t count, int dims, std::uin
   return keys;
 }
 
-KeyframeInfo at(double stamp) {
+KeyframeInfo stampedOnly(double stamp) {
   KeyframeInfo info;
   info.stamp = stamp;
   return info;
@@ -68,7 +68,7 @@ TEST(DatabaseIndex, ExactBelowTheLimitAcrossBackgroundRebuilds) {
       std::sort(brute.begin(), brute.end());
       brute.resize(std::min<std::size_t>(10, brute.size()));
       asked_in_flight = asked_in_flight || db.indexBuilds().in_flight;
-      const QueryResult r = db.query(test::descriptorWithKey(q, config), at(static_cast<double>(n)));
+      const QueryResult r = db.query(test::descriptorWithKey(q, config), stampedOnly(static_cast<double>(n)));
       std::set<std::size_t> expected, got;
       for (const auto& b : brute) expected.insert(b.second);
       for (const auto& c : r.candidates) got.insert(c.index);
@@ -78,7 +78,7 @@ TEST(DatabaseIndex, ExactBelowTheLimitAcrossBackgroundRebuilds) {
         EXPECT_NEAR(c.ring_key_distance, std::sqrt(it->first), 1e-4);
       }
     }
-    ASSERT_TRUE(db.add(at(static_cast<double>(n)), test::descriptorWithKey(keys[n], config)));
+    ASSERT_TRUE(db.add(stampedOnly(static_cast<double>(n)), test::descriptorWithKey(keys[n], config)));
   }
   // The index was rebuilt several times, and queries came while a build was running.
   EXPECT_GE(db.indexBuilds().background, 5u);
@@ -96,11 +96,11 @@ std::vector<std::vector<std::pair<std::size_t, double>>> run(std::size_t count, 
   std::vector<std::vector<std::pair<std::size_t, double>>> answers;
   for (std::size_t n = 0; n < count; ++n) {
     if (n % 7 == 3) {
-      answers.push_back(answer(db.query(test::descriptorWithKey(queries[n / 7], config), at(static_cast<double>(n)))));
+      answers.push_back(answer(db.query(test::descriptorWithKey(queries[n / 7], config), stampedOnly(static_cast<double>(n)))));
     }
     // Give the builder time to finish long before the swap point, unlike the run without pauses.
     if (pause && n % 500 == 0 && db.indexBuilds().in_flight) std::this_thread::sleep_for(std::chrono::milliseconds(5));
-    EXPECT_TRUE(db.add(at(static_cast<double>(n)), test::descriptorWithKey(keys[n], config)));
+    EXPECT_TRUE(db.add(stampedOnly(static_cast<double>(n)), test::descriptorWithKey(keys[n], config)));
   }
   *builds = db.indexBuilds();
   return answers;
@@ -122,17 +122,17 @@ TEST(DatabaseIndex, EveryEligibleKeyIsFoundWithApproximateSearch) {
   const auto keys = randomKeys(30000, config.num_rings, 21);
   std::size_t missed = 0;
   for (std::size_t n = 0; n < keys.size(); ++n) {
-    ASSERT_TRUE(db.add(at(static_cast<double>(n)), test::descriptorWithKey(keys[n], config)));
+    ASSERT_TRUE(db.add(stampedOnly(static_cast<double>(n)), test::descriptorWithKey(keys[n], config)));
     // The newest key (in the tail) and an older one (in the index, or in a build's snapshot).
     for (const std::size_t i : {n, n / 2}) {
-      const QueryResult r = db.query(test::descriptorWithKey(keys[i], config), at(static_cast<double>(n)));
+      const QueryResult r = db.query(test::descriptorWithKey(keys[i], config), stampedOnly(static_cast<double>(n)));
       if (r.candidates.empty() || r.candidates[0].index != i || r.candidates[0].ring_key_distance != 0.0) ++missed;
     }
   }
   EXPECT_EQ(missed, 0u);
   // And every key once more, at the end.
   for (std::size_t i = 0; i < keys.size(); ++i) {
-    const QueryResult r = db.query(test::descriptorWithKey(keys[i], config), at(static_cast<double>(keys.size())));
+    const QueryResult r = db.query(test::descriptorWithKey(keys[i], config), stampedOnly(static_cast<double>(keys.size())));
     ASSERT_FALSE(r.candidates.empty());
     EXPECT_EQ(r.candidates[0].index, i);
   }
@@ -156,15 +156,15 @@ TEST(DatabaseIndex, ALoadedBatchIsSearchedExactlyUntilItsIndexIsBuilt) {
   EXPECT_EQ(db.indexedCount(), keys.size());
   std::size_t missed = 0;
   for (std::size_t i = 0; i < keys.size(); i += 97) {
-    const QueryResult r = db.query(test::descriptorWithKey(keys[i], config), at(1.0));
+    const QueryResult r = db.query(test::descriptorWithKey(keys[i], config), stampedOnly(1.0));
     if (r.candidates.empty() || r.candidates[0].ring_key_distance != 0.0) ++missed;
   }
   EXPECT_EQ(missed, 0u);
   // Once the build is done, the next call swaps it in.
   while (!db.indexBuilds().finished) std::this_thread::sleep_for(std::chrono::milliseconds(1));
-  db.query(test::descriptorWithKey(keys[0], config), at(1.0));
+  db.query(test::descriptorWithKey(keys[0], config), stampedOnly(1.0));
   EXPECT_FALSE(db.indexBuilds().in_flight);
-  const QueryResult r = db.query(test::descriptorWithKey(keys[123], config), at(1.0));
+  const QueryResult r = db.query(test::descriptorWithKey(keys[123], config), stampedOnly(1.0));
   ASSERT_FALSE(r.candidates.empty());
   EXPECT_EQ(r.candidates[0].ring_key_distance, 0.0);
 }
@@ -187,8 +187,8 @@ TEST(DatabaseIndex, DestructorJoinsARebuildInFlight) {
       EXPECT_EQ(db.indexBuilds().batches_behind, loaded > 0 ? 1u : 0u);
       // Add keys until a build starts, and leave at once.
       for (std::size_t n = loaded; n < keys.size() && !db.indexBuilds().in_flight; ++n) {
-        ASSERT_TRUE(db.add(at(static_cast<double>(n)), test::descriptorWithKey(keys[n], config)));
-        db.query(test::descriptorWithKey(keys[n], config), at(static_cast<double>(n)));
+        ASSERT_TRUE(db.add(stampedOnly(static_cast<double>(n)), test::descriptorWithKey(keys[n], config)));
+        db.query(test::descriptorWithKey(keys[n], config), stampedOnly(static_cast<double>(n)));
       }
       in_flight = db.indexBuilds().in_flight;
     }

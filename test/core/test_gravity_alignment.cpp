@@ -13,11 +13,12 @@
 #include "scan_context_loop/core/detector.h"
 #include "scan_context_loop/core/gravity_alignment.h"
 #include "test_scenes.h"
+#include "../common/planar.h"
 
 namespace scan_context_loop {
 namespace {
 
-constexpr double kDeg = M_PI / 180.0;
+using test::kDeg;
 
 Eigen::Matrix3d rz(double a) { return Eigen::AngleAxisd(a, Eigen::Vector3d::UnitZ()).toRotationMatrix(); }
 Eigen::Matrix3d ry(double a) { return Eigen::AngleAxisd(a, Eigen::Vector3d::UnitY()).toRotationMatrix(); }

@@ -10,12 +10,13 @@
 #include "scan_context_sim/sensor.h"
 #include "scan_context_sim/trajectory.h"
 #include "scan_context_sim/world.h"
+#include "../common/planar.h"
 
 namespace scan_context_loop {
 namespace sim {
 namespace {
 
-constexpr double kDeg = M_PI / 180.0;
+using test::kDeg;
 
 struct Street {
   std::vector<PathPoint> path;

@@ -11,7 +11,7 @@
 namespace scan_context_loop {
 namespace {
 
-KeyframeInfo at(double x, double yaw_deg, double stamp) {
+KeyframeInfo headingAt(double x, double yaw_deg, double stamp) {
   KeyframeInfo info;
   info.stamp = stamp;
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
@@ -35,7 +35,7 @@ TEST(KeyframePipeline, SelectsByDistanceOrYawSinceTheLastKeyframe) {
                {1.2, 5.0, false}, {1.3, 12.0, true}, {1.4, 15.0, false}};
   double stamp = 0.0;
   for (const auto& s : steps) {
-    const Detection d = pipeline.process(viewOf(scene), at(s.x, s.yaw, stamp += 1.0));
+    const Detection d = pipeline.process(viewOf(scene), headingAt(s.x, s.yaw, stamp += 1.0));
     EXPECT_EQ(d.selected, s.selected) << "x " << s.x << ", yaw " << s.yaw;
     if (d.selected) {
       EXPECT_TRUE(d.accepted) << d.error;
@@ -50,7 +50,7 @@ TEST(KeyframePipeline, RegisteredCloudsDescribeLikeSensorFrameClouds) {
   world_frame.cloud_in_world_frame = true;
   KeyframePipeline a(sensor_frame), b(world_frame);
   const auto scene = test::streetScene(4);
-  const KeyframeInfo info = at(40.0, 30.0, 1.0);
+  const KeyframeInfo info = headingAt(40.0, 30.0, 1.0);
   pcl::PointCloud<pcl::PointXYZ> registered;
   pcl::transformPointCloud(scene, registered, info.pose->matrix().cast<float>());
   ASSERT_TRUE(a.process(viewOf(scene), info).accepted);
@@ -76,8 +76,8 @@ TEST(KeyframePipeline, VoxelFilterThinsTheCloudBeforeDescribing) {
   filtered.voxel_leaf = 1.0;
   KeyframePipeline a(plain), b(filtered);
   const auto scene = test::streetScene(5);
-  const Detection da = a.process(viewOf(scene), at(0.0, 0.0, 1.0));
-  const Detection db = b.process(viewOf(scene), at(0.0, 0.0, 1.0));
+  const Detection da = a.process(viewOf(scene), headingAt(0.0, 0.0, 1.0));
+  const Detection db = b.process(viewOf(scene), headingAt(0.0, 0.0, 1.0));
   ASSERT_TRUE(da.accepted && db.accepted);
   EXPECT_LT(db.points_used, da.points_used / 2) << da.points_used << " -> " << db.points_used;
   EXPECT_GT(db.points_used, 0u);
@@ -92,7 +92,7 @@ TEST(KeyframePipeline, TheDescribedCloudIsTheSensorFrameCloudInRange) {
   auto scene = test::streetScene(7);
   scene.push_back(pcl::PointXYZ(std::nanf(""), 1.0f, 1.0f));
   scene.push_back(pcl::PointXYZ(40.0f, 0.0f, 1.0f));
-  const KeyframeInfo info = at(40.0, 30.0, 1.0);
+  const KeyframeInfo info = headingAt(40.0, 30.0, 1.0);
   pcl::PointCloud<pcl::PointXYZ> registered, described;
   pcl::transformPointCloud(scene, registered, info.pose->matrix().cast<float>());
   ASSERT_TRUE(pipeline.process(viewOf(registered), info, &described).accepted);
@@ -109,7 +109,7 @@ TEST(KeyframePipeline, TheDescribedCloudIsTheSensorFrameCloudInRange) {
   KeyframePipeline selecting(c);
   ASSERT_TRUE(selecting.process(viewOf(registered), info, &described).accepted);
   pcl::PointCloud<pcl::PointXYZ> untouched;
-  EXPECT_FALSE(selecting.process(viewOf(registered), at(40.1, 30.0, 2.0), &untouched).selected);
+  EXPECT_FALSE(selecting.process(viewOf(registered), headingAt(40.1, 30.0, 2.0), &untouched).selected);
   EXPECT_TRUE(untouched.empty());
 }
 
@@ -131,12 +131,12 @@ TEST(KeyframePipeline, AccumulatedNarrowScansDescribeLikeTheWholeScene) {
   Config whole, narrow, accumulated;
   accumulated.accumulate_seconds = 1.0;
   KeyframePipeline reference(whole), single(narrow), merged(accumulated);
-  ASSERT_TRUE(reference.process(viewOf(scene), at(0.0, 0.0, 1.0)).accepted);
+  ASSERT_TRUE(reference.process(viewOf(scene), headingAt(0.0, 0.0, 1.0)).accepted);
   Detection last_single, last_merged;
   for (int k = 0; k < 4; ++k) {
     // Scan k looks along 90k degrees of the world; in its own frame (turned by 90k) that is straight ahead.
     const double heading = 90.0 * k;
-    const KeyframeInfo info = at(0.0, heading, 2.0 + 0.1 * k);
+    const KeyframeInfo info = headingAt(0.0, heading, 2.0 + 0.1 * k);
     const auto seen = test::rotateTranslate(wedge(scene, heading, 40.0), -heading * M_PI / 180.0, 0.0, 0.0);
     last_single = single.process(viewOf(seen), info);
     last_merged = merged.process(viewOf(seen), info);
@@ -152,8 +152,8 @@ TEST(KeyframePipeline, AccumulatedNarrowScansDescribeLikeTheWholeScene) {
   EXPECT_GT(last_merged.points_used, 3 * last_single.points_used);
   // Scans older than the window are forgotten: two seconds later only the new scan counts.
   const auto seen = wedge(scene, 0.0, 40.0);
-  const Detection later = merged.process(viewOf(seen), at(0.0, 0.0, 5.0));
-  EXPECT_EQ(later.points_used, single.process(viewOf(seen), at(0.0, 0.0, 5.0)).points_used);
+  const Detection later = merged.process(viewOf(seen), headingAt(0.0, 0.0, 5.0));
+  EXPECT_EQ(later.points_used, single.process(viewOf(seen), headingAt(0.0, 0.0, 5.0)).points_used);
 }
 
 TEST(LoopCovariance, DescriptorPriorIsDiagonalAndARegisteredLoopKeepsItsOwn) {

@@ -11,13 +11,14 @@
 #include "scan_context_loop/core/alignment.h"
 #include "scan_context_loop/core/pcl_adapters.h"
 #include "test_scenes.h"
+#include "../common/planar.h"
 
 namespace scan_context_loop {
 namespace {
 
-using test::kittiScan;
+using test::kDeg;
 
-constexpr double kDeg = M_PI / 180.0;
+using test::kittiScan;
 
 Alignment alignScans(const std::string& sequence, int query, int match, const Config& config) {
   return align(makeDescriptor(kittiScan(sequence, query), config), makeDescriptor(kittiScan(sequence, match), config),

@@ -18,7 +18,7 @@ KeyframeInfo along(double x, double stamp) {
   return info;
 }
 
-Config descriptorOnly() {
+Config ungatedDescriptorOnly() {
   Config c;
   c.verification.enabled = false;
   c.exclude_recent_frames = 2;
@@ -28,7 +28,7 @@ Config descriptorOnly() {
 }
 
 TEST(Reconfigure, RefusesSettingsThatShapeStoredDataAndKeepsTheOldOnes) {
-  KeyframePipeline pipeline(descriptorOnly());
+  KeyframePipeline pipeline(ungatedDescriptorOnly());
   Config next = pipeline.config();
   next.num_rings = 30;
   next.distance_threshold = 0.1;
@@ -38,19 +38,19 @@ TEST(Reconfigure, RefusesSettingsThatShapeStoredDataAndKeepsTheOldOnes) {
   EXPECT_NE(error.find("verify_voxel_leaf"), std::string::npos) << error;
   EXPECT_EQ(error.find("distance_threshold"), std::string::npos) << error;
   EXPECT_EQ(pipeline.config().num_rings, 20);
-  EXPECT_DOUBLE_EQ(pipeline.config().distance_threshold, descriptorOnly().distance_threshold);
+  EXPECT_DOUBLE_EQ(pipeline.config().distance_threshold, ungatedDescriptorOnly().distance_threshold);
 }
 
 TEST(Reconfigure, RefusesAnInvalidValue) {
-  KeyframePipeline pipeline(descriptorOnly());
+  KeyframePipeline pipeline(ungatedDescriptorOnly());
   Config next = pipeline.config();
   next.distance_threshold = -1.0;
   EXPECT_NE(pipeline.reconfigure(next).find("distance_threshold"), std::string::npos);
-  EXPECT_DOUBLE_EQ(pipeline.config().distance_threshold, descriptorOnly().distance_threshold);
+  EXPECT_DOUBLE_EQ(pipeline.config().distance_threshold, ungatedDescriptorOnly().distance_threshold);
 }
 
 TEST(Reconfigure, ThresholdsApplyFromTheNextKeyframeAndTheDatabaseStays) {
-  KeyframePipeline pipeline(descriptorOnly());
+  KeyframePipeline pipeline(ungatedDescriptorOnly());
   const auto place = test::streetScene(3);
   // The same place seen again, turned by half a sector: a small but non-zero descriptor distance.
   const auto again = test::rotateTranslate(place, 3.0 * M_PI / 180.0);

@@ -12,20 +12,14 @@
 #include "scan_context_loop/core/detector.h"
 #include "scan_context_loop/core/verification.h"
 #include "test_scenes.h"
+#include "../common/planar.h"
 
 namespace scan_context_loop {
 namespace {
 
-constexpr double kDeg = M_PI / 180.0;
-
-double yawOf(const Eigen::Isometry3d& t) { return std::atan2(t(1, 0), t(0, 0)); }
-
-Eigen::Isometry3d planar(double x, double y, double yaw) {
-  Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
-  t.linear() = Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-  t.translation() = Eigen::Vector3d(x, y, 0.0);
-  return t;
-}
+using test::kDeg;
+using test::yawOf;
+using test::planar;
 
 VoxelCloud prepared(const std::string& sequence, int frame, const VerificationConfig& config) {
   return prepareCloud(viewOf(test::kittiScan(sequence, frame)), config);

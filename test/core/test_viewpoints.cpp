@@ -8,13 +8,13 @@
 #include "scan_context_loop/core/alignment.h"
 #include "scan_context_loop/core/detector.h"
 #include "test_scenes.h"
+#include "../common/planar.h"
 
 namespace scan_context_loop {
 namespace {
 
-constexpr double kDeg = M_PI / 180.0;
-
-double yawOf(const Eigen::Isometry3d& t) { return std::atan2(t(1, 0), t(0, 0)); }
+using test::kDeg;
+using test::yawOf;
 
 TEST(Viewpoints, GridFromAViewpointIsTheGridOfTheShiftedCloud) {
   Config config;

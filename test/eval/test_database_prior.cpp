@@ -14,25 +14,25 @@ namespace scan_context_loop {
 namespace eval {
 namespace {
 
-std::string temp(const std::string& name) { return testing::TempDir() + "/scl_dbprior_" + name; }
+std::string priorTemp(const std::string& name) { return testing::TempDir() + "/scl_dbprior_" + name; }
 
 /// Two sessions of one block (test::blockSessions): the prior lap, and the query driven back the other way
 /// one lane over with cars and plants changed, its first 30 keyframes only.
 struct Fixture {
   Sequence prior, query;
-  std::string database = temp("prior.scldb");
+  std::string database = priorTemp("prior.scldb");
 };
 
 const Fixture& fixture() {
   static const Fixture f = [] {
     Fixture f;
     const test::Sessions sessions = test::blockSessions(3);
-    f.prior = test::writtenSequence(sessions.first, temp("prior"), 11, 0.0);
-    test::writtenSequence(sessions.second, temp("query"), 12, 0.0);
+    f.prior = test::writtenSequence(sessions.first, priorTemp("prior"), 11, 0.0);
+    test::writtenSequence(sessions.second, priorTemp("query"), 12, 0.0);
     SequenceOptions window;
     window.last = 29;
     std::string error;
-    EXPECT_TRUE(loadSequence(temp("query"), window, &f.query, &error)) << error;
+    EXPECT_TRUE(loadSequence(priorTemp("query"), window, &f.query, &error)) << error;
     // A mapping run: the prior evaluated on its own, its database saved with the registration data.
     EvaluationOptions mapping;
     mapping.save_database = f.database;
@@ -73,7 +73,7 @@ TEST(DatabasePrior, RelocalizesAsThePriorSequenceDoes) {
   }
   ASSERT_EQ(database.database.sessions.clouds.size(), f.prior.frames.size());
 
-  const Evaluation a = evaluateIn(&sequence, f.query, temp("both.scldb"));
+  const Evaluation a = evaluateIn(&sequence, f.query, priorTemp("both.scldb"));
   const Evaluation b = evaluateIn(&database, f.query);
   ASSERT_TRUE(a.has_prior && b.has_prior);
   EXPECT_EQ(b.prior_source, f.database);
@@ -100,7 +100,7 @@ TEST(DatabasePrior, RelocalizesAsThePriorSequenceDoes) {
 
   // The database of that evaluation holds both sessions: one sequence's truth cannot score it.
   PriorMap both;
-  EXPECT_FALSE(loadPriorMap(temp("both.scldb"), f.prior.dir, SequenceOptions(), Config(), &both, &error));
+  EXPECT_FALSE(loadPriorMap(priorTemp("both.scldb"), f.prior.dir, SequenceOptions(), Config(), &both, &error));
   EXPECT_NE(error.find("holds 2 sessions"), std::string::npos) << error;
 }
 
@@ -117,7 +117,7 @@ TEST(DatabasePrior, RefusesWithoutItsTruthOrWithAnotherConfiguration) {
   EXPECT_NE(error.find("num_sectors"), std::string::npos) << error;
 
   // A truth sequence that is not the database's: too few frames for its tags.
-  const std::string shorter = temp("shorter");
+  const std::string shorter = priorTemp("shorter");
   std::filesystem::create_directories(shorter);
   std::filesystem::copy_file(f.prior.dir + "/calib.txt", shorter + "/calib.txt",
                              std::filesystem::copy_options::overwrite_existing);
@@ -132,7 +132,7 @@ TEST(DatabasePrior, RefusesWithoutItsTruthOrWithAnotherConfiguration) {
   // A truth sequence with a sequence prior, and a prior that does not exist.
   EXPECT_FALSE(loadPriorMap(f.prior.dir, f.prior.dir, SequenceOptions(), Config(), &map, &error));
   EXPECT_NE(error.find("database file only"), std::string::npos) << error;
-  EXPECT_FALSE(loadPriorMap(temp("absent"), f.prior.dir, SequenceOptions(), Config(), &map, &error));
+  EXPECT_FALSE(loadPriorMap(priorTemp("absent"), f.prior.dir, SequenceOptions(), Config(), &map, &error));
   EXPECT_NE(error.find("no such file"), std::string::npos) << error;
 }
 

@@ -23,33 +23,33 @@ namespace scan_context_loop {
 namespace eval {
 namespace {
 
-std::string temp(const std::string& name) { return testing::TempDir() + "/scl_eval_" + name; }
+std::string evalTemp(const std::string& name) { return testing::TempDir() + "/scl_eval_" + name; }
 
 TEST(ConfigFile, ReadsNodeKeysIgnoresRosKeysAndRejectsBadValues) {
-  std::ofstream(temp("good.yaml")) << "# comment\nnum_sectors: 90\ndistance_threshold: 0.3\nring_key: mean_height\n"
+  std::ofstream(evalTemp("good.yaml")) << "# comment\nnum_sectors: 90\ndistance_threshold: 0.3\nring_key: mean_height\n"
                                       "pose_source: odom\nvoxel_leaf: 0.4\nverify_min_inlier_ratio: 0.6\n";
   Config config;
   std::string error;
-  ASSERT_TRUE(loadConfigFile(temp("good.yaml"), &config, &error)) << error;
+  ASSERT_TRUE(loadConfigFile(evalTemp("good.yaml"), &config, &error)) << error;
   EXPECT_EQ(config.num_sectors, 90);
   EXPECT_DOUBLE_EQ(config.distance_threshold, 0.3);
   EXPECT_EQ(config.ring_key, RingKeyType::kMeanHeight);
   EXPECT_DOUBLE_EQ(config.verification.min_inlier_ratio, 0.6);
   // A key that is neither the core's nor the node's is an error that names it, like the node's.
-  std::ofstream(temp("mystery.yaml")) << "num_sectors: 90\nmystery: 1\n";
+  std::ofstream(evalTemp("mystery.yaml")) << "num_sectors: 90\nmystery: 1\n";
   Config before;
-  EXPECT_FALSE(loadConfigFile(temp("mystery.yaml"), &before, &error));
+  EXPECT_FALSE(loadConfigFile(evalTemp("mystery.yaml"), &before, &error));
   EXPECT_NE(error.find("mystery"), std::string::npos) << error;
   EXPECT_EQ(before.num_sectors, Config().num_sectors);
 
-  std::ofstream(temp("bad.yaml")) << "num_rings: twenty\n";
+  std::ofstream(evalTemp("bad.yaml")) << "num_rings: twenty\n";
   Config untouched;
-  EXPECT_FALSE(loadConfigFile(temp("bad.yaml"), &untouched, &error));
+  EXPECT_FALSE(loadConfigFile(evalTemp("bad.yaml"), &untouched, &error));
   EXPECT_NE(error.find("num_rings"), std::string::npos) << error;
   EXPECT_EQ(untouched.num_rings, Config().num_rings);
-  EXPECT_FALSE(loadConfigFile(temp("absent.yaml"), &untouched, &error));
-  std::ofstream(temp("list.yaml")) << "- 1\n- 2\n";
-  EXPECT_FALSE(loadConfigFile(temp("list.yaml"), &untouched, &error));
+  EXPECT_FALSE(loadConfigFile(evalTemp("absent.yaml"), &untouched, &error));
+  std::ofstream(evalTemp("list.yaml")) << "- 1\n- 2\n";
+  EXPECT_FALSE(loadConfigFile(evalTemp("list.yaml"), &untouched, &error));
 
   EXPECT_TRUE(applyOverride("search_ratio=1.0", &config, &error));
   EXPECT_DOUBLE_EQ(config.search_ratio, 1.0);
@@ -57,13 +57,13 @@ TEST(ConfigFile, ReadsNodeKeysIgnoresRosKeysAndRejectsBadValues) {
 }
 
 TEST(ConfigFile, DeprecatedKeyNamesSetTheNewKeysWithAWarning) {
-  std::ofstream(temp("old_names.yaml")) << "levelling: ground\nlevelling_max_tilt: 12\n";
-  std::ofstream(temp("new_names.yaml")) << "gravity_alignment: ground\ngravity_alignment_max_tilt: 12\n";
+  std::ofstream(evalTemp("old_names.yaml")) << "levelling: ground\nlevelling_max_tilt: 12\n";
+  std::ofstream(evalTemp("new_names.yaml")) << "gravity_alignment: ground\ngravity_alignment_max_tilt: 12\n";
   Config old_config, new_config;
   std::string error;
   std::vector<std::string> old_warnings, new_warnings;
-  ASSERT_TRUE(loadConfigFile(temp("old_names.yaml"), &old_config, &error, &old_warnings)) << error;
-  ASSERT_TRUE(loadConfigFile(temp("new_names.yaml"), &new_config, &error, &new_warnings)) << error;
+  ASSERT_TRUE(loadConfigFile(evalTemp("old_names.yaml"), &old_config, &error, &old_warnings)) << error;
+  ASSERT_TRUE(loadConfigFile(evalTemp("new_names.yaml"), &new_config, &error, &new_warnings)) << error;
   EXPECT_EQ(old_config.gravity_alignment, GravityAlignmentMode::kGround);
   EXPECT_DOUBLE_EQ(old_config.trusted_pose_max_tilt_deg, 12.0);
   for (const auto& s : configSettings()) EXPECT_EQ(s.get(old_config), s.get(new_config)) << s.key;
@@ -174,7 +174,7 @@ TEST(ConfigFile, SensorPresetsHoldOnlyKeysThatDifferFromTheDefaultsEachWithAComm
 }
 
 TEST(Sequence, TimesShorterThanPosesIsALoadError) {
-  const std::string dir = temp("short_times");
+  const std::string dir = evalTemp("short_times");
   ASSERT_EQ(std::system(("mkdir -p " + dir + "/velodyne").c_str()), 0);
   std::ofstream poses(dir + "/poses.txt");
   for (int f = 0; f < 4; ++f) {
@@ -201,7 +201,7 @@ TEST(Sequence, TimesShorterThanPosesIsALoadError) {
 const Sequence& simulatedLoop() {
   static Sequence sequence;
   if (!sequence.frames.empty()) return sequence;
-  const std::string dir = temp("loop");
+  const std::string dir = evalTemp("loop");
   const test::Drive drive = test::blockDrive(true, 5);
   sim::SequenceData data;
   data.truth = drive.truth;
@@ -238,14 +238,14 @@ TEST(Evaluation, SimulatedLoopEndToEnd) {
   EXPECT_GE(e.metrics.recall_at_full_precision, 0.5);
   EXPECT_LT(e.metrics.yaw_error_median, 3.0);
 
-  ASSERT_TRUE(writeResultsCsv(temp("results.csv"), e, &error));
-  std::ifstream csv(temp("results.csv"));
+  ASSERT_TRUE(writeResultsCsv(evalTemp("results.csv"), e, &error));
+  std::ifstream csv(evalTemp("results.csv"));
   std::string header;
   std::getline(csv, header);
   EXPECT_EQ(header.rfind("query,match,distance,yaw_rad", 0), 0u);
-  ASSERT_TRUE(writeMetricsJson(temp("metrics.json"), e, sequence, config, 5.0, &error));
+  ASSERT_TRUE(writeMetricsJson(evalTemp("metrics.json"), e, sequence, config, 5.0, &error));
   std::stringstream json;
-  json << std::ifstream(temp("metrics.json")).rdbuf();
+  json << std::ifstream(evalTemp("metrics.json")).rdbuf();
   EXPECT_NE(json.str().find("\"recall_at_100_precision\""), std::string::npos);
 }
 
@@ -273,9 +273,9 @@ TEST(Evaluation, VerifiedLoopsAreScoredOnTheirOwnQueriesWhenReportedLate) {
   }
   EXPECT_EQ(late, v.reported_late);
   std::string error;
-  ASSERT_TRUE(writeMetricsJson(temp("verified.json"), e, sequence, config, 5.0, &error));
+  ASSERT_TRUE(writeMetricsJson(evalTemp("verified.json"), e, sequence, config, 5.0, &error));
   std::stringstream json;
-  json << std::ifstream(temp("verified.json")).rdbuf();
+  json << std::ifstream(evalTemp("verified.json")).rdbuf();
   EXPECT_NE(json.str().find("\"reported_late\""), std::string::npos);
   EXPECT_NE(json.str().find("\"dropped_by_consistency\""), std::string::npos);
 }
@@ -300,14 +300,14 @@ TEST(Evaluation, VerifiedLoopsCorrectTheDriftedTrajectoryAndHoldOffAFalseOne) {
   ASSERT_EQ(c.corrected_poses.size(), sequence.frames.size());
 
   std::string error;
-  ASSERT_TRUE(writeTrajectoryErrorJson(temp("trajectory_error.json"), c, &error)) << error;
+  ASSERT_TRUE(writeTrajectoryErrorJson(evalTemp("trajectory_error.json"), c, &error)) << error;
   std::stringstream json;
-  json << std::ifstream(temp("trajectory_error.json")).rdbuf();
+  json << std::ifstream(evalTemp("trajectory_error.json")).rdbuf();
   for (const char* key : {"\"odometry\"", "\"corrected\"", "\"plain_scan_context\"", "\"with_one_false_loop\""}) {
     EXPECT_NE(json.str().find(key), std::string::npos) << key;
   }
-  ASSERT_TRUE(writeCorrectedTrajectoryCsv(temp("trajectory_corrected.csv"), sequence, c, &error)) << error;
-  std::ifstream csv(temp("trajectory_corrected.csv"));
+  ASSERT_TRUE(writeCorrectedTrajectoryCsv(evalTemp("trajectory_corrected.csv"), sequence, c, &error)) << error;
+  std::ifstream csv(evalTemp("trajectory_corrected.csv"));
   std::string line;
   std::size_t rows = 0;
   while (std::getline(csv, line)) ++rows;
@@ -355,9 +355,9 @@ TEST(Evaluation, WithoutOdometryTheLoopsCorrectThePerfectTrajectoryOnlyByTheirEr
   EXPECT_GT(c.corrected.rmse, 0.0);
   EXPECT_LT(c.corrected.rmse, 0.1);
   EXPECT_NE(c.note.find("the truth is the odometry"), std::string::npos) << c.note;
-  ASSERT_TRUE(writeTrajectoryErrorJson(temp("truth_odometry.json"), c, &error)) << error;
+  ASSERT_TRUE(writeTrajectoryErrorJson(evalTemp("truth_odometry.json"), c, &error)) << error;
   std::stringstream json;
-  json << std::ifstream(temp("truth_odometry.json")).rdbuf();
+  json << std::ifstream(evalTemp("truth_odometry.json")).rdbuf();
   for (const char* key : {"\"computed\": true", "\"odometry_source\": \"truth\"", "\"note\": \"no odometry",
                           "\"corrected\": {", "\"with_one_false_loop\""}) {
     EXPECT_NE(json.str().find(key), std::string::npos) << key << " in " << json.str();

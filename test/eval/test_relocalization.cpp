@@ -16,10 +16,10 @@ namespace scan_context_loop {
 namespace eval {
 namespace {
 
-std::string temp(const std::string& name) { return testing::TempDir() + "/scl_reloc_" + name; }
+std::string relocTemp(const std::string& name) { return testing::TempDir() + "/scl_reloc_" + name; }
 
 Sequence written(const test::Drive& drive, const std::string& name, std::uint32_t seed, double stamp_offset) {
-  return test::writtenSequence(drive, temp(name), seed, stamp_offset);
+  return test::writtenSequence(drive, relocTemp(name), seed, stamp_offset);
 }
 
 const test::Sessions& sessions() {
@@ -65,12 +65,12 @@ TEST(Relocalization, TheSecondSessionRelocalizesInTheFirstsMap) {
   EXPECT_GE(e.verified.true_positives, r.true_positives);
 
   std::string error;
-  ASSERT_TRUE(writeMetricsJson(temp("metrics.json"), e, query, config, 5.0, &error)) << error;
+  ASSERT_TRUE(writeMetricsJson(relocTemp("metrics.json"), e, query, config, 5.0, &error)) << error;
   std::stringstream json;
-  json << std::ifstream(temp("metrics.json")).rdbuf();
+  json << std::ifstream(relocTemp("metrics.json")).rdbuf();
   EXPECT_NE(json.str().find("\"relocalization\": {\"prior\": \"" + prior().dir + "\""), std::string::npos);
-  ASSERT_TRUE(writeRelocalizationCsv(temp("relocalization.csv"), e, &error)) << error;
-  std::ifstream csv(temp("relocalization.csv"));
+  ASSERT_TRUE(writeRelocalizationCsv(relocTemp("relocalization.csv"), e, &error)) << error;
+  std::ifstream csv(relocTemp("relocalization.csv"));
   std::string line;
   std::size_t rows = 0;
   for (std::getline(csv, line); std::getline(csv, line);) ++rows;
@@ -153,9 +153,9 @@ TEST(Relocalization, AFixedPerfectPriorMapPullsTheDriftingSessionOntoTheTruth) {
   EXPECT_LT(c.corrected.rmse, 0.3 * c.odometry.rmse);
   EXPECT_LT(c.corrected.max, c.odometry.max);
 
-  ASSERT_TRUE(writeTrajectoryErrorJson(temp("trajectory_error.json"), c, &error)) << error;
+  ASSERT_TRUE(writeTrajectoryErrorJson(relocTemp("trajectory_error.json"), c, &error)) << error;
   std::stringstream json;
-  json << std::ifstream(temp("trajectory_error.json")).rdbuf();
+  json << std::ifstream(relocTemp("trajectory_error.json")).rdbuf();
   const std::vector<std::string> keys = {"\"computed\": true", "\"corrected\": {",
                                          "\"prior_loops\": " + std::to_string(c.prior_loops),
                                          "\"prior\": {\"source\": \"" + perfect.dir + "\"", "\"held_fixed\": true"};

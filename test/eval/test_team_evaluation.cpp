@@ -22,14 +22,14 @@ namespace scan_context_loop {
 namespace eval {
 namespace {
 
-std::string temp(const std::string& name) { return testing::TempDir() + "/scl_team_eval_" + name; }
+std::string teamEvalTemp(const std::string& name) { return testing::TempDir() + "/scl_team_eval_" + name; }
 
 /// robot1 drives lap 1 of the block; robot2 lap 2 (one lane further out, the same way), starting 2 s
 /// after robot1, so it passes 40 m behind it. Each robot's sequence is relative to its own first keyframe,
 /// with an odometry of its own that drifts from the identity.
 const std::string& tinyTeam() {
   static const std::string dir = [] {
-    const std::string out = temp("team");
+    const std::string out = teamEvalTemp("team");
     const test::Drive drive = test::blockDrive(false, 21);
     const std::size_t half = drive.truth.size() / 2;
     const double starts[2] = {0.0, 2.0};
@@ -149,9 +149,9 @@ TEST(TeamEvaluation, BytesPerKeyframeAreCounted) {
   EXPECT_NEAR(e.sent_bytes_per_keyframe, double(e.record_bytes + e.fetched_bytes) / e.keyframes, 1e-6);
 
   std::string error;
-  ASSERT_TRUE(writeTeamJson(temp("team.json"), run().team, e, run().map, &error)) << error;
-  ASSERT_TRUE(writeInterRobotLoopsCsv(temp("loops.csv"), run().team, e, &error)) << error;
-  std::ifstream csv(temp("loops.csv"));
+  ASSERT_TRUE(writeTeamJson(teamEvalTemp("team.json"), run().team, e, run().map, &error)) << error;
+  ASSERT_TRUE(writeInterRobotLoopsCsv(teamEvalTemp("loops.csv"), run().team, e, &error)) << error;
+  std::ifstream csv(teamEvalTemp("loops.csv"));
   std::string line;
   std::size_t rows = 0;
   for (std::getline(csv, line); std::getline(csv, line);) ++rows;
@@ -176,7 +176,7 @@ TEST(TeamEvaluation, FramesBetweenRobotsAreEstimated) {
 }
 
 TEST(TeamSequence, BadTeamFilesAreRefusedNamingTheLine) {
-  const std::string dir = temp("bad");
+  const std::string dir = teamEvalTemp("bad");
   std::string error;
   std::filesystem::create_directories(dir);
   const std::string pose = " 1 0 0 0 0 1 0 0 0 0 1 0\n";

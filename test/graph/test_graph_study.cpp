@@ -21,7 +21,7 @@ namespace scan_context_loop {
 namespace eval {
 namespace {
 
-constexpr std::size_t kPerLap = 180;  // a 120 m x 60 m block, a keyframe every 2 m
+using test::kPerLap;
 
 using test::planar;
 

@@ -14,9 +14,12 @@
 #include "scan_context_loop/eval/trajectory_error.h"
 #include "scan_context_loop/graph/pose_graph.h"
 #include "scan_context_sim/trajectory.h"
+#include "../common/block_poses.h"
 
 namespace scan_context_loop {
 namespace {
+
+using test::verifiedCovariance;
 
 struct DriftDrive {
   std::vector<Eigen::Isometry3d> truth, odometry;
@@ -61,11 +64,6 @@ DriftDrive driftDrive(sim::DriftOptions drift, std::uint32_t seed) {
 }
 
 /// A verified loop's covariance at the node's floors: 0.1 m, 0.5 deg.
-Matrix6d verifiedCovariance() {
-  Eigen::Matrix<double, 6, 1> d;
-  d << 0.01, 0.01, 0.01, 7.6e-5, 7.6e-5, 7.6e-5;
-  return d.asDiagonal();
-}
 
 double correctedAte(const DriftDrive& d, const PoseGraphConfig& config) {
   PoseGraph graph(config);

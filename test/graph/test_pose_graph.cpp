@@ -10,16 +10,18 @@
 
 #include "scan_context_loop/graph/pose_graph.h"
 #include "scan_context_loop/eval/trajectory_error.h"
+#include "../common/planar.h"
+#include "../common/block_poses.h"
 
 namespace scan_context_loop {
 namespace {
 
-constexpr std::size_t kPerLap = 180;  // a 120 m x 60 m block, a keyframe every 2 m
-constexpr std::size_t kLaps = 3;
+using test::kPerLap;
+using test::verifiedCovariance;
 
-Eigen::Isometry3d planar(double x, double y, double yaw) {
-  return Eigen::Translation3d(x, y, 0.0) * Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ());
-}
+using test::planar;
+
+constexpr std::size_t kLaps = 3;
 
 /// The true poses: the block's perimeter counter-clockwise, each lap 0.8 m further in (another lane).
 std::vector<Eigen::Isometry3d> blockTruth() {
@@ -59,11 +61,6 @@ std::vector<Eigen::Isometry3d> drifting(const std::vector<Eigen::Isometry3d>& tr
 }
 
 /// A verified loop's covariance as the node reports one at its floors: 0.1 m, 0.5 deg.
-Matrix6d verifiedCovariance() {
-  Eigen::Matrix<double, 6, 1> d;
-  d << 0.01, 0.01, 0.01, 7.6e-5, 7.6e-5, 7.6e-5;
-  return d.asDiagonal();
-}
 
 struct Drive {
   std::vector<Eigen::Isometry3d> truth = blockTruth();

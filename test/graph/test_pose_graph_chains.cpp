@@ -15,7 +15,8 @@
 namespace scan_context_loop {
 namespace {
 
-constexpr std::size_t kPerLap = 180;  // a 120 m x 60 m block, a keyframe every 2 m
+using test::kPerLap;
+using test::verifiedCovariance;
 
 using test::planar;
 Eigen::Isometry3d blockPoseOf(std::size_t k, double in) { return test::blockPose(k, in, kPerLap); }
@@ -47,12 +48,6 @@ Robot drive(std::size_t start, double in, double yaw_bias, std::uint32_t seed, s
     r.odometry.push_back(r.odometry.back() * step);
   }
   return r;
-}
-
-Matrix6d verifiedCovariance() {
-  Eigen::Matrix<double, 6, 1> d;
-  d << 0.01, 0.01, 0.01, 7.6e-5, 7.6e-5, 7.6e-5;
-  return d.asDiagonal();
 }
 
 /// Each robot drives a lap and a fifth (it passes its start again).

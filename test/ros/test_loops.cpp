@@ -10,12 +10,11 @@
 #include "topic_watch.h"
 #include "scan_context_loop/core/alignment.h"
 #include "scan_context_loop/core/config.h"
+#include "../common/planar.h"
 
 namespace scan_context_loop {
 namespace test {
 namespace {
-
-double yawOf(const Eigen::Isometry3d& t) { return std::atan2(t(1, 0), t(0, 0)); }
 
 using Covariance = Eigen::Matrix<double, 6, 6>;
 

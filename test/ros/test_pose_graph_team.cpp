@@ -35,8 +35,6 @@ namespace scan_context_loop {
 namespace test {
 namespace {
 
-constexpr std::size_t kPerLap = 180;  // a keyframe every 2 m
-
 using test::planar;
 Eigen::Isometry3d blockPoseOf(std::size_t k, double in) { return test::blockPose(k, in, kPerLap); }
 constexpr std::size_t kDriven = kPerLap + kPerLap / 5;  // each robot passes its start again
