@@ -337,7 +337,7 @@ void encodeCloud(const Eigen::Matrix3f& gravity_alignment, const VoxelCloud* clo
 
 /// How far R^T R of a saved gravity alignment rotation may stray from the identity (largest entry): a
 /// rotation rounded to float stays below 1e-6.
-constexpr double kRotationTolerance = 1e-3;
+constexpr double kSavedRotationTolerance = 1e-3;
 
 /// The voxel settings a file's registration data were made with (the height extent is makeVoxelCloud's
 /// own, the same in every build that reads this version).
@@ -386,7 +386,7 @@ std::string decodeCloud(PayloadReader* payload, const FileSettings& settings, Ei
     for (int c = 0; c < 3; ++c) (*gravity_alignment)(r, c) = rows[3 * r + c];
   }
   const Eigen::Matrix3d rotation = gravity_alignment->cast<double>();
-  if ((rotation.transpose() * rotation - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() > kRotationTolerance ||
+  if ((rotation.transpose() * rotation - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() > kSavedRotationTolerance ||
       !(rotation.determinant() > 0.0)) {
     return "the gravity alignment rotation is not a rotation (not orthonormal, or a mirror)";
   }
