@@ -30,6 +30,9 @@ add_library(scan_context_loop_core
   src/core/team_consistency.cpp
   src/core/task_thread.cpp
 )
+# PCL's registration templates make these three the slowest sources to compile: each alone, so that a change
+# to one compiles it and not a batch around it (cmake/unity.cmake).
+scl_unity_alone(src/core/registration.cpp src/core/pcl_refinement.cpp src/core/verification.cpp)
 target_include_directories(scan_context_loop_core PUBLIC
   include ${EIGEN3_INCLUDE_DIRS} ${PCL_INCLUDE_DIRS} ${FLANN_INCLUDE_DIRS})
 # FLANN's C++ index is header-only; it needs lz4 for its serialisation code. The database writer's thread

@@ -118,10 +118,13 @@ foreach(stack aloam lego_loam lio_sam fast_lio sc_aloam hdl_graph_slam)
     NEEDS scan_context_loop_${stack}_bag test_ros_stacks ${node_deps})
 endforeach()
 # The demo in a tree without ../shared/data, scripts/demo --bag on each stack's bag (scripts/demo_bag, the
-# part after the build), and a wrong --stack; all run the backend.
+# part after the build), and a wrong --stack; all run the backend. One test a case, so that they run side
+# by side (each has a master of its own).
 if(SCL_WITH_BACKEND)
-  catkin_run_tests_target(tools demo demo.xml
-    COMMAND "${PYTHON_EXECUTABLE} ${PROJECT_SOURCE_DIR}/test/tools/check_demo.py --bags ${bags} --xunit ${CATKIN_TEST_RESULTS_DIR}/${PROJECT_NAME}/demo.xml")
+  foreach(case city wrong_stack aloam lego_loam lio_sam fast_lio sc_aloam hdl_graph_slam)
+    catkin_run_tests_target(tools demo_${case} demo_${case}.xml
+      COMMAND "${PYTHON_EXECUTABLE} ${PROJECT_SOURCE_DIR}/test/tools/check_demo.py --bags ${bags} --case ${case} --xunit ${CATKIN_TEST_RESULTS_DIR}/${PROJECT_NAME}/demo_${case}.xml")
+  endforeach()
 endif()
 # SC-A-LOAM's sensor-frame clouds labelled with the world's frame, read as A-LOAM's: refused, with the fix.
 scl_bag_test(stack_trap stack_trap.test bag ${bags}/sc_aloam.bag)
@@ -132,10 +135,10 @@ scl_bag_test(fast_lio_replayed stack_bag.test stack fast_lio bag ${bags}/fast_li
 scl_launch_test(${PROJECT_BINARY_DIR}/test/ros/fast_lio_replayed.test
   NEEDS test_ros_stacks scan_context_loop_fast_lio_bag loop_closure_node ${nodelet})
 
-# Several robots: a simulated team's bag (three robots, the third a minute late), their nodes on it
+# Several robots: a simulated team's bag (three robots, the third 30 s late), their nodes on it
 # (test/ros/team.test), and the same team with a base station: one node, a detector per robot.
 set(SCL_BAG_REMOVE ${bags}/team/robot1/velodyne ${bags}/team/robot2/velodyne ${bags}/team/robot3/velodyne)
-scl_bag(team ${bags}/team/team.bag ${bags}/team --team 3 --team-start 0,0,60 --sensor vlp16 --voxel 0.2 --threads 2)
+scl_bag(team ${bags}/team/team.bag ${bags}/team --team 3 --team-start 0,0,30 --sensor vlp16 --voxel 0.2 --threads 2)
 scl_test_binary(test_ros_team test/ros/test_team.cpp)
 scl_bag_test(team team.test bag ${bags}/team/team.bag team_file ${bags}/team/team.txt backend ${backend})
 scl_launch_test(${PROJECT_BINARY_DIR}/test/ros/team.test NEEDS scan_context_loop_team_bag test_ros_team ${node_deps})

@@ -43,3 +43,39 @@ function(scl_launch_test launch)
   cmake_parse_arguments(T "" "" "NEEDS" ${ARGN})
   add_rostest(${launch} DEPENDENCIES ${T_NEEDS})
 endfunction()
+
+# Which tests start first. make starts catkin's run_tests targets in the order they were declared, one type
+# after the other (gtests, then rostests, then the others); four at a time, a long test declared late
+# ended the run alone for minutes. A group made here, before any test, is visited first: catkin creates its
+# run_tests_<package> targets only when they do not exist yet, and does the same as below when it does.
+if(CATKIN_ENABLE_TESTING)
+  add_custom_target(run_tests_${PROJECT_NAME})
+  add_custom_target(_run_tests_${PROJECT_NAME})
+  add_dependencies(run_tests _run_tests_${PROJECT_NAME})
+  foreach(prefix run_tests _run_tests)
+    add_custom_target(${prefix}_${PROJECT_NAME}_first)
+    add_dependencies(${prefix}_${PROJECT_NAME} ${prefix}_${PROJECT_NAME}_first)
+  endforeach()
+endif()
+
+# scl_tests_first(TEST...): these tests start first, in this order; each named as in catkin's targets,
+# TYPE_NAME (gtest_test_core, rostest_test_ros_team.test, tools_demo_city). Called once every test exists.
+# (make visits a target's prerequisites in the order the prerequisites were created, so each test gets a
+# target of its own here, made in the order given.)
+function(scl_tests_first)
+  if(NOT CATKIN_ENABLE_TESTING)
+    return()
+  endif()
+  set(index 0)
+  foreach(test IN LISTS ARGN)
+    foreach(prefix run_tests _run_tests)
+      if(NOT TARGET ${prefix}_${PROJECT_NAME}_${test})
+        message(FATAL_ERROR "scl_tests_first: no test ${test} (target ${prefix}_${PROJECT_NAME}_${test})")
+      endif()
+      add_custom_target(${prefix}_${PROJECT_NAME}_first_${index})
+      add_dependencies(${prefix}_${PROJECT_NAME}_first_${index} ${prefix}_${PROJECT_NAME}_${test})
+      add_dependencies(${prefix}_${PROJECT_NAME}_first ${prefix}_${PROJECT_NAME}_first_${index})
+    endforeach()
+    math(EXPR index "${index} + 1")
+  endforeach()
+endfunction()

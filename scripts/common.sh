@@ -264,10 +264,13 @@ scl_kill_pids() {
   wait 2>/dev/null || true
 }
 
-# scl_private_master LOG: a ROS master of the script's own on a random port (ROS_MASTER_URI exported, so
-# nothing else running is disturbed), its output in LOG; returns once it answers.
+# scl_private_master LOG: a ROS master of the script's own on a free port (ROS_MASTER_URI exported, so
+# nothing else running is disturbed), its output in LOG; returns once it answers. The port is one the
+# kernel hands out as free (the tests run several demos side by side: two masters must not share a port).
 scl_private_master() {
-  export ROS_MASTER_URI="http://localhost:$((11400 + RANDOM % 500))"
+  local port
+  port="$(/usr/bin/python3 -c 'import socket; s = socket.socket(); s.bind(("localhost", 0)); print(s.getsockname()[1])')"
+  export ROS_MASTER_URI="http://localhost:$port"
   trap scl_kill_pids EXIT
   roscore -p "${ROS_MASTER_URI##*:}" >"$1" 2>&1 &
   SCL_PIDS+=($!)

@@ -1,5 +1,5 @@
 // Several robots over ROS (test/ros/team.test): three robots' loop-closure nodes in their own namespaces on
-// one master, fed a simulated team's bag, exchange only topics and services. One node starts a minute late,
+// one master, fed a simulated team's bag, exchange only topics and services. One node starts 30 s late,
 // one is restarted while the bag plays. Checked: the loops between robots are verified and true, none is
 // reported twice, the late and the restarted node close loops into the others' keyframes, and, with the
 // backend, each robot's frame in the shared map. The bytes the team exchanged are measured and printed.
@@ -195,7 +195,8 @@ TEST(Team, ThreeRobotsCloseTrueLoopsIntoEachOthersKeyframes) {
   std::ostringstream report;
   report << "inter-robot loops:";
   for (const auto& [pair, n] : between) report << " " << pair.first << "->" << pair.second << " " << n;
-  report << "; intra-robot " << intra << "; worst error " << worst_m << " m, " << worst_deg << " deg";
+  report << "; intra-robot " << intra << "; worst error " << worst_m << " m, " << worst_deg << " deg; late robot into "
+         << "earlier keyframes " << late_into_earlier << ", restarted robot after its restart " << after_restart;
   EXPECT_EQ(duplicates, 0);
   // Every pair of robots that shares streets closes loops (in either direction).
   for (std::size_t a = 0; a < team.size(); ++a) {
