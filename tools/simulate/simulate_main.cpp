@@ -71,7 +71,7 @@ void addOptions(scl::cli::Parser* cli, Options* o) {
             "streets again one lane over, in the same lane and the other way",
             &o->city)
       .flag("--suburb",
-            "a 2.4-3 km drive through a suburb of detached houses (plots behind front gardens and fences, "
+            "a 2.3-2.7 km drive through a suburb of detached houses (plots behind front gardens and fences, "
             "garages, cars on driveways, trees on grass verges): a ring of curving streets and three "
             "cul-de-sacs, then after a half-hour stop half the ring again one lane over and all of it the other way",
             &o->suburb)

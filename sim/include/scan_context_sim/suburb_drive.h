@@ -18,7 +18,7 @@ struct SuburbOptions {
   double pause = 1800.0;  ///< stop between the two laps [s]
 };
 
-/// About 2.4-3 km, sampled about every 0.5 m. The streets: a ring (an ellipse of 120-150 x 85-105 m
+/// About 2.3-2.7 km, sampled about every 0.5 m. The streets: a ring (an ellipse of 120-150 x 85-105 m
 /// with its 12 vertices jittered, smoothed into gentle curves) at a heading drawn from the seed, and
 /// three cul-de-sacs of 50-75 m with a kink (two into the ring, one out of it), each ending in a
 /// turning circle. Lap 1 drives the ring anticlockwise in the right-hand lane and into each cul-de-sac,
