@@ -37,6 +37,10 @@ float reflectivity(Material m) {
       return 0.95f;
     case Material::kPerson:
       return 0.3f;
+    case Material::kBranch:
+      return 0.22f;
+    case Material::kContainer:
+      return 0.4f;
   }
   return 0.3f;
 }
@@ -56,6 +60,7 @@ bool sensorPreset(const std::string& name, SensorModel* model) {
     m.max_range = 100.0f;
     m.dim_range = 80.0f;
     m.mount_height = 1.73f;
+    m.beam_divergence = 0.002f;  // 2.0 mrad
   } else if (name == "vlp16") {
     m.elevations_deg = uniformBeams(16, 15.0f, -15.0f);
     m.columns = 1800;  // 0.2 deg at 10 Hz
@@ -63,6 +68,7 @@ bool sensorPreset(const std::string& name, SensorModel* model) {
     m.dim_range = 65.0f;
     m.range_noise = 0.03f;
     m.mount_height = 1.73f;
+    m.beam_divergence = 0.003f;  // 3.0 mrad
   } else if (name == "os1-64") {
     m.elevations_deg = uniformBeams(64, 16.6f, -16.6f);
     m.columns = 1024;
@@ -186,7 +192,13 @@ float returnRange(const World& world, const SensorModel& sensor, const Eigen::Ve
   if (!world.cast(origin, direction, sensor.max_range, time, ray, visit, hit)) return 0.0f;
   if (unit(rng) < sensor.dropout) return 0.0f;
   const float incidence = std::fabs(hit->normal.dot(direction));
-  const float reflectivity_seen = reflectivity(hit->material) * (0.3f + 0.7f * incidence);
+  float reflectivity_seen = reflectivity(hit->material) * (0.3f + 0.7f * incidence);
+  if (hit->material == Material::kBranch && hit->width > 0.0f) {
+    // A limb narrower than the beam's footprint reflects only the share of it that it covers. Only
+    // branches: the poles and bollards of the worlds before them keep their returns as they were.
+    const float footprint = sensor.beam_divergence * hit->range;
+    if (footprint > hit->width) reflectivity_seen *= hit->width / footprint;
+  }
   if (sensor.dim_range > 0.0f) {
     // Detected with probability 1 / (1 + (range / reach)^8): near certain well inside the reach,
     // half at it, rare beyond.

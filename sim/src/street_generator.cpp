@@ -156,7 +156,7 @@ class StreetBuilder : public StreetKit {
 
   /// A tree or two and some bushes between the property line and the facade.
   void garden(const PathPoint& p, double sign, double line, double setback, double length) {
-    if (chance(0.5)) tree(at(p, uniform(1.0, length - 1.0), sign * (line + setback / 2)), line, 0.7);
+    if (chance(0.5)) tree(at(p, uniform(1.0, length - 1.0), sign * (line + setback / 2)), line, 0.7, &record_);
     const int bushes = static_cast<int>(uniform(0.0, 4.0));
     for (int b = 0; b < bushes; ++b) {
       const double r = uniform(0.5, 1.3);
@@ -168,23 +168,8 @@ class StreetBuilder : public StreetKit {
     }
   }
 
-  /// A trunk and a canopy (broad, or narrow and tall for a conifer) at c; `scale` shrinks garden trees.
-  void tree(const Eigen::Vector2d& c, double clearance, double scale) {
-    const double trunk_r = uniform(0.12, 0.3) * scale;
-    const bool conifer = chance(0.12);
-    const double trunk_h = conifer ? uniform(0.8, 1.5) : uniform(2.3, 3.5) * std::max(scale, 0.8);
-    const Primitive trunk = cylinder(c, trunk_r, 0.0, trunk_h + 0.5, Material::kTrunk);
-    if (!place(trunk, footprintOf(c, 0.0, trunk_r + 0.2, trunk_r + 0.2), clearance, 0.3)) return;
-    double r = conifer ? uniform(1.2, 2.0) : uniform(1.8, 3.5) * scale;
-    // Beside a narrow path the canopy is smaller, so it does not hang over the path.
-    while (r > 0.6 && !roads.clear(footprintOf(c, 0.0, r, r), kPathClearance)) r *= 0.9;
-    const double rz = conifer ? uniform(3.0, 5.0) : uniform(1.5, 3.2) * scale;
-    record_.trees.push_back({out.size() - 1, out.size()});
-    out.push_back(ellipsoid(c, trunk_h + rz, Eigen::Vector3d(r, r, rz), Material::kFoliage, 0.8));
-  }
-
   double streetTree(const PathPoint& p, double sign, const Style& style) {
-    if (chance(style.street_tree)) tree(at(p, 0.0, sign * (kerb() + 0.9)), kerb() + 0.3, 1.0);
+    if (chance(style.street_tree)) tree(at(p, 0.0, sign * (kerb() + 0.9)), kerb() + 0.3, 1.0, &record_);
     return uniform(style.tree_min, style.tree_max);
   }
 
@@ -204,6 +189,7 @@ class StreetBuilder : public StreetKit {
       const double top = uniform(2.4, 3.2);
       if (place(cylinder(post, 0.04, 0.0, top, Material::kPole), footprintOf(post, 0.0, 0.1, 0.1), kerb() + 0.1, 0.3)) {
         out.push_back(box(post, p.heading, 0.02, 0.35, top - 0.7, top, Material::kSign));
+        record_.furniture.push_back({{out.size() - 2, out.size() - 1}, p.heading});
       }
     }
     return uniform(25.0, 40.0);
@@ -213,6 +199,8 @@ class StreetBuilder : public StreetKit {
   double streetFurniture(const PathPoint& p, double sign, const Style& style) {
     const double kind = uniform(0.0, 1.0);
     const double kerb_side = kerb() + 0.6, wall_side = propertyLine(style) - 0.4;
+    // What is placed from here on is one piece of furniture (WorldOptions::furniture moves it).
+    const std::size_t first = out.size();
     const auto put = [&](const Eigen::Vector2d& c, double hx, double hy, double z0, double z1, Material m) {
       return placeBox(box(c, p.heading, hx, hy, z0, z1, m), kerb() + 0.1, 0.2);
     };
@@ -235,6 +223,10 @@ class StreetBuilder : public StreetKit {
       if (put(roof, 1.8, 0.8, 2.3, 2.5, Material::kWall)) {
         out.push_back(box(at(p, 0.0, sign * (wall_side - 0.05)), p.heading, 1.8, 0.04, 0.1, 2.3, Material::kSign));
       }
+    }
+    if (out.size() > first) {
+      record_.furniture.push_back({{}, p.heading});
+      for (std::size_t i = first; i < out.size(); ++i) record_.furniture.back().solids.push_back(i);
     }
     return uniform(8.0, 25.0);
   }
@@ -300,10 +292,12 @@ World build(const std::vector<std::vector<PathPoint>>& paths, const std::vector<
     dense.insert(dense.end(), d.begin(), d.end());
   }
   StreetBuilder builder(dense, options);
-  const StreetRecord record = builder.build();
+  const StreetRecord record =
+      options.style == WorldOptions::Style::kSuburb ? buildSuburb(&builder) : builder.build();
   if (path != nullptr && options.changed_world > 0.0 && options.duration > 0.0) {
     changeWorld(*path, options.times, record, duringDrive(options), &builder);
   }
+  if (path != nullptr) harderChanges(*path, options.times, record, &builder);
   if (later != nullptr && !later->times.empty()) {
     Changes since;
     since.strength = later->changed;

@@ -51,6 +51,8 @@ std::uint64_t StreetKit::squareDraw(const Eigen::Vector2d& q) const {
 }
 
 District StreetKit::districtAt(const Eigen::Vector2d& q) const {
+  // A suburb is houses all over: the changes then draw their pavements and parking from its style.
+  if (options.style == WorldOptions::Style::kSuburb) return District::kHouses;
   const double u = static_cast<double>(squareDraw(q) >> 11) / 9007199254740992.0;
   if (u < 0.3) return District::kTerrace;
   if (u < 0.65) return District::kHouses;
@@ -159,6 +161,20 @@ Vehicle StreetKit::parkedVehicle(const PathPoint& p, double sign, double along, 
   const VehicleShape shape = vehicleShape(industrial);
   const double yaw = p.heading + uniform(-0.04, 0.04);
   return vehicleAt(shape, p, along, sign * (kerb() - 0.25 - shape.width / 2), yaw);
+}
+
+void StreetKit::tree(const Eigen::Vector2d& c, double clearance, double scale, StreetRecord* record) {
+  const double trunk_r = uniform(0.12, 0.3) * scale;
+  const bool conifer = chance(0.12);
+  const double trunk_h = conifer ? uniform(0.8, 1.5) : uniform(2.3, 3.5) * std::max(scale, 0.8);
+  const Primitive trunk = cylinder(c, trunk_r, 0.0, trunk_h + 0.5, Material::kTrunk);
+  if (!place(trunk, footprintOf(c, 0.0, trunk_r + 0.2, trunk_r + 0.2), clearance, 0.3)) return;
+  double r = conifer ? uniform(1.2, 2.0) : uniform(1.8, 3.5) * scale;
+  // Beside a narrow path the canopy is smaller, so it does not hang over the path.
+  while (r > 0.6 && !roads.clear(footprintOf(c, 0.0, r, r), kPathClearance)) r *= 0.9;
+  const double rz = conifer ? uniform(3.0, 5.0) : uniform(1.5, 3.2) * scale;
+  record->trees.push_back({out.size() - 1, out.size(), conifer});
+  out.push_back(ellipsoid(c, trunk_h + rz, Eigen::Vector3d(r, r, rz), Material::kFoliage, 0.8));
 }
 
 StreetRecord::Car StreetKit::add(const Vehicle& v) {

@@ -64,6 +64,13 @@ struct StreetRecord {
   };
   struct Tree {
     std::size_t trunk, canopy;
+    bool conifer;  ///< keeps its needles in winter
+  };
+  /// A piece of street furniture: its solids (a bench; a post and its sign; a row of bollards; a
+  /// shelter's roof and back panel) and the street's heading where it stands.
+  struct Furniture {
+    std::vector<std::size_t> solids;
+    double heading;
   };
   struct Space {
     PathPoint p;
@@ -74,6 +81,7 @@ struct StreetRecord {
   std::vector<Space> empty_spaces;
   std::vector<Tree> trees;
   std::vector<std::size_t> bushes, hedges;
+  std::vector<Furniture> furniture;
 };
 
 /// The solids placed so far, the roads and the room left, and the random draws. Every draw comes from
@@ -137,6 +145,9 @@ class StreetKit {
   StreetRecord::Car add(const Vehicle& v);
   /// Where parked vehicles may stand: at the road's edge, clear of other roads.
   double parkingClearance() const { return std::max(kerb() - 2.3, kPathClearance); }
+  /// A trunk and a canopy (broad, or narrow and tall for a conifer) at c, `clearance` from every road;
+  /// `scale` shrinks garden trees. Records the tree when it was placed.
+  void tree(const Eigen::Vector2d& c, double clearance, double scale, StreetRecord* record);
 
   const std::vector<PathPoint>& dense;
   const WorldOptions& options;

@@ -2,6 +2,7 @@
 // seconds, placed by where the sensor is at that time so they are seen and never stand in its way.
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 #include "world_changes.h"
 
@@ -27,6 +28,7 @@ class DriveClock {
     }
   }
 
+  const std::vector<double>& times() const { return times_; }
   double start() const { return times_.front(); }
   double end() const { return times_.back(); }
 
@@ -77,8 +79,8 @@ class DriveClock {
 /// leading the sensor in its lane 10-40 m away, or oncoming in the other lane. Where it would come
 /// within 2.5 m of the sensor (2 m for oncoming traffic passing it), or into something standing at
 /// the kerb, it is left out.
-void addVehicle(StreetKit& kit, const DriveClock& clock) {
-  const double t0 = kit.uniform(clock.start(), clock.end());
+void addVehicle(StreetKit& kit, const DriveClock& clock, double from, double to) {
+  const double t0 = kit.uniform(from, to);
   const double window = kit.uniform(4.0, 10.0), step = 0.5;
   const bool oncoming = kit.chance(0.5);
   const VehicleShape shape = kit.vehicleShape(kit.chance(0.15));
@@ -103,8 +105,8 @@ void addVehicle(StreetKit& kit, const DriveClock& clock) {
 
 /// Someone walking along the pavement near the sensor for a few seconds, until they would reach the
 /// road or something in their way.
-void addPedestrian(StreetKit& kit, const DriveClock& clock) {
-  const double t0 = kit.uniform(clock.start(), clock.end());
+void addPedestrian(StreetKit& kit, const DriveClock& clock, double from, double to) {
+  const double t0 = kit.uniform(from, to);
   const double window = kit.uniform(5.0, 15.0), step = 1.0;
   const double ahead = kit.uniform(-20.0, 50.0), sign = kit.chance(0.5) ? 1.0 : -1.0;
   const double speed = kit.eitherWay(0.8, 1.6);
@@ -130,13 +132,118 @@ void addPedestrian(StreetKit& kit, const DriveClock& clock) {
 }  // namespace
 
 void addTraffic(const std::vector<PathPoint>& path, const std::vector<double>& times, double strength, StreetKit* kit) {
+  addTraffic(path, times, strength, kit, -1e300, 1e300);
+}
+
+void addTraffic(const std::vector<PathPoint>& path, const std::vector<double>& times, double strength, StreetKit* kit,
+                double from, double to) {
   if (path.size() < 2) return;
   const DriveClock clock(path, times, kit->options.duration);
-  const double duration = clock.end() - clock.start();
+  from = std::max(from, clock.start());
+  to = std::min(to, clock.end());
+  if (!(to > from)) return;
+  const double duration = to - from;
   const long vehicles = kit->options.vehicles ? std::lround(strength * duration / 4.0) : 0;
   const long pedestrians = std::lround(strength * duration / 2.0);
-  for (long i = 0; i < vehicles; ++i) addVehicle(*kit, clock);
-  for (long i = 0; i < pedestrians; ++i) addPedestrian(*kit, clock);
+  for (long i = 0; i < vehicles; ++i) addVehicle(*kit, clock, from, to);
+  for (long i = 0; i < pedestrians; ++i) addPedestrian(*kit, clock, from, to);
+}
+
+namespace {
+
+/// A pass of the drive: a stretch of its clock with its own density.
+struct Pass {
+  double from, to;    ///< [from, to) on the drive's clock; the first and last reach to -+infinity
+  double parked;      ///< share of the parked cars present
+  double filled;      ///< share of the empty spaces taken
+  double traffic;     ///< traffic and pedestrians, a multiple of the usual
+};
+
+/// The drive's clock cut at every stop longer than a minute (the next pass starts when it drives on)
+/// and every `seconds` of driving, each pass with its density drawn: the wider `strength` spreads it.
+std::vector<Pass> passesOf(const std::vector<double>& times, double seconds, double strength, StreetKit& kit) {
+  std::vector<double> starts(1, -1e300);
+  double start = times.front();
+  for (std::size_t k = 1; k < times.size(); ++k) {
+    if (times[k] - times[k - 1] > 60.0 || times[k] - start >= seconds) {
+      starts.push_back(times[k]);
+      start = times[k];
+    }
+  }
+  std::vector<Pass> passes;
+  for (std::size_t i = 0; i < starts.size(); ++i) {
+    Pass p;
+    p.from = starts[i];
+    p.to = i + 1 < starts.size() ? starts[i + 1] : 1e300;
+    p.parked = 1.0 - strength * kit.uniform(0.0, 0.7);
+    p.filled = strength * kit.uniform(0.0, 0.5);
+    p.traffic = std::exp(strength * kit.uniform(-std::log(3.0), std::log(3.0)));
+    passes.push_back(p);
+  }
+  return passes;
+}
+
+/// The windows of the passes whose `share` exceeds u, adjoining ones merged: where a thing with draw u
+/// is there (a car that stays when few are parked stays when more are too).
+template <typename Share>
+std::vector<std::pair<double, double>> presentIn(const std::vector<Pass>& passes, double u, Share share) {
+  std::vector<std::pair<double, double>> runs;
+  for (const Pass& p : passes) {
+    if (!(u < share(p))) continue;
+    if (!runs.empty() && runs.back().second == p.from)
+      runs.back().second = p.to;
+    else
+      runs.emplace_back(p.from, p.to);
+  }
+  return runs;
+}
+
+/// Solid `index` is there only within `runs` (and its own window): itself in the first, copies in the
+/// others; never, when none is left.
+void keepOnlyDuring(StreetKit& kit, std::size_t index, const std::vector<std::pair<double, double>>& runs) {
+  const Primitive solid = kit.out[index];
+  bool first = true;
+  for (const auto& run : runs) {
+    const double from = std::max(run.first, solid.present_from), to = std::min(run.second, solid.present_to);
+    if (!(from < to)) continue;
+    Primitive copy = solid;
+    copy.present_from = from;
+    copy.present_to = to;
+    if (first)
+      kit.out[index] = copy;
+    else
+      kit.out.push_back(copy);
+    first = false;
+  }
+  if (first) kit.out[index].present_to = kit.out[index].present_from;
+}
+
+}  // namespace
+
+void passDensity(const std::vector<PathPoint>& path, const std::vector<double>& times, const StreetRecord& record,
+                 double strength, StreetKit* kit) {
+  if (path.size() < 2) return;
+  const DriveClock clock(path, times, kit->options.duration);
+  const std::vector<Pass> passes = passesOf(clock.times(), kit->options.pass_seconds, strength, *kit);
+  for (const StreetRecord::Car& car : record.parked) {
+    const auto runs = presentIn(passes, kit->uniform(0.0, 1.0), [](const Pass& p) { return p.parked; });
+    keepOnlyDuring(*kit, car.body, runs);
+    if (car.cabin != car.body) keepOnlyDuring(*kit, car.cabin, runs);
+  }
+  for (const StreetRecord::Space& space : record.empty_spaces) {
+    const double u = kit->uniform(0.0, 1.0);
+    Vehicle v = kit->parkedVehicle(space.p, space.sign, 0.0, space.industrial);
+    const auto runs = presentIn(passes, u, [](const Pass& p) { return p.filled; });
+    const Footprint f = StreetKit::footprintOf(v.body);
+    if (runs.empty() || !kit->roads.clear(f, kit->parkingClearance()) || !kit->occupied.free(f, 0.3)) continue;
+    kit->occupied.mark(f);
+    const StreetRecord::Car car = kit->add(v);
+    keepOnlyDuring(*kit, car.body, runs);
+    if (car.cabin != car.body) keepOnlyDuring(*kit, car.cabin, runs);
+  }
+  // The traffic of the changed world (or of this option alone), at each pass's own multiple.
+  const double base = kit->options.traffic * (kit->options.changed_world > 0.0 ? kit->options.changed_world : strength);
+  for (const Pass& p : passes) addTraffic(path, times, base * p.traffic, kit, p.from, p.to);
 }
 
 }  // namespace sim

@@ -74,6 +74,7 @@ bool intersectBox(const Primitive& p, float c, float s, const Eigen::Vector3f& o
   Eigen::Vector3f n = Eigen::Vector3f::Zero();
   n[axis] = ld[axis] > 0 ? -1.0f : 1.0f;
   hit->range = t;
+  hit->width = 0.0f;
   hit->normal = Eigen::Vector3f(c * n.x() - s * n.y(), s * n.x() + c * n.y(), n.z());
   hit->material = p.material;
   return true;
@@ -92,6 +93,7 @@ bool intersectCylinder(const Primitive& p, const Eigen::Vector3f& o, const Eigen
   const float z = o.z() + t * d.z();
   if (z < p.z0 || z > p.z1) return false;
   hit->range = t;
+  hit->width = 2.0f * p.half.x();
   hit->normal = Eigen::Vector3f(ox + t * d.x(), oy + t * d.y(), 0.0f).normalized();
   hit->material = p.material;
   return true;
@@ -110,6 +112,7 @@ bool intersectEllipsoid(const Primitive& p, const Eigen::Vector3f& o, const Eige
   const float t = scatterDepth(p, t_in, (-b + root) / a, scatter);
   if (t <= 0.0f || t > t_max) return false;
   hit->range = t;
+  hit->width = 0.0f;
   hit->normal = (so + t_in * sd).cwiseQuotient(p.half).normalized();
   hit->material = p.material;
   return true;
@@ -175,6 +178,7 @@ bool World::cast(const Eigen::Vector3f& origin, const Eigen::Vector3f& direction
       best = t;
       found = true;
       hit->range = t;
+      hit->width = 0.0f;
       hit->material = Material::kGround;
       hit->normal = Eigen::Vector3f(-gx, -gy, 1.0f).normalized();
     }

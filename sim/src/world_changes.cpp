@@ -12,10 +12,6 @@ namespace {
 /// How close to a road centre a grown canopy may reach [m] (street trees reach about 3.4 m).
 constexpr double kKeepOffRoads = 3.0;
 
-/// When a change happens: anywhere in the window (during the drive: the later a revisit, the likelier it
-/// sees it).
-double changeTime(StreetKit& kit, const Changes& c) { return c.from + (c.to - c.from) * kit.uniform(0.0, 1.0); }
-
 /// Solid `index` has stood unchanged all along so far (nothing made it come, go or change yet).
 bool unchanged(const StreetKit& kit, std::size_t index) {
   return kit.out[index].present_from <= -1e300 && kit.out[index].present_to >= 1e300;
@@ -31,34 +27,6 @@ bool changes(StreetKit& kit, std::size_t index, const Changes& c) {
 /// Grown or cut by 20-50 %.
 double growthFactor(StreetKit& kit) {
   return kit.chance(0.5) ? 1.0 + kit.uniform(0.2, 0.5) : 1.0 - kit.uniform(0.2, 0.5);
-}
-
-/// Solid `index` is gone from `when` on.
-void removeAt(StreetKit& kit, std::size_t index, double when) {
-  kit.out[index].present_to = std::min(kit.out[index].present_to, when);
-}
-
-/// Solid `index` is replaced by `after` from `when` on.
-void replaceAt(StreetKit& kit, std::size_t index, Primitive after, double when) {
-  after.present_from = when;
-  after.present_to = kit.out[index].present_to;
-  removeAt(kit, index, when);
-  kit.out.push_back(after);
-}
-
-/// A point of the drive, drawn uniformly.
-const PathPoint& randomPlace(StreetKit& kit) {
-  return kit.dense[static_cast<std::size_t>(kit.uniform(0.0, 1.0) * static_cast<double>(kit.dense.size() - 1))];
-}
-
-/// Places about `count` things with place(), which tries one spot and says whether it was free; up to
-/// five spots each, as streets are mostly full.
-template <typename Place>
-void placeSeveral(double count, Place place) {
-  for (long i = 0; i < std::lround(count); ++i) {
-    for (int attempt = 0; attempt < 5 && !place(); ++attempt) {
-    }
-  }
 }
 
 /// An ellipsoid grown or shrunk by `factor`, standing on the same base height.
@@ -223,11 +191,29 @@ void addConstruction(StreetKit& kit, const Changes& c) {
 
 }  // namespace
 
+double changeTime(StreetKit& kit, const Changes& c) { return c.from + (c.to - c.from) * kit.uniform(0.0, 1.0); }
+
+void removeAt(StreetKit& kit, std::size_t index, double when) {
+  kit.out[index].present_to = std::min(kit.out[index].present_to, when);
+}
+
+void replaceAt(StreetKit& kit, std::size_t index, Primitive after, double when) {
+  after.present_from = when;
+  after.present_to = kit.out[index].present_to;
+  removeAt(kit, index, when);
+  kit.out.push_back(after);
+}
+
+const PathPoint& randomPlace(StreetKit& kit) {
+  return kit.dense[static_cast<std::size_t>(kit.uniform(0.0, 1.0) * static_cast<double>(kit.dense.size() - 1))];
+}
+
 Changes duringDrive(const WorldOptions& options) {
   Changes c;
   c.strength = options.changed_world;
   c.to = options.duration;
   c.salt = 0xC4A1B3D5E7F90ull;
+  c.traffic = !(options.pass_traffic > 0.0);
   return c;
 }
 
@@ -238,7 +224,7 @@ void changeWorld(const std::vector<PathPoint>& path, const std::vector<double>& 
   changeParkedCars(*kit, record, changes);
   changeVegetation(*kit, record, changes);
   addConstruction(*kit, changes);
-  addTraffic(path, times, changes.strength * kit->options.traffic, kit);
+  if (changes.traffic) addTraffic(path, times, changes.strength * kit->options.traffic, kit);
 }
 
 }  // namespace sim

@@ -18,6 +18,7 @@
 #include "scan_context_sim/sensor.h"
 #include "scan_context_sim/sequence_writer.h"
 #include "scan_context_sim/stack_shape.h"
+#include "scan_context_sim/suburb_drive.h"
 #include "scan_context_sim/odometry_failures.h"
 #include "scan_context_sim/trajectory.h"
 #include "cli.h"
@@ -36,13 +37,14 @@ struct Options {
   double spacing = std::nan("");  ///< unset: 2 m, or one frame per scan with --stack
   std::string sensor = "hdl64";
   double noise = -1, dropout = -1, max_range = -1, mount = -1, dim_range = -1, voxel = 0;
-  bool city = false, narrow = false, block = false;
+  bool city = false, narrow = false, block = false, suburb = false;
   double tilt = 0;
   double mount_pitch = 0;
   std::uint32_t seed = 1;
   double dynamic_cars = 0.3;
   double changed_world = 0.0;
   double traffic = 1.0;
+  double season = 0.0, construction = 0.0, furniture = 0.0, pass_traffic = 0.0, pass_seconds = 180.0;
   bool repeat_templates = false;
   int session = 1;
   sim::SecondSessionOptions second;
@@ -62,12 +64,17 @@ void addOptions(scl::cli::Parser* cli, Options* o) {
       .flag("--procedural", "a 2.1 km city drive with same-direction, reverse and one-lane-offset revisits (default)",
             [o] {
               o->kitti.clear();
-              o->city = o->narrow = o->block = false;
+              o->city = o->narrow = o->block = o->suburb = false;
             })
       .flag("--city",
             "a 2.2-3 km drive through oblique, partly curved streets: a loop, then after an hour's stop the same "
             "streets again one lane over, in the same lane and the other way",
             &o->city)
+      .flag("--suburb",
+            "a 2.3-2.7 km drive through a suburb of detached houses (plots behind front gardens and fences, "
+            "garages, cars on driveways, trees on grass verges): a ring of curving streets and three "
+            "cul-de-sacs, then after a half-hour stop half the ring again one lane over and all of it the other way",
+            &o->suburb)
       .flag("--narrow",
             "a 1.0-1.4 km walk (1.5 m/s) through a campus or old town: lanes 5.5 m wide between buildings, a loop, "
             "then the same lanes the same way, the other way and back to the start; no vehicles",
@@ -150,6 +157,23 @@ void addOptions(scl::cli::Parser* cli, Options* o) {
               &o->changed_world)
       .option("--traffic", "F", "with --changed-world: F times its traffic and pedestrians (default 1; 3: rush hour)",
               &o->traffic)
+      .option("--season", "F",
+              "leaf-off: about F of the broadleaved trees lose their leaves (trunk, limbs and a sparse crown of "
+              "twigs stay) and as many hedges and bushes thin out, each at its own time (default 0: off)",
+              &o->season)
+      .option("--construction", "F",
+              "building sites, about F per 100 m of drive, each from its own time: mesh site fences along the "
+              "pavement or round a lot, stacked shipping containers at the kerb or in lots (default 0: off)",
+              &o->construction)
+      .option("--furniture", "F",
+              "about F of the benches, bins, cabinets, bollards, sign posts and bus shelters are moved 2-12 m or "
+              "taken away, and new benches and bins appear (default 0: off)",
+              &o->furniture)
+      .option("--pass-traffic", "F",
+              "a different density on each pass (the clock cut at stops and every --pass-seconds): parked cars "
+              "present (F = 1: 30-100 %), empty spaces taken, traffic x1/3 to x3 (default 0: off)",
+              &o->pass_traffic)
+      .option("--pass-seconds", "S", "with --pass-traffic: the longest pass [s] (default 180)", &o->pass_seconds)
       .flag("--repeat-templates", "buildings and frontage from a few designs per district: streets alike",
             &o->repeat_templates)
       .option("--session", "N",
@@ -242,8 +266,13 @@ std::string check(const Options& o) {
     return "drift rates must be >= 0";
   if (const std::string why = sim::checkFailures(o.failures); !why.empty()) return why;
   if (o.voxel < 0.0) return "--voxel must be >= 0";
-  if (o.city + o.narrow + o.block + !o.kitti.empty() > 1)
-    return "--city, --narrow, --block and --kitti-poses exclude each other";
+  if (o.city + o.narrow + o.block + o.suburb + !o.kitti.empty() > 1)
+    return "--city, --suburb, --narrow, --block and --kitti-poses exclude each other";
+  if (o.season < 0.0 || o.season > 1.0 || o.furniture < 0.0 || o.furniture > 1.0 || o.pass_traffic < 0.0 ||
+      o.pass_traffic > 1.0)
+    return "--season, --furniture and --pass-traffic must be in [0, 1]";
+  if (o.construction < 0.0) return "--construction must be >= 0";
+  if (!(o.pass_seconds >= 10.0)) return "--pass-seconds must be at least 10";
   if (!o.bag.shape.name.empty() && o.bag.path.empty()) return "--stack shapes the bag: it needs --bag FILE";
   if (o.bag_frames && !o.bag.shape.name.empty()) return "--stack sets the frames: no --sensor-frame or --odom-frame";
   if (o.tilt < 0.0) return "--tilt must be >= 0";
@@ -255,7 +284,10 @@ std::string check(const Options& o) {
   if (!o.team.start_offsets.empty() && !o.team_mode) return "--team-start needs --team";
   if (o.team_mode) {
     if (const std::string why = sim::checkTeam(o.team); !why.empty()) return "--team: " + why;
-    if (o.city || o.narrow || o.block || !o.kitti.empty()) return "--team drives its own routes: no other trajectory";
+    if (o.city || o.narrow || o.block || o.suburb || !o.kitti.empty())
+      return "--team drives its own routes: no other trajectory";
+    if (o.season > 0.0 || o.construction > 0.0 || o.furniture > 0.0 || o.pass_traffic > 0.0)
+      return "--team has no --season, --construction, --furniture or --pass-traffic (they follow one drive)";
     if (o.session != 1) return "--team has no --session 2";
     if (o.changed_world > 0.0) return "--team has no --changed-world (its traffic follows one drive)";
     if (o.tilt > 0.0 || o.mount_pitch != 0.0) return "--team has no --tilt or --mount-pitch";
@@ -352,6 +384,13 @@ int main(int argc, char** argv) {
     const sim::TimedPath drive = sim::cityDrive(city);
     path = drive.path;
     source_times = drive.times;
+  } else if (o.suburb) {
+    sim::SuburbOptions suburb;
+    suburb.seed = o.seed;
+    const sim::TimedPath drive = sim::suburbDrive(suburb);
+    path = drive.path;
+    source_times = drive.times;
+    sim::suburbWorld(&world_options);
   } else if (o.narrow) {
     const sim::TimedPath drive = sim::narrowDrive(narrow);
     path = drive.path;
@@ -380,6 +419,11 @@ int main(int argc, char** argv) {
   world_options.changed_world = o.changed_world;
   world_options.traffic = o.traffic;
   world_options.repeat_templates = o.repeat_templates;
+  world_options.season = o.season;
+  world_options.construction = o.construction;
+  world_options.furniture = o.furniture;
+  world_options.pass_traffic = o.pass_traffic;
+  world_options.pass_seconds = o.pass_seconds;
   for (double t : source_times) world_options.times.push_back(t - source_times.front());
   // The drive simulated: session 1's, or session 2's through the same world on another day. The world
   // is always built along session 1's path.
@@ -436,6 +480,7 @@ int main(int argc, char** argv) {
   info << "trajectory: "
        << (!o.kitti.empty() ? o.kitti
            : o.city         ? "city"
+           : o.suburb       ? "suburb"
            : o.narrow       ? "narrow"
            : o.block        ? "block"
                             : "procedural")
@@ -472,6 +517,11 @@ int main(int argc, char** argv) {
   if (f.restart_at >= 0.0) info << "odometry_restart_m: " << f.restart_at << "\n";
   info << "changed_world: " << o.changed_world << "\ntraffic: " << o.traffic
        << "\nrepeat_templates: " << o.repeat_templates << "\n";
+  // Only when switched on, so the sequences made without them describe themselves as before.
+  if (o.season > 0.0) info << "season: " << o.season << "\n";
+  if (o.construction > 0.0) info << "construction: " << o.construction << "\n";
+  if (o.furniture > 0.0) info << "furniture: " << o.furniture << "\n";
+  if (o.pass_traffic > 0.0) info << "pass_traffic: " << o.pass_traffic << " every " << o.pass_seconds << " s\n";
   if (!o.bag.shape.name.empty()) info << "stack: " << o.bag.shape.name << "\n";
   info << "session: " << o.session << "\n";
   if (o.session == 2) {

@@ -49,6 +49,10 @@ struct SensorModel {
   /// distant ground -- fade sooner, as the rings of real scans do. 0: every return within max_range.
   float dim_range = 100.0f;
   float mount_height = 1.73f;  ///< sensor above the ground [m]
+  /// Full beam divergence [rad]: a beam's footprint is this times the range wide. A thin limb
+  /// (Material::kBranch) narrower than the footprint returns only the share of the beam it covers, so
+  /// its return is dimmer and fades sooner with range (the rest of the beam goes on, unseen).
+  float beam_divergence = 0.003f;
   /// A ray without a return (nothing hit, lost, too dim, out of range) is still reported, as (0, 0, 0):
   /// Ouster's drivers publish their organised clouds this way.
   bool zeros_for_no_return = false;

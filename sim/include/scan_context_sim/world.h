@@ -21,7 +21,11 @@ enum class Material : std::uint8_t {
   kFoliage,  ///< tree canopies, hedges, bushes
   kPole,     ///< street lights and their arms
   kSign,     ///< retro-reflective sign boards
-  kPerson    ///< pedestrians
+  kPerson,   ///< pedestrians
+  /// Bare branches of a leaf-off tree (WorldOptions::season): limbs thinner than a beam's footprint
+  /// and the twigs of the crown. Thin limbs return as much of a beam as they cover (SensorModel).
+  kBranch,
+  kContainer  ///< shipping containers (painted steel)
 };
 
 /// One solid. Boxes are vertical prisms with a yaw; cylinders are vertical; ellipsoids are axis-aligned.
@@ -42,6 +46,8 @@ struct Primitive {
 
 struct Hit {
   float range = 0.0f;
+  /// Width of a thin solid across the ray (a cylinder's diameter) [m]; 0 for the others.
+  float width = 0.0f;
   Material material = Material::kGround;
   Eigen::Vector3f normal = Eigen::Vector3f::UnitZ();
 };
@@ -110,6 +116,28 @@ struct WorldOptions {
   /// Drive time at each path point [s], so traffic keeps clear of the sensor; empty: the path driven at
   /// a uniform speed over `duration`.
   std::vector<double> times;
+  // Harder changes (0: off, the world as without them; 1: strong). Each is drawn from a generator of
+  // its own, keyed by the seed, so switching one on leaves every other solid and change as it was. Each
+  // change happens at its own time in the drive, as changed_world's do; all need a duration.
+  /// Leaf-off season: about `season` of the broadleaved trees lose their leaves (trunk, a few limbs
+  /// and a sparse crown of twigs stay), and as many hedges and bushes thin out.
+  double season = 0.0;
+  /// Building sites: about `construction` per 100 m of drive of site fences (mesh panels along the
+  /// pavement or round a lot) and stacks of shipping containers at the kerb or in lots.
+  double construction = 0.0;
+  /// About `furniture` of the benches, bins, cabinets, bollard rows, sign posts and bus shelters are
+  /// moved along the pavement or taken away, and new ones appear.
+  double furniture = 0.0;
+  /// A different density on each pass: the drive's clock is cut into passes (at stops over a minute,
+  /// and every pass_seconds), and each pass draws its own share of parked cars present, of empty spaces
+  /// taken and a traffic multiplier, spread wider the larger this is (1: 30-100 % of the parked cars,
+  /// traffic x1/3 to x3). With it, the traffic of changed_world is drawn per pass.
+  double pass_traffic = 0.0;
+  double pass_seconds = 180.0;
+  /// The kind of place the streets are built as: the city's districts (terraces, houses, avenues,
+  /// industrial estates), or a suburb of detached houses on plots behind front gardens and fences, with
+  /// garages, cars on driveways, side fences between the plots and trees on grass verges.
+  enum class Style : std::uint8_t { kCity, kSuburb } style = Style::kCity;
 };
 
 /// Builds streets along the path. Each district-sized square of the map gets a character -- terraced
