@@ -18,8 +18,8 @@ namespace scan_context_loop {
 namespace sim {
 namespace {
 
-using test::kDeg;
-using test::headingGap;
+using scan_context_loop::test::kDeg;
+using scan_context_loop::test::headingGap;
 
 double quantile(std::vector<double> v, double q) {
   std::sort(v.begin(), v.end());

@@ -18,6 +18,10 @@ namespace scan_context_loop {
 namespace sim {
 namespace {
 
+using test::always;
+using test::present;
+using test::sameShape;
+
 using test::distanceTo;
 
 const std::vector<PathPoint>& drive() {
@@ -38,14 +42,6 @@ WorldOptions changed(Set set) {
   set(&options);
   return options;
 }
-
-bool sameShape(const Primitive& a, const Primitive& b) {
-  return a.kind == b.kind && a.material == b.material && a.center == b.center && a.half == b.half && a.yaw == b.yaw &&
-         a.z0 == b.z0 && a.z1 == b.z1 && a.free_path == b.free_path;
-}
-
-bool always(const Primitive& p) { return p.present_from < -1e299 && p.present_to > 1e299; }
-bool present(const Primitive& p, double t) { return t >= p.present_from && t < p.present_to; }
 
 TEST(HarderChanges, EachLeavesTheWorldAndTheOtherChangesAsTheyWereAndRepeatsForASeed) {
   const WorldOptions plain = changed([](WorldOptions* o) { o->changed_world = 1.0; });

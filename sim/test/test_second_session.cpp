@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include "footprint.h"
 #include "scan_context_sim/second_session.h"
 #include "scan_context_sim/sensor.h"
 #include "scan_context_sim/trajectory.h"
@@ -14,7 +15,11 @@ namespace scan_context_loop {
 namespace sim {
 namespace {
 
-using test::yawOf;
+using test::always;
+using test::present;
+using test::sameShape;
+
+using scan_context_loop::test::yawOf;
 
 /// The procedural drive (2.1 km) at 10 m/s, and the world built along it with dynamic parked cars.
 struct FirstDrive {
@@ -29,15 +34,6 @@ struct FirstDrive {
     options.changed_world = 0.3;  // session 1 sees some changes of its own
   }
 };
-
-bool sameShape(const Primitive& a, const Primitive& b) {
-  return a.kind == b.kind && a.material == b.material && a.center == b.center && a.half == b.half && a.yaw == b.yaw &&
-         a.z0 == b.z0 && a.z1 == b.z1 && a.free_path == b.free_path;
-}
-
-bool present(const Primitive& p, double t) { return t >= p.present_from && t < p.present_to; }
-
-bool always(const Primitive& p) { return p.present_from < -1e299 && p.present_to > 1e299; }
 
 /// The procedural drive (corners rounded, 8 m radius) at 10 m/s.
 std::vector<double> timesAt10(const std::vector<PathPoint>& path) {

@@ -11,8 +11,8 @@ namespace scan_context_loop {
 namespace sim {
 namespace {
 
-using test::headingGap;
-using test::yawOf;
+using scan_context_loop::test::headingGap;
+using scan_context_loop::test::yawOf;
 
 double pathLength(const std::vector<PathPoint>& path, std::size_t from, std::size_t to) {
   double length = 0.0;
