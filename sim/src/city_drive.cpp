@@ -130,15 +130,7 @@ TimedPath cityDrive(const CityOptions& options) {
       raw.push_back(street.at(s) + to.lane * Eigen::Vector2d(-std::sin(h), std::cos(h)));
     }
   }
-  std::vector<Eigen::Vector2d> points = resample(raw, 0.5, &pause);
-  // A moving average over +-8 m rounds the corners; straight stretches stay where they are.
-  TimedPath drive;
-  drive.path = smoothPath(points, 16);
-  drive.times = distanceAlong(drive.path);
-  for (std::size_t k = 0; k < drive.times.size(); ++k) {
-    drive.times[k] = drive.times[k] / options.speed + (k >= pause ? options.pause : 0.0);
-  }
-  return drive;
+  return timedDrive(raw, pause, options.speed, options.pause);
 }
 
 }  // namespace sim

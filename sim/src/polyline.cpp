@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "scan_context_sim/trajectory.h"
+
 namespace scan_context_loop {
 namespace sim {
 
@@ -77,6 +79,17 @@ std::vector<PathPoint> roundedPolyline(const std::vector<Eigen::Vector2d>& w, do
   }
   out.push_back({w.back().x(), w.back().y(), out.empty() ? 0.0 : out.back().heading});
   return out;
+}
+
+TimedPath timedDrive(const std::vector<Eigen::Vector2d>& raw, std::size_t mark, double speed, double pause) {
+  const std::vector<Eigen::Vector2d> points = resample(raw, 0.5, &mark);
+  TimedPath drive;
+  drive.path = smoothPath(points, 16);
+  drive.times = distanceAlong(drive.path);
+  for (std::size_t k = 0; k < drive.times.size(); ++k) {
+    drive.times[k] = drive.times[k] / speed + (k >= mark ? pause : 0.0);
+  }
+  return drive;
 }
 
 }  // namespace sim

@@ -7,6 +7,7 @@
 
 #include <Eigen/Core>
 
+#include "scan_context_sim/city_drive.h"
 #include "scan_context_sim/world.h"
 
 namespace scan_context_loop {
@@ -19,6 +20,10 @@ std::vector<Eigen::Vector2d> resample(const std::vector<Eigen::Vector2d>& raw, d
 /// The points smoothed by a moving average over +-`window` points (fewer at the ends), which rounds
 /// the corners and leaves straight stretches where they are, with headings along the smoothed path.
 std::vector<PathPoint> smoothPath(const std::vector<Eigen::Vector2d>& points, int window);
+
+/// A generated drive along the drawn route `raw`: resampled every 0.5 m, its corners rounded by a moving
+/// average over +-8 m, timed at `speed` [m/s] with a stop of `pause` seconds before raw[mark].
+TimedPath timedDrive(const std::vector<Eigen::Vector2d>& raw, std::size_t mark, double speed, double pause);
 
 /// Straight legs through the waypoints, corners rounded with arcs of `radius`, sampled every `step`.
 std::vector<PathPoint> roundedPolyline(const std::vector<Eigen::Vector2d>& waypoints, double radius, double step);

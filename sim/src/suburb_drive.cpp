@@ -114,14 +114,7 @@ TimedPath suburbDrive(const SuburbOptions& options) {
   culDeSac(1);
   inLane(ringArc(junction[1], junction[1] - n, -1), right, &raw);
 
-  const std::vector<Eigen::Vector2d> points = resample(raw, 0.5, &pause);
-  TimedPath drive;
-  drive.path = smoothPath(points, 16);
-  drive.times = distanceAlong(drive.path);
-  for (std::size_t k = 0; k < drive.times.size(); ++k) {
-    drive.times[k] = drive.times[k] / options.speed + (k >= pause ? options.pause : 0.0);
-  }
-  return drive;
+  return timedDrive(raw, pause, options.speed, options.pause);
 }
 
 void suburbWorld(WorldOptions* world) {

@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include "footprint.h"
+#include "../../test/common/planar.h"
 
 #include "scan_context_sim/sensor.h"
 #include "scan_context_sim/suburb_drive.h"
@@ -20,7 +21,16 @@ namespace {
 
 using test::distanceTo;
 
-double headingGap(double a, double b) { return std::fabs(std::remainder(a - b, 2.0 * M_PI)); }
+using scan_context_loop::test::headingGap;
+
+/// The suburb's world, timed along `drive`.
+WorldOptions suburbAlong(const TimedPath& drive) {
+  WorldOptions options;
+  suburbWorld(&options);
+  options.times = drive.times;
+  options.duration = drive.times.back();
+  return options;
+}
 
 TEST(Suburb, TheDriveRevisitsItsStreetsTheSameWayALaneOverAndTheOtherWay) {
   for (std::uint32_t seed : {1u, 2u, 3u}) {
@@ -68,12 +78,8 @@ TEST(Suburb, TheDriveRevisitsItsStreetsTheSameWayALaneOverAndTheOtherWay) {
 }
 
 TEST(Suburb, HousesOnPlotsBehindGardensWithDrivewaysAndSideFencesAndTheRoadsOpen) {
-  SuburbOptions drive_options;
-  const TimedPath drive = suburbDrive(drive_options);
-  WorldOptions options;
-  suburbWorld(&options);
-  options.times = drive.times;
-  options.duration = drive.times.back();
+  const TimedPath drive = suburbDrive(SuburbOptions());
+  WorldOptions options = suburbAlong(drive);
   const World world = generateWorld(drive.path, options);
   int houses = 0, roofs = 0, side_fences = 0, driveway_cars = 0, trees = 0, kerb_cars = 0;
   double nearest_house = 1e9, nearest_solid = 1e9;
@@ -128,12 +134,8 @@ TEST(Suburb, HousesOnPlotsBehindGardensWithDrivewaysAndSideFencesAndTheRoadsOpen
 }
 
 TEST(Suburb, AScanHasReturnsAboveTheGroundFromHousesFencesCarsAndTrees) {
-  SuburbOptions drive_options;
-  const TimedPath drive = suburbDrive(drive_options);
-  WorldOptions options;
-  suburbWorld(&options);
-  options.times = drive.times;
-  options.duration = drive.times.back();
+  const TimedPath drive = suburbDrive(SuburbOptions());
+  WorldOptions options = suburbAlong(drive);
   const World world = generateWorld(drive.path, options);
   SensorModel hdl;
   ASSERT_TRUE(sensorPreset("hdl64", &hdl));
@@ -167,12 +169,8 @@ std::map<Material, int> returnsByClass(const World& world, const SensorModel& se
 }
 
 TEST(Suburb, EveryHarderChangeShowsInAScanOfTheSecondLap) {
-  SuburbOptions drive_options;
-  const TimedPath drive = suburbDrive(drive_options);
-  WorldOptions options;
-  suburbWorld(&options);
-  options.times = drive.times;
-  options.duration = drive.times.back();
+  const TimedPath drive = suburbDrive(SuburbOptions());
+  WorldOptions options = suburbAlong(drive);
   options.changed_world = 1.0;
   const World before = generateWorld(drive.path, options);
   options.season = options.construction = options.furniture = options.pass_traffic = 1.0;
